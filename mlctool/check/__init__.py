@@ -1,0 +1,111 @@
+"""`mlc check`: source files -> checked modules and diagnostics.
+
+Pipeline per file: decode -> parse -> resolve (operands vs target tables) -> structure -> lint;
+then cross-module label resolution, configured severities and `mlc: noqa` suppressions.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+
+from mlctool.check.lint import coil_map, lint_module, referenced_labels
+from mlctool.check.resolve import resolve
+from mlctool.check.structure import check_layout, check_rungs
+from mlctool.config import Config
+from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.program import Module
+from mlctool.syntax.parser import parse
+from mlctool.syntax.source import SourceText, decode, read_source
+from mlctool.targets import Target
+
+
+@dataclass
+class CheckResult:
+    modules: list[Module]
+    diagnostics: list[Diagnostic]
+    lines: dict[str, list[str]] = field(default_factory=dict)  # file -> source lines
+
+    @property
+    def errors(self) -> int:
+        return sum(d.severity == "error" for d in self.diagnostics)
+
+    @property
+    def warnings(self) -> int:
+        return sum(d.severity == "warning" for d in self.diagnostics)
+
+
+def check_texts(sources: list[SourceText], target: Target, config: Config | None = None,
+                ignore: frozenset[str] = frozenset(), initial: list[Diagnostic] | None = None) -> CheckResult:
+    config = config or Config()
+    if config.capacity:
+        target = dataclasses.replace(target, capacity=int(config.capacity))
+    diags: list[Diagnostic] = list(initial or [])
+    modules: list[Module] = []
+    lines: dict[str, list[str]] = {}
+    noqa: dict[str, dict] = {}
+    for src in sources:
+        parsed = parse(src)
+        lines[src.path] = parsed.lines
+        noqa[src.path] = parsed.noqa
+        module, found = resolve(parsed, target)
+        modules.append(module)
+        diags += found
+    # rung checks see every line; the rest only lines whose operands resolved
+    for m in modules:
+        diags += check_rungs(m, target)
+    valid = [dataclasses.replace(m, instrs=[i for i in m.instrs if i.valid]) for m in modules]
+    # labels across modules
+    exported: dict[int, str] = {}
+    for m in valid:
+        own = m.labels()
+        for p in sorted(m.exports):
+            if p not in own:
+                diags.append(diag(m.path, Span.at(1), "E304", f".export P{p}: the module does not define P{p}"))
+            elif p in exported:
+                ins = m.instrs[own[p]]
+                diags.append(diag(m.path, Span.at(ins.line, ins.col), "E303", f"P{p} is also exported by {exported[p]}"))
+            else:
+                exported[p] = m.path
+    refs, calls = referenced_labels(valid)
+    for m in valid:
+        diags += check_layout(m, target, {p: f for p, f in exported.items() if f != m.path}, calls)
+        diags += lint_module(m, target, refs)
+    if len(valid) > 1:
+        for (_kind, _num), coils in sorted(coil_map(valid).items()):
+            files = {c.file for c in coils}
+            if len(files) > 1:
+                first = coils[0]
+                for c in coils[1:]:
+                    if c.file != first.file:
+                        diags.append(diag(c.file, Span(c.line, c.col, c.line, c.col + 3), "W401",
+                                          f"{c.texts[0]} is also driven at {first.file}:{first.line}; the last OUT in the scan wins (1.3.2)"))
+    return CheckResult(modules, _finish(diags, config, ignore, noqa), lines)
+
+
+def _finish(diags, config: Config, ignore, noqa) -> list[Diagnostic]:
+    out = []
+    for d in diags:
+        sev = config.severity.get(d.code, d.severity)
+        if sev == "off" or d.code in ignore:
+            continue
+        sup = noqa.get(d.file, {}).get(d.span.line, False)
+        if sup is None or (sup and d.code in sup):
+            continue
+        out.append(d if sev == d.severity else d.with_severity(sev))
+    return sorted(set(out), key=Diagnostic.sort_key)
+
+
+def check_files(paths: list[str], target: Target, config: Config | None = None,
+                ignore: frozenset[str] = frozenset()) -> CheckResult:
+    sources: list[SourceText] = []
+    initial: list[Diagnostic] = []
+    for p in paths:
+        src, found = read_source(p)
+        initial += found
+        if src is not None:
+            sources.append(src)
+    return check_texts(sources, target, config, ignore, initial)
+
+
+__all__ = ["CheckResult", "check_files", "check_texts", "decode"]

@@ -1,0 +1,136 @@
+"""Lint: legal but suspicious programs (warnings; each code can be turned off)."""
+
+from __future__ import annotations
+
+from collections import defaultdict
+
+from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.program import Instr, Module
+from mlctool.targets.model import Target
+
+
+def _at(ins: Instr, _k: int | None, code: str, msg: str, *notes: str) -> Diagnostic:
+    return diag(ins.file, Span(ins.line, ins.col, ins.line, ins.col + len(ins.mnemonic)), code, msg, *notes)
+
+
+def _first_seen(instrs, key_of) -> list[tuple[Instr, Instr]]:
+    """(later, first) pairs of instructions sharing a key."""
+    first: dict = {}
+    pairs = []
+    for ins in instrs:
+        key = key_of(ins)
+        if key is None:
+            continue
+        if key in first:
+            pairs.append((ins, first[key]))
+        else:
+            first[key] = ins
+    return pairs
+
+
+def _where(ins: Instr) -> str:
+    return f"{ins.file}:{ins.line}"
+
+
+def double_coils(instrs: list[Instr], code: str = "W401") -> list[Diagnostic]:
+    def key(ins):
+        o = ins.operands
+        return (o[0].kind, o[0].number) if ins.spec.op == "out" and not o[0].index else None
+
+    return [_at(i, None, code, f"{i.texts[0]} is also driven at {_where(f)}; the last OUT in the scan wins (1.3.2)")
+            for i, f in _first_seen(instrs, key)]
+
+
+def lint_module(module: Module, target: Target, referenced: set[int]) -> list[Diagnostic]:
+    instrs = module.instrs
+    out = double_coils(instrs)
+
+    def timer_key(ins):
+        return (ins.operands[0].kind, ins.operands[0].number) if ins.spec.op in ("tmr", "cnt") else None
+
+    out += [_at(i, None, "W402", f"{i.texts[0]} is also driven at {_where(f)}") for i, f in _first_seen(instrs, timer_key)]
+
+    # 32-bit pairs overlapping other uses of their registers
+    words16: dict[int, Instr] = {}
+    pairs32: dict[int, Instr] = {}
+    for ins in instrs:
+        if ins.spec.api is None:
+            continue
+        for o in ins.operands:
+            if o.kind != "D" or o.index:
+                continue
+            if ins.spec.width == 32:
+                for other in (o.number - 1, o.number + 1):
+                    if other in pairs32 and pairs32[other] is not ins:
+                        out.append(_at(ins, None, "W403", f"D{o.number} pair overlaps the pair D{other} used at {_where(pairs32[other])}"))
+                if o.number + 1 in words16:
+                    out.append(_at(ins, None, "W403", f"(D{o.number + 1}, D{o.number}) overlaps D{o.number + 1} used as a 16-bit word at {_where(words16[o.number + 1])}"))
+                pairs32.setdefault(o.number, ins)
+            else:
+                if o.number - 1 in pairs32:
+                    out.append(_at(ins, None, "W403", f"D{o.number} is the high word of the 32-bit pair D{o.number - 1} used at {_where(pairs32[o.number - 1])}"))
+                words16.setdefault(o.number, ins)
+
+    # labels nobody jumps to
+    for ins in instrs:
+        if ins.spec.cls == "label":
+            p = ins.operands[0].number
+            if p not in referenced and p not in module.exports:
+                out.append(_at(ins, None, "W404", f"P{p} is never the target of CJ or CALL"))
+
+    # SET without RST
+    reset: set = set()
+    ranges: list = []
+    for ins in instrs:
+        if ins.spec.op in ("rst", "out", "alt", "pls", "plf") and not ins.operands[0].index:
+            reset.add((ins.operands[0].kind, ins.operands[0].number))
+        elif ins.spec.op == "zrst":
+            a, b = ins.operands
+            ranges.append((a.kind, min(a.number, b.number), max(a.number, b.number)))
+        elif ins.spec.api is not None:
+            for o, s in zip(ins.operands, ins.spec.operands, strict=False):
+                if s.writes:
+                    reset.add((o.kind, o.number))
+                    if o.is_group:
+                        ranges.append((o.device, o.number, o.number + 4 * o.digits - 1))
+    seen = set()
+    for ins in instrs:
+        if ins.spec.op == "set" and not ins.operands[0].index:
+            key = (ins.operands[0].kind, ins.operands[0].number)
+            if key in reset or key in seen or any(k == key[0] and lo <= key[1] <= hi for k, lo, hi in ranges):
+                continue
+            seen.add(key)
+            out.append(_at(ins, None, "W405", f"{ins.texts[0]} is SET but never reset"))
+
+    # unreachable: after FEND or SRET, until the next label
+    dead = False
+    for ins in instrs:
+        if ins.spec.cls == "label":
+            dead = False
+        elif dead and ins.spec.op not in ("end", "fend", "nop"):
+            out.append(_at(ins, None, "W406", f"{ins.mnemonic} is never executed: it follows FEND/SRET and no label"))
+            dead = False  # one warning per dead stretch
+        if ins.spec.op in ("fend", "sret"):
+            dead = True
+    return out
+
+
+def referenced_labels(modules: list[Module]) -> tuple[set[int], set[int]]:
+    """(all P referenced by CJ/CALL, P referenced by CALL)."""
+    refs, calls = set(), set()
+    for m in modules:
+        for ins in m.instrs:
+            if ins.spec.op in ("cj", "call") and not ins.operands[0].index:
+                refs.add(ins.operands[0].number)
+                if ins.spec.op == "call":
+                    calls.add(ins.operands[0].number)
+    return refs, calls
+
+
+def coil_map(modules: list[Module]) -> dict:
+    out = defaultdict(list)
+    for m in modules:
+        for ins in m.instrs:
+            if ins.spec.op == "out":
+                out[(ins.operands[0].kind, ins.operands[0].number)].append(ins)
+    return out

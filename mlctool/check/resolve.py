@@ -1,0 +1,295 @@
+"""Statements -> Module: directives, symbols, mnemonics, operand legality, steps, addresses.
+
+Every rule here reads the target's tables; nothing names an instruction.
+"""
+
+from __future__ import annotations
+
+import re
+
+from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.program import Instr, Module
+from mlctool.syntax.operands import SYMBOL, Operand, OperandSyntaxError, parse_operand
+from mlctool.syntax.parser import ParsedFile, Statement, Word
+from mlctool.targets.model import GROUP_KINDS, InstrSpec, OperandSpec, Target
+
+_LABEL = re.compile(r"P([0-9]+)", re.IGNORECASE)
+
+
+class _Resolver:
+    def __init__(self, parsed: ParsedFile, target: Target):
+        self.p = parsed
+        self.t = target
+        self.path = parsed.path
+        self.diags: list[Diagnostic] = list(parsed.diagnostics)
+        self.module = Module(parsed.path, target.name, [])
+        self.addr = 0
+        self.label_spec = next(s for s in target.instructions.values() if s.cls == "label")
+
+    # -- reporting
+    def err(self, line: int, w: Word, code: str, msg: str, *notes: str) -> None:
+        self.diags.append(diag(self.path, Span(line, w.col, line, w.end_col), code, msg, *notes))
+
+    # -- statements
+    def run(self) -> tuple[Module, list[Diagnostic]]:
+        for st in self.p.statements:
+            if st.kind == "directive":
+                self.directive(st)
+            elif st.kind == "label":
+                self.label(st, st.name)
+            else:
+                self.instruction(st)
+        return self.module, self.diags
+
+    def directive(self, st: Statement) -> None:
+        name = st.name.text.lower()
+        ops = st.operands
+        if name == ".define" and len(ops) == 2:
+            sym, val = ops
+            if not SYMBOL.fullmatch(sym.text) or self._is_operand(sym.text):
+                self.err(st.line, sym, "E106", f"{sym.text!r} cannot be a symbol name: it reads as an operand")
+            elif sym.text.upper() in self.module.symbols:
+                self.err(st.line, sym, "E106", f"symbol {sym.text!r} is already defined")
+            elif not self._is_operand(val.text):
+                self.err(st.line, val, "E106", f"{val.text!r} is not a valid operand for symbol {sym.text!r}")
+            else:
+                self.module.symbols[sym.text.upper()] = val.text
+        elif name == ".export" and ops:
+            for w in ops:
+                m = _LABEL.fullmatch(self.module.symbols.get(w.text.upper(), w.text))
+                if m:
+                    self.module.exports.add(int(m[1]))
+                else:
+                    self.err(st.line, w, "E105", f".export takes P labels, not {w.text!r}")
+        elif name == ".library" and not ops:
+            self.module.library = True
+        else:
+            self.err(st.line, st.name, "E105", f"unknown or malformed directive {st.name.text!r}",
+                     "directives: .define NAME OPERAND, .export P10, .library")
+
+    @staticmethod
+    def _is_operand(text: str) -> bool:
+        try:
+            parse_operand(text)
+        except OperandSyntaxError:
+            return False
+        return True
+
+    def label(self, st: Statement, w: Word) -> None:
+        m = _LABEL.fullmatch(w.text)
+        if not m:
+            self.err(st.line, w, "E103", f"label {w.text!r} is not a P pointer (P0-P255)")
+            return
+        self.emit(st, self.label_spec, (Operand("P", number=int(m[1])),), (w.text.upper(),), (w,))
+
+    def instruction(self, st: Statement) -> None:
+        name = st.name.text.upper()
+        spec = self.t.instruction(name)
+        if spec is None:
+            if _LABEL.fullmatch(name) and not st.operands:
+                self.label(st, st.name)
+                return
+            self.err(st.line, st.name, "E201", f"unknown instruction {st.name.text!r} for target {self.t.name}")
+            return
+        n = len(spec.operands)
+        if len(st.operands) != n and not (spec.table and n < len(st.operands) <= n + spec.table):
+            form = " ".join([spec.mnemonic] + [o.role for o in spec.operands])
+            where = st.operands[n] if len(st.operands) > n else st.name
+            self.err(st.line, where, "E202", f"{spec.mnemonic} takes {n} operand{'s' if n != 1 else ''}, "
+                     f"got {len(st.operands)}", f"form: {form}")
+            self.emit_invalid(st, spec)
+            return
+        operands: list[Operand] = []
+        ok = True
+        for w in st.operands:
+            text = self.module.symbols.get(w.text.upper(), w.text)
+            try:
+                operands.append(parse_operand(text))
+            except OperandSyntaxError as e:
+                if SYMBOL.fullmatch(w.text) and not self._is_operand(w.text) and len(w.text) > 1 and not re.fullmatch(r"H[0-9A-Fa-f]+", w.text):
+                    self.err(st.line, w, "E215", f"undefined symbol {w.text!r}")
+                else:
+                    self.err(st.line, w, "E203", str(e))
+                ok = False
+        if not ok:
+            self.emit_invalid(st, spec)
+            return
+        ok = True
+        for spec_o, op, w in zip(spec.operands, operands, st.operands):
+            ok = self.check_operand(st.line, spec, spec_o, op, w, operands) and ok
+        table = operands[n:]
+        for o, w in zip(table, st.operands[n:], strict=True):
+            lo, hi = self.t.krange(spec.width)
+            if o.kind != "K" or o.index:
+                self.err(st.line, w, "E204", f"{spec.mnemonic} table entries are K constants")
+                ok = False
+            elif not lo <= o.value <= hi:
+                self.err(st.line, w, "E206", f"table entry {w.text} outside K{lo}..K{hi}")
+                ok = False
+        ok = self.check_constraints(st, spec, operands) and ok
+        if ok:
+            self.emit(st, spec, tuple(operands[:n]), tuple(w.text for w in st.operands[:n]), st.operands,
+                      tuple(int(o.value) for o in table) + (0,) * (spec.table - len(table)) if spec.table else ())
+        else:
+            self.emit_invalid(st, spec)
+
+    def emit_invalid(self, st: Statement, spec: InstrSpec) -> None:
+        """Keep a line with operand errors for the rung checks, without operands."""
+        self.module.instrs.append(Instr(spec, (), (), spec.steps, self.addr, self.path, st.line,
+                                        st.name.col, valid=False))
+        self.addr += spec.steps
+
+    def check_operand(self, line: int, spec: InstrSpec, o: OperandSpec, op: Operand, w: Word,
+                      all_ops: list[Operand]) -> bool:
+        t = self.t
+        width = spec.width
+        dev = t.devices.get(op.device) if not op.is_const else None
+        if not op.is_const and dev is None:
+            self.err(line, w, "E203", f"{w.text!r}: no device {op.device} on target {t.name}")
+            return False
+        # writes to inputs and constants
+        if o.writes and (op.is_const or (dev is not None and dev.input)):
+            self.err(line, w, "E210", f"{spec.mnemonic} writes its {o.role} operand; {w.text} is "
+                     + ("a constant" if op.is_const else "an input"))
+            return False
+        if op.kind not in o.kinds:
+            allowed = " ".join(sorted(o.kinds))
+            self.err(line, w, "E204", f"{spec.mnemonic} operand {o.role} cannot be {_kind_name(op)}",
+                     f"allowed: {allowed} ({spec.section})")
+            return False
+        if op.kind == "F" and width != 32:
+            self.err(line, w, "E204", f"an F constant needs a 32-bit instruction; {spec.mnemonic} is 16-bit")
+            return False
+        # index modification
+        if op.index:
+            ix, ixn = op.index
+            if not spec.index or op.kind not in t.indexable:
+                self.err(line, w, "E209", f"{w.text}: {spec.mnemonic} operand {o.role} cannot be index-modified")
+                return False
+            if width == 32 and ix != "V":
+                self.err(line, w, "E209", f"{w.text}: 32-bit instructions index with V only (1.8.2)")
+                return False
+            ixdev = t.devices[ix]
+            if not ixdev.lo <= ixn <= ixdev.hi:
+                self.err(line, w, "E205", f"{ix}{ixn} out of range {ix}{ixdev.lo}-{ix}{ixdev.hi}")
+                return False
+        if op.is_const:
+            return self.check_const(line, w, spec, o, op, all_ops)
+        # device number ranges
+        if not dev.lo <= op.number <= dev.hi:
+            self.err(line, w, "E205", f"{op.device}{op.number} out of range {op.device}{dev.lo}-{op.device}{dev.hi}")
+            return False
+        narrow = o.devices32 if width == 32 else o.devices16
+        if narrow and not narrow[0] <= op.number <= narrow[1]:
+            self.err(line, w, "E211", f"{spec.mnemonic} takes {op.kind}{narrow[0]}-{op.kind}{narrow[1]}, not {w.text}")
+            return False
+        if dev.width16_only and width == 32:
+            self.err(line, w, "E211", f"{op.kind} devices may be operands of 16-bit instructions only; "
+                     f"{spec.mnemonic} is 32-bit")
+            return False
+        if (op.kind == "C" and spec.api is not None and width == 16 and spec.op not in ("cnt",)
+                and t.is_counter32(op.number)):
+            self.err(line, w, "E211", f"32-bit counter {w.text} may be used only by 32-bit instructions "
+                     f"(3.2.5); use D{spec.mnemonic}" if f"D{spec.mnemonic}" in t.instructions else "")
+            return False
+        for lo, hi in (o.forbid16 if width == 16 else ()):
+            if lo <= op.number <= hi:
+                self.err(line, w, "E216", f"{spec.mnemonic} cannot take {w.text} ({op.kind}{lo}-{op.kind}{hi} excluded)")
+                return False
+        if op.is_group:
+            maxn = 8 if width == 32 else 4
+            if not 1 <= op.digits <= maxn:
+                self.err(line, w, "E207", f"K{op.digits}{op.device}: n must be 1-{maxn} in a {width}-bit instruction")
+                return False
+            last = op.number + 4 * op.digits - 1
+            first = op.number
+        else:
+            first = op.number
+            last = op.number + self.extent(spec, o, op) - 1
+        if last > dev.hi:
+            self.err(line, w, "E208" if not op.is_group else "E207",
+                     f"{w.text} would occupy {op.device}{first}-{op.device}{last}, past {op.device}{dev.hi}")
+            return False
+        self.check_areas(line, w, o, dev, first, last)
+        return True
+
+    def extent(self, spec: InstrSpec, o: OperandSpec, op: Operand) -> int:
+        dev = self.t.devices[op.device]
+        if dev.kind in ("bit",) or spec.cls in ("load", "and", "or") and dev.kind in ("timer", "counter") \
+                and spec.api is None:
+            return o.bits
+        if dev.kind == "pointer" or (dev.kind == "counter" and self.t.is_counter32(op.number)):
+            return 1
+        if op.kind in ("V", "Z") or spec.api is None:
+            return 1
+        return o.words[1] if spec.width == 32 else o.words[0]
+
+    def check_const(self, line, w, spec, o: OperandSpec, op: Operand, all_ops) -> bool:
+        if op.kind == "F":
+            fmax = self.t.settings["f_max"]
+            dec = self.t.settings["f_decimals"]
+            if abs(op.value) > fmax or op.decimals > dec:
+                self.err(line, w, "E206", f"F constant {w.text} outside +-{fmax} with at most {dec} decimals")
+                return False
+            return True
+        rng = (o.range32 if spec.width == 32 else o.range16) or self.t.krange(spec.width)
+        if o.word_range and o.word_range_of:
+            k = next(i for i, s in enumerate(spec.operands) if s.role == o.word_range_of)
+            other = all_ops[k]
+            if not other.is_const and not other.is_group and self.t.devices[other.device].kind != "bit":
+                if not o.word_range[0] <= op.value <= o.word_range[1]:
+                    self.err(line, w, "E216", f"{spec.mnemonic} n must be K{o.word_range[0]}-K{o.word_range[1]} "
+                             f"when {o.word_range_of} is a word device")
+                    return False
+        if not rng[0] <= op.value <= rng[1]:
+            self.err(line, w, "E206", f"{spec.mnemonic} operand {o.role}: {w.text} outside K{rng[0]}..K{rng[1]}")
+            return False
+        return True
+
+    def check_areas(self, line, w, o: OperandSpec, dev, first: int, last: int) -> None:
+        seen = set()
+        for a in dev.areas:
+            if a.hi < first or a.lo > last or a in seen:
+                continue
+            seen.add(a)
+            if a.write == "reserved":
+                self.err(line, w, "W213", f"{w.text} lies in the {a.name} area {dev.name}{a.lo}-{dev.name}{a.hi}")
+            elif a.write == "nc" and o.writes:
+                self.err(line, w, "W212", f"{w.text} is written by the NC ({a.name} {dev.name}{a.lo}-{dev.name}{a.hi})")
+
+    def check_constraints(self, st: Statement, spec: InstrSpec, ops: list[Operand]) -> bool:
+        ok = True
+        if "same-kind" in spec.constraints and len(ops) >= 2 and ops[0].kind != ops[1].kind:
+            self.err(st.line, st.operands[1], "E214", f"{spec.mnemonic} range ends must be one device kind "
+                     f"({ops[0].kind} and {ops[1].kind})")
+            ok = False
+        if ok and "no-counter-width-mix" in spec.constraints and ops[0].kind == "C":
+            a, b = sorted((ops[0].number, ops[1].number))
+            if self.t.is_counter32(a) != self.t.is_counter32(b):
+                self.err(st.line, st.operands[1], "E214", f"{spec.mnemonic} cannot mix 16-bit and 32-bit counters")
+                ok = False
+        return ok
+
+    def emit(self, st: Statement, spec: InstrSpec, ops, texts, words, table=()) -> None:
+        steps = spec.steps
+        if spec.short_steps and ops:
+            steps = 1 if self.t.short_operand(ops[0].kind, ops[0].number) else 2
+        if st.step is not None and int(st.step.text) != self.addr:
+            self.err(st.line, st.step, "W107", f"step number {st.step.text} but the computed address is {self.addr}")
+        col = st.name.col
+        self.module.instrs.append(Instr(spec, ops, texts, steps, self.addr, self.path, st.line, col, table))
+        self.addr += steps
+
+
+def _kind_name(op: Operand) -> str:
+    if op.kind == "K":
+        return "a K constant"
+    if op.kind == "F":
+        return "an F constant"
+    if op.kind in GROUP_KINDS:
+        return f"a bit group {op.kind}"
+    return f"{op.kind} device"
+
+
+def resolve(parsed: ParsedFile, target: Target) -> tuple[Module, list[Diagnostic]]:
+    return _Resolver(parsed, target).run()

@@ -1,0 +1,153 @@
+"""Program structure: END/FEND layout, labels, CJ/CALL targets, FOR/NEXT, rung stack balance."""
+
+from __future__ import annotations
+
+from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.program import Instr, Module
+from mlctool.targets.model import Target
+
+JUMPS = ("cj", "call")
+
+
+def _at(ins: Instr, code: str, msg: str, *notes: str) -> Diagnostic:
+    return diag(ins.file, Span(ins.line, ins.col, ins.line, ins.col + len(ins.mnemonic)), code, msg, *notes)
+
+
+def check_rungs(module: Module, target: Target) -> list[Diagnostic]:
+    """Walk the contact/block/stack machine of each rung (2.2 ANB, ORB, MPS, MRD, MPP)."""
+    out: list[Diagnostic] = []
+    depth_limit = target.settings["mps_depth"]
+    acc = False  # a current result exists
+    driven = False  # the current rung has driven at least one output
+    blocks = 0  # blocks waiting for ANB/ORB
+    mps = 0
+    last = None
+
+    def close(ins: Instr | None) -> None:
+        nonlocal acc, driven, blocks, mps
+        where = ins or last
+        if where is not None and acc and not driven:
+            out.append(_at(where, "E313", "rung ends without an output"))
+        elif where is not None and blocks:
+            out.append(_at(where, "E313", f"{blocks} block(s) never combined with ANB/ORB"))
+        if where is not None and mps:
+            out.append(_at(where, "E308", f"{mps} MPS without MPP at the end of the rung"))
+        acc = driven = False
+        blocks = mps = 0
+
+    for ins in module.instrs:
+        cls = ins.spec.cls
+        if cls == "load":
+            if driven:
+                close(ins)
+            if acc:
+                blocks += 1
+            acc = True
+        elif cls in ("and", "or", "inv"):
+            if not acc or driven and cls == "or":
+                out.append(_at(ins, "E311", f"{ins.mnemonic} needs a preceding load (LD, LDI, LDP, LD=, ...)"))
+            acc = True
+        elif cls in ("anb", "orb"):
+            if blocks < 1:
+                out.append(_at(ins, "E310", f"{ins.mnemonic} needs two blocks, each started by a load"))
+            else:
+                blocks -= 1
+        elif cls == "mps":
+            if not acc:
+                out.append(_at(ins, "E311", "MPS needs a current result"))
+            mps += 1
+            if mps > depth_limit:
+                out.append(_at(ins, "E309", f"MPS nested {mps} deep; the stack holds {depth_limit}"))
+        elif cls in ("mrd", "mpp"):
+            if mps < 1:
+                out.append(_at(ins, "E308", f"{ins.mnemonic} without a preceding MPS"))
+            elif cls == "mpp":
+                mps -= 1
+        elif cls == "output":
+            if not acc:
+                out.append(_at(ins, "E312", f"{ins.mnemonic} has no driving condition"))
+            elif blocks:
+                out.append(_at(ins, "E313", f"{blocks} block(s) not combined with ANB/ORB before {ins.mnemonic}"))
+                blocks = 0
+            driven = True
+            acc = True
+        elif cls in ("free", "label"):
+            close(ins)
+        last = ins
+    close(None)
+    return out
+
+
+def check_layout(module: Module, target: Target, exported: dict[int, str], is_called: set[int]) -> list[Diagnostic]:
+    """END, FEND, labels, jumps, FOR/NEXT. `exported` maps P -> module of every module's exports."""
+    out: list[Diagnostic] = []
+    instrs = module.instrs
+    ops = [i.spec.op for i in instrs]
+    ends = [k for k, op in enumerate(ops) if op == "end"]
+    if module.library:
+        for k in ends:
+            out.append(_at(instrs[k], "E305", "a .library module has no END; the linker adds it"))
+    elif not ends:
+        line = instrs[-1].line if instrs else 1
+        out.append(diag(module.path, Span.at(line), "E301", "program has no END"))
+    elif ends[0] != len(instrs) - 1:
+        out.append(_at(instrs[ends[0] + 1], "E302", "code after END is never scanned"))
+    fends = [k for k, op in enumerate(ops) if op == "fend"]
+    sub_start = 0 if module.library else (fends[0] + 1 if fends else len(instrs))
+
+    # labels
+    labels: dict[int, int] = {}
+    for k, ins in enumerate(instrs):
+        if ins.spec.cls == "label":
+            p = ins.operands[0].number
+            if p in labels:
+                out.append(_at(ins, "E303", f"P{p} already labels line {instrs[labels[p]].line}"))
+            else:
+                labels[p] = k
+    cj_targets: dict[int, Instr] = {}
+    call_targets: dict[int, Instr] = {}
+    for ins in instrs:
+        if ins.spec.op in JUMPS and not ins.operands[0].index:
+            p = ins.operands[0].number
+            (call_targets if ins.spec.op == "call" else cj_targets).setdefault(p, ins)
+            if p not in labels and p not in exported:
+                out.append(_at(ins, "E304", f"{ins.mnemonic} P{p}: no such label"
+                               + (" (labels of other modules must be .export-ed)" if p not in labels else "")))
+    for p in sorted(set(cj_targets) & (set(call_targets) | is_called)):
+        out.append(_at(cj_targets[p], "E305", f"P{p} is used by CALL, so CJ may not use it (4.1 API-00)"))
+    for p, ins in sorted(call_targets.items()):
+        if p in labels and labels[p] < sub_start:
+            out.append(_at(ins, "E305", f"CALL target P{p} lies before FEND; subroutines go after FEND (4.1 API-01)"))
+    for p, ins in sorted(cj_targets.items()):
+        if p in labels and ((labels[p] >= sub_start) != (instrs.index(ins) >= sub_start)):
+            out.append(_at(ins, "E305", f"CJ P{p} jumps between the main program and the subroutine area"))
+    for k, ins in enumerate(instrs):
+        if ins.spec.op == "sret" and k < sub_start:
+            out.append(_at(ins, "E305", "SRET before FEND: subroutines go after FEND"))
+
+    # FOR/NEXT pairing per program part
+    limit = target.settings["for_depth"]
+    stack: list[Instr] = []
+    for ins in instrs:
+        op = ins.spec.op
+        if op == "for":
+            stack.append(ins)
+            if len(stack) > limit:
+                out.append(_at(ins, "E307", f"FOR nested {len(stack)} deep; the limit is {limit} (4.1 API-07)"))
+        elif op == "next":
+            if not stack:
+                out.append(_at(ins, "E306", "NEXT without FOR"))
+            else:
+                stack.pop()
+        elif op in ("fend", "end", "sret"):
+            for f in stack:
+                out.append(_at(f, "E306", f"FOR without NEXT before {ins.mnemonic}"))
+            stack.clear()
+    for f in stack:
+        out.append(_at(f, "E306", "FOR without NEXT"))
+
+    capacity = target.capacity
+    if module.total_steps > capacity:
+        out.append(diag(module.path, Span.at(instrs[-1].line), "E314",
+                        f"program has {module.total_steps} steps; the target holds {capacity}"))
+    return out

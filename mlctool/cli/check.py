@@ -1,0 +1,67 @@
+"""`mlc check`, `mlc explain`, `mlc targets`."""
+
+from __future__ import annotations
+
+import sys
+
+import click
+
+from mlctool.check import check_files
+from mlctool.cli import main_group
+from mlctool.cli.common import config_option, get_config, get_target, show, target_option
+from mlctool.codes import CODES
+from mlctool.report import summary_line, to_json, to_sarif
+from mlctool.targets import available_targets, load_target
+
+
+@main_group.command("check")
+@target_option
+@config_option
+@click.option("--format", "fmt", type=click.Choice(["text", "json", "sarif"]), default="text", show_default=True)
+@click.option("--werror", is_flag=True, help="treat warnings as errors (exit 1)")
+@click.option("--ignore", multiple=True, metavar="CODE", help="drop diagnostics with this code (repeatable)")
+@click.option("--no-lint", is_flag=True, help="drop the lint warnings (W4xx)")
+@click.argument("files", nargs=-1, required=True, type=click.Path())
+def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, files):
+    """Check instruction-list sources against the target's manual.
+
+    Exit 0: no errors; 1: errors (or warnings with --werror); 2: usage or unreadable input.
+    """
+    config = get_config(config_path)
+    target = get_target(target_name, config)
+    ignored = frozenset(c.upper() for c in ignore)
+    if no_lint:
+        ignored |= {c for c in CODES if c.startswith("W4")}
+    result = check_files(list(files), target, config, ignored)
+    if fmt == "json":
+        sys.stdout.write(to_json(result.diagnostics))
+    elif fmt == "sarif":
+        sys.stdout.write(to_sarif(result.diagnostics))
+    else:
+        show(result.diagnostics, result.lines)
+        if result.diagnostics:
+            click.echo(summary_line(result.errors, result.warnings), err=True)
+    unreadable = any(d.code == "E100" for d in result.diagnostics)
+    if unreadable:
+        sys.exit(2)
+    if result.errors or (werror and result.warnings):
+        sys.exit(1)
+
+
+@main_group.command("explain")
+@click.argument("code")
+def explain_cmd(code):
+    """Print the documentation of a diagnostic code (e.g. mlc explain W401)."""
+    c = CODES.get(code.upper())
+    if c is None:
+        click.echo(f"mlc: unknown code {code!r}; codes: {', '.join(CODES)}", err=True)
+        sys.exit(2)
+    click.echo(f"{c.code} ({c.severity}): {c.summary}\n\n{c.doc.strip()}")
+
+
+@main_group.command("targets")
+def targets_cmd():
+    """List the targets and the manual each one follows."""
+    for name in available_targets():
+        t = load_target(name)
+        click.echo(f"{t.name:6} {t.title:22} manual: {t.manual} ({t.settings.get('manual_title', '')})")

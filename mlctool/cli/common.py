@@ -1,0 +1,70 @@
+"""Shared CLI plumbing: target selection, diagnostics on stderr, no tracebacks."""
+
+from __future__ import annotations
+
+import os
+import sys
+import traceback
+
+import click
+
+from mlctool.config import Config, load_config
+from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
+from mlctool.report import render_text
+from mlctool.targets import Target, available_targets, load_target
+
+
+def run_guarded(group: click.Group, argv: list[str] | None) -> int:
+    """Run the click group; turn every failure into a message and an exit code."""
+    try:
+        group.main(args=argv, prog_name="mlc", standalone_mode=False)
+        return 0
+    except MlcError as e:
+        render_text([e.diagnostic], {})
+        return e.exit_code
+    except click.exceptions.Exit as e:
+        return e.exit_code
+    except click.ClickException as e:
+        e.show()
+        return 2
+    except click.exceptions.Abort:
+        click.echo("aborted", err=True)
+        return 2
+    except SystemExit as e:
+        return e.code if isinstance(e.code, int) else 1
+    except KeyboardInterrupt:
+        return 130
+    except RecursionError:
+        click.echo("mlc: error: input nests too deeply to process", err=True)
+        return 2
+    except MemoryError:
+        click.echo("mlc: error: out of memory on this input", err=True)
+        return 2
+    except Exception as e:  # a bug: say so plainly, trace only on request
+        if os.environ.get("MLC_DEBUG"):
+            traceback.print_exc()
+        click.echo(f"mlc: internal error: {type(e).__name__}: {e} (set MLC_DEBUG=1 for details)", err=True)
+        return 3
+
+
+def get_config(explicit: str | None = None) -> Config:
+    return load_config(explicit=explicit)
+
+
+def get_target(name: str | None, config: Config) -> Target:
+    name = name or config.target or "nc5"
+    try:
+        return load_target(name)
+    except KeyError:
+        raise MlcError(diag("<command line>", Span.at(1), "E100",
+                            f"unknown target {name!r}; available: {', '.join(available_targets())}")) from None
+
+
+def show(diags: list[Diagnostic], lines: dict[str, list[str]]) -> None:
+    render_text(diags, lines, sys.stderr)
+
+
+target_option = click.option("--target", "target_name", default=None, metavar="NAME",
+                             help="target PLC (default: from mlc.toml, else nc5)")
+config_option = click.option("--config", "config_path", default=None, type=click.Path(dir_okay=False),
+                             help="configuration file (default: mlc.toml or pyproject.toml found upward)")

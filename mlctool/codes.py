@@ -1,0 +1,23 @@
+"""The registry of diagnostic codes, read from codes.toml."""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass
+from importlib import resources
+
+
+@dataclass(frozen=True, slots=True)
+class Code:
+    code: str
+    severity: str
+    summary: str
+    doc: str
+
+
+def _load() -> dict[str, Code]:
+    data = tomllib.loads(resources.files("mlctool").joinpath("codes.toml").read_text("utf-8"))
+    return {k: Code(k, v["severity"], v["summary"], v["doc"]) for k, v in sorted(data.items())}
+
+
+CODES: dict[str, Code] = _load()

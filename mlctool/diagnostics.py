@@ -1,0 +1,59 @@
+"""Diagnostics: one problem at one place, with a stable code.
+
+Every stage reports problems as `Diagnostic` values; the CLI renders them as text, JSON or
+SARIF. Codes and their docs live in `mlctool.codes`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+
+@dataclass(frozen=True, slots=True)
+class Span:
+    """1-based line and column; end column is exclusive."""
+
+    line: int
+    col: int
+    end_line: int
+    end_col: int
+
+    @staticmethod
+    def at(line: int, col: int = 1, length: int = 1) -> Span:
+        return Span(line, col, line, col + max(length, 1))
+
+
+@dataclass(frozen=True, slots=True)
+class Diagnostic:
+    file: str
+    span: Span
+    severity: str  # "error" | "warning" | "note"
+    code: str
+    message: str
+    notes: tuple[str, ...] = field(default=())
+
+    def with_severity(self, severity: str) -> Diagnostic:
+        return replace(self, severity=severity)
+
+    def sort_key(self):
+        return (self.file, self.span.line, self.span.col, self.code, self.message)
+
+
+class MlcError(Exception):
+    """A failure that ends a command with a diagnostic (never a traceback)."""
+
+    def __init__(self, diagnostic: Diagnostic, exit_code: int = 2):
+        super().__init__(diagnostic.message)
+        self.diagnostic = diagnostic
+        self.exit_code = exit_code
+
+
+def diag(file: str, span: Span, code: str, message: str, *notes: str) -> Diagnostic:
+    """A diagnostic with the code's default severity."""
+    from mlctool.codes import CODES
+
+    return Diagnostic(file, span, CODES[code].severity, code, message, tuple(notes))
+
+
+def fail(file: str, code: str, message: str, line: int = 1, col: int = 1, exit_code: int = 2):
+    raise MlcError(diag(file, Span.at(line, col), code, message), exit_code)
