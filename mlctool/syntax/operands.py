@@ -42,6 +42,7 @@ class OperandSyntaxError(ValueError):
     pass
 
 
+_INDEX_REGS = "VZ"  # index registers: never the device of a Kn bit group
 _INDEX = r"(?:(?P<ix>[VZ])(?P<ixn>[0-9]+))?"
 _GROUP = re.compile(r"K(?P<n>[0-9]+)(?P<dev>[A-Z])(?P<num>[0-9]+)" + _INDEX)
 _K = re.compile(r"K(?P<val>[+-]?[0-9]+)" + _INDEX)
@@ -59,7 +60,8 @@ def parse_operand(text: str) -> Operand:
     t = text.upper()
     if len(t) > 40:
         raise OperandSyntaxError("operand is too long")
-    if m := _GROUP.fullmatch(t):
+    # K20V0 is the constant K20 modified by V0 (3.4's example), not a bit group of "V"
+    if (m := _GROUP.fullmatch(t)) and m["dev"] not in _INDEX_REGS:
         return Operand("Kn" + m["dev"], number=int(m["num"]), digits=int(m["n"]), index=_index(m))
     if m := _K.fullmatch(t):
         return Operand("K", value=int(m["val"]), index=_index(m))
