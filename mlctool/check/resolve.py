@@ -6,6 +6,7 @@ Every rule here reads the target's tables; nothing names an instruction.
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module
@@ -14,6 +15,14 @@ from mlctool.syntax.parser import ParsedFile, Statement, Word
 from mlctool.targets.model import GROUP_KINDS, InstrSpec, OperandSpec, Target
 
 _LABEL = re.compile(r"P([0-9]+)", re.IGNORECASE)
+
+
+@dataclass(slots=True)
+class _Arg:
+    """An operand position (-1: the mnemonic) and its text, for problems found while resolving."""
+
+    idx: int
+    text: str
 
 
 class _Resolver:
@@ -25,6 +34,8 @@ class _Resolver:
         self.module = Module(parsed.path, target.name, [])
         self.addr = 0
         self.label_spec = next(s for s in target.instructions.values() if s.cls == "label")
+        self.cache: dict = {}
+        self._problems: list = []
 
     # -- reporting
     def err(self, line: int, w: Word, code: str, msg: str, *notes: str) -> None:
@@ -80,58 +91,77 @@ class _Resolver:
         if not m:
             self.err(st.line, w, "E103", f"label {w.text!r} is not a P pointer (P0-P255)")
             return
-        self.emit(st, self.label_spec, (Operand("P", number=int(m[1])),), (w.text.upper(),), (w,))
+        self.emit(st, self.label_spec, (Operand("P", number=int(m[1])),), (w.text.upper(),))
 
     def instruction(self, st: Statement) -> None:
-        name = st.name.text.upper()
-        spec = self.t.instruction(name)
+        # Resolution depends only on the mnemonic and the operand texts (after symbol
+        # substitution), so identical lines are resolved once: large programs repeat a lot.
+        symbols = self.module.symbols
+        texts = tuple(symbols.get(w.text.upper(), w.text) for w in st.operands) if symbols \
+            else tuple(w.text for w in st.operands)
+        key = (st.name.text.upper(), texts)
+        res = self.cache.get(key)
+        if res is None:
+            self._problems = []
+            res = self.cache[key] = (*self.resolve_line(*key), tuple(self._problems))
+        spec, operands, table, ok, problems = res
+        for idx, code, msg, notes in problems:
+            self.err(st.line, st.name if idx < 0 else st.operands[idx], code, msg, *notes)
         if spec is None:
-            if _LABEL.fullmatch(name) and not st.operands:
+            if ok:  # a bare P label written as an instruction
                 self.label(st, st.name)
-                return
-            self.err(st.line, st.name, "E201", f"unknown instruction {st.name.text!r} for target {self.t.name}")
             return
-        n = len(spec.operands)
-        if len(st.operands) != n and not (spec.table and n < len(st.operands) <= n + spec.table):
-            form = " ".join([spec.mnemonic] + [o.role for o in spec.operands])
-            where = st.operands[n] if len(st.operands) > n else st.name
-            self.err(st.line, where, "E202", f"{spec.mnemonic} takes {n} operand{'s' if n != 1 else ''}, "
-                     f"got {len(st.operands)}", f"form: {form}")
-            self.emit_invalid(st, spec)
-            return
-        operands: list[Operand] = []
-        ok = True
-        for w in st.operands:
-            text = self.module.symbols.get(w.text.upper(), w.text)
-            try:
-                operands.append(parse_operand(text))
-            except OperandSyntaxError as e:
-                if SYMBOL.fullmatch(w.text) and not self._is_operand(w.text) and len(w.text) > 1 and not re.fullmatch(r"H[0-9A-Fa-f]+", w.text):
-                    self.err(st.line, w, "E215", f"undefined symbol {w.text!r}")
-                else:
-                    self.err(st.line, w, "E203", str(e))
-                ok = False
-        if not ok:
-            self.emit_invalid(st, spec)
-            return
-        ok = True
-        for spec_o, op, w in zip(spec.operands, operands, st.operands):
-            ok = self.check_operand(st.line, spec, spec_o, op, w, operands) and ok
-        table = operands[n:]
-        for o, w in zip(table, st.operands[n:], strict=True):
-            lo, hi = self.t.krange(spec.width)
-            if o.kind != "K" or o.index:
-                self.err(st.line, w, "E204", f"{spec.mnemonic} table entries are K constants")
-                ok = False
-            elif not lo <= o.value <= hi:
-                self.err(st.line, w, "E206", f"table entry {w.text} outside K{lo}..K{hi}")
-                ok = False
-        ok = self.check_constraints(st, spec, operands) and ok
         if ok:
-            self.emit(st, spec, tuple(operands[:n]), tuple(w.text for w in st.operands[:n]), st.operands,
-                      tuple(int(o.value) for o in table) + (0,) * (spec.table - len(table)) if spec.table else ())
+            n = len(spec.operands)
+            self.emit(st, spec, operands, tuple(w.text for w in st.operands[:n]), table)
         else:
             self.emit_invalid(st, spec)
+
+    def report(self, arg: _Arg, code: str, msg: str, *notes: str) -> None:
+        self._problems.append((arg.idx, code, msg, notes))
+
+    def resolve_line(self, name: str, texts: tuple[str, ...]):
+        """-> (spec, operands, table, ok); problems go to self.report."""
+        spec = self.t.instruction(name)
+        mnemonic = _Arg(-1, name)
+        if spec is None:
+            if _LABEL.fullmatch(name) and not texts:
+                return None, (), (), True
+            self.report(mnemonic, "E201", f"unknown instruction {name!r} for target {self.t.name}")
+            return None, (), (), False
+        n = len(spec.operands)
+        if len(texts) != n and not (spec.table and n < len(texts) <= n + spec.table):
+            form = " ".join([spec.mnemonic] + [o.role for o in spec.operands])
+            where = _Arg(n, "") if len(texts) > n else mnemonic
+            self.report(where, "E202", f"{spec.mnemonic} takes {n} operand{'s' if n != 1 else ''}, "
+                        f"got {len(texts)}", f"form: {form}")
+            return spec, (), (), False
+        args = [_Arg(k, t) for k, t in enumerate(texts)]
+        operands: list[Operand] = []
+        for a in args:
+            try:
+                operands.append(parse_operand(a.text))
+            except OperandSyntaxError as e:
+                if SYMBOL.fullmatch(a.text) and len(a.text) > 1 and not re.fullmatch(r"H[0-9A-Fa-f]+", a.text):
+                    self.report(a, "E215", f"undefined symbol {a.text!r}")
+                else:
+                    self.report(a, "E203", str(e))
+        if len(operands) != len(args):
+            return spec, (), (), False
+        ok = True
+        for spec_o, op, a in zip(spec.operands, operands, args, strict=False):
+            ok = self.check_operand(spec, spec_o, op, a, operands) and ok
+        lo, hi = self.t.krange(spec.width)
+        for o, a in zip(operands[n:], args[n:], strict=True):
+            if o.kind != "K" or o.index:
+                self.report(a, "E204", f"{spec.mnemonic} table entries are K constants")
+                ok = False
+            elif not lo <= o.value <= hi:
+                self.report(a, "E206", f"table entry {a.text} outside K{lo}..K{hi}")
+                ok = False
+        ok = self.check_constraints(spec, operands, args) and ok
+        table = tuple(int(o.value) for o in operands[n:]) + (0,) * (spec.table - len(operands[n:])) if spec.table else ()
+        return spec, tuple(operands[:n]), table, ok
 
     def emit_invalid(self, st: Statement, spec: InstrSpec) -> None:
         """Keep a line with operand errors for the rung checks, without operands."""
@@ -139,67 +169,67 @@ class _Resolver:
                                         st.name.col, valid=False))
         self.addr += spec.steps
 
-    def check_operand(self, line: int, spec: InstrSpec, o: OperandSpec, op: Operand, w: Word,
+    def check_operand(self, spec: InstrSpec, o: OperandSpec, op: Operand, w: _Arg,
                       all_ops: list[Operand]) -> bool:
         t = self.t
         width = spec.width
         dev = t.devices.get(op.device) if not op.is_const else None
         if not op.is_const and dev is None:
-            self.err(line, w, "E203", f"{w.text!r}: no device {op.device} on target {t.name}")
+            self.report(w, "E203", f"{w.text!r}: no device {op.device} on target {t.name}")
             return False
         # writes to inputs and constants
         if o.writes and (op.is_const or (dev is not None and dev.input)):
-            self.err(line, w, "E210", f"{spec.mnemonic} writes its {o.role} operand; {w.text} is "
+            self.report(w, "E210", f"{spec.mnemonic} writes its {o.role} operand; {w.text} is "
                      + ("a constant" if op.is_const else "an input"))
             return False
         if op.kind not in o.kinds:
             allowed = " ".join(sorted(o.kinds))
-            self.err(line, w, "E204", f"{spec.mnemonic} operand {o.role} cannot be {_kind_name(op)}",
+            self.report(w, "E204", f"{spec.mnemonic} operand {o.role} cannot be {_kind_name(op)}",
                      f"allowed: {allowed} ({spec.section})")
             return False
         if op.kind == "F" and width != 32:
-            self.err(line, w, "E204", f"an F constant needs a 32-bit instruction; {spec.mnemonic} is 16-bit")
+            self.report(w, "E204", f"an F constant needs a 32-bit instruction; {spec.mnemonic} is 16-bit")
             return False
         # index modification
         if op.index:
             ix, ixn = op.index
             if not spec.index or op.kind not in t.indexable:
-                self.err(line, w, "E209", f"{w.text}: {spec.mnemonic} operand {o.role} cannot be index-modified")
+                self.report(w, "E209", f"{w.text}: {spec.mnemonic} operand {o.role} cannot be index-modified")
                 return False
             if width == 32 and ix != "V":
-                self.err(line, w, "E209", f"{w.text}: 32-bit instructions index with V only (1.8.2)")
+                self.report(w, "E209", f"{w.text}: 32-bit instructions index with V only (1.8.2)")
                 return False
             ixdev = t.devices[ix]
             if not ixdev.lo <= ixn <= ixdev.hi:
-                self.err(line, w, "E205", f"{ix}{ixn} out of range {ix}{ixdev.lo}-{ix}{ixdev.hi}")
+                self.report(w, "E205", f"{ix}{ixn} out of range {ix}{ixdev.lo}-{ix}{ixdev.hi}")
                 return False
         if op.is_const:
-            return self.check_const(line, w, spec, o, op, all_ops)
+            return self.check_const(w, spec, o, op, all_ops)
         # device number ranges
         if not dev.lo <= op.number <= dev.hi:
-            self.err(line, w, "E205", f"{op.device}{op.number} out of range {op.device}{dev.lo}-{op.device}{dev.hi}")
+            self.report(w, "E205", f"{op.device}{op.number} out of range {op.device}{dev.lo}-{op.device}{dev.hi}")
             return False
         narrow = o.devices32 if width == 32 else o.devices16
         if narrow and not narrow[0] <= op.number <= narrow[1]:
-            self.err(line, w, "E211", f"{spec.mnemonic} takes {op.kind}{narrow[0]}-{op.kind}{narrow[1]}, not {w.text}")
+            self.report(w, "E211", f"{spec.mnemonic} takes {op.kind}{narrow[0]}-{op.kind}{narrow[1]}, not {w.text}")
             return False
         if dev.width16_only and width == 32:
-            self.err(line, w, "E211", f"{op.kind} devices may be operands of 16-bit instructions only; "
+            self.report(w, "E211", f"{op.kind} devices may be operands of 16-bit instructions only; "
                      f"{spec.mnemonic} is 32-bit")
             return False
         if (op.kind == "C" and spec.api is not None and width == 16 and spec.op not in ("cnt",)
                 and t.is_counter32(op.number)):
-            self.err(line, w, "E211", f"32-bit counter {w.text} may be used only by 32-bit instructions "
+            self.report(w, "E211", f"32-bit counter {w.text} may be used only by 32-bit instructions "
                      f"(3.2.5); use D{spec.mnemonic}" if f"D{spec.mnemonic}" in t.instructions else "")
             return False
         for lo, hi in (o.forbid16 if width == 16 else ()):
             if lo <= op.number <= hi:
-                self.err(line, w, "E216", f"{spec.mnemonic} cannot take {w.text} ({op.kind}{lo}-{op.kind}{hi} excluded)")
+                self.report(w, "E216", f"{spec.mnemonic} cannot take {w.text} ({op.kind}{lo}-{op.kind}{hi} excluded)")
                 return False
         if op.is_group:
             maxn = 8 if width == 32 else 4
             if not 1 <= op.digits <= maxn:
-                self.err(line, w, "E207", f"K{op.digits}{op.device}: n must be 1-{maxn} in a {width}-bit instruction")
+                self.report(w, "E207", f"K{op.digits}{op.device}: n must be 1-{maxn} in a {width}-bit instruction")
                 return False
             last = op.number + 4 * op.digits - 1
             first = op.number
@@ -207,10 +237,10 @@ class _Resolver:
             first = op.number
             last = op.number + self.extent(spec, o, op) - 1
         if last > dev.hi:
-            self.err(line, w, "E208" if not op.is_group else "E207",
+            self.report(w, "E208" if not op.is_group else "E207",
                      f"{w.text} would occupy {op.device}{first}-{op.device}{last}, past {op.device}{dev.hi}")
             return False
-        self.check_areas(line, w, o, dev, first, last)
+        self.check_areas(w, o, dev, first, last)
         return True
 
     def extent(self, spec: InstrSpec, o: OperandSpec, op: Operand) -> int:
@@ -224,12 +254,12 @@ class _Resolver:
             return 1
         return o.words[1] if spec.width == 32 else o.words[0]
 
-    def check_const(self, line, w, spec, o: OperandSpec, op: Operand, all_ops) -> bool:
+    def check_const(self, w, spec, o: OperandSpec, op: Operand, all_ops) -> bool:
         if op.kind == "F":
             fmax = self.t.settings["f_max"]
             dec = self.t.settings["f_decimals"]
             if abs(op.value) > fmax or op.decimals > dec:
-                self.err(line, w, "E206", f"F constant {w.text} outside +-{fmax} with at most {dec} decimals")
+                self.report(w, "E206", f"F constant {w.text} outside +-{fmax} with at most {dec} decimals")
                 return False
             return True
         rng = (o.range32 if spec.width == 32 else o.range16) or self.t.krange(spec.width)
@@ -238,39 +268,37 @@ class _Resolver:
             other = all_ops[k]
             if not other.is_const and not other.is_group and self.t.devices[other.device].kind != "bit":
                 if not o.word_range[0] <= op.value <= o.word_range[1]:
-                    self.err(line, w, "E216", f"{spec.mnemonic} n must be K{o.word_range[0]}-K{o.word_range[1]} "
+                    self.report(w, "E216", f"{spec.mnemonic} n must be K{o.word_range[0]}-K{o.word_range[1]} "
                              f"when {o.word_range_of} is a word device")
                     return False
         if not rng[0] <= op.value <= rng[1]:
-            self.err(line, w, "E206", f"{spec.mnemonic} operand {o.role}: {w.text} outside K{rng[0]}..K{rng[1]}")
+            self.report(w, "E206", f"{spec.mnemonic} operand {o.role}: {w.text} outside K{rng[0]}..K{rng[1]}")
             return False
         return True
 
-    def check_areas(self, line, w, o: OperandSpec, dev, first: int, last: int) -> None:
-        seen = set()
-        for a in dev.areas:
-            if a.hi < first or a.lo > last or a in seen:
+    def check_areas(self, w, o: OperandSpec, dev, first: int, last: int) -> None:
+        for a in dev.areas:  # areas do not overlap
+            if a.hi < first or a.lo > last or a.write == "ok":
                 continue
-            seen.add(a)
             if a.write == "reserved":
-                self.err(line, w, "W213", f"{w.text} lies in the {a.name} area {dev.name}{a.lo}-{dev.name}{a.hi}")
+                self.report(w, "W213", f"{w.text} lies in the {a.name} area {dev.name}{a.lo}-{dev.name}{a.hi}")
             elif a.write == "nc" and o.writes:
-                self.err(line, w, "W212", f"{w.text} is written by the NC ({a.name} {dev.name}{a.lo}-{dev.name}{a.hi})")
+                self.report(w, "W212", f"{w.text} is written by the NC ({a.name} {dev.name}{a.lo}-{dev.name}{a.hi})")
 
-    def check_constraints(self, st: Statement, spec: InstrSpec, ops: list[Operand]) -> bool:
+    def check_constraints(self, spec: InstrSpec, ops: list[Operand], args: list[_Arg]) -> bool:
         ok = True
         if "same-kind" in spec.constraints and len(ops) >= 2 and ops[0].kind != ops[1].kind:
-            self.err(st.line, st.operands[1], "E214", f"{spec.mnemonic} range ends must be one device kind "
+            self.report(args[1], "E214", f"{spec.mnemonic} range ends must be one device kind "
                      f"({ops[0].kind} and {ops[1].kind})")
             ok = False
         if ok and "no-counter-width-mix" in spec.constraints and ops[0].kind == "C":
             a, b = sorted((ops[0].number, ops[1].number))
             if self.t.is_counter32(a) != self.t.is_counter32(b):
-                self.err(st.line, st.operands[1], "E214", f"{spec.mnemonic} cannot mix 16-bit and 32-bit counters")
+                self.report(args[1], "E214", f"{spec.mnemonic} cannot mix 16-bit and 32-bit counters")
                 ok = False
         return ok
 
-    def emit(self, st: Statement, spec: InstrSpec, ops, texts, words, table=()) -> None:
+    def emit(self, st: Statement, spec: InstrSpec, ops, texts, table=()) -> None:
         steps = spec.steps
         if spec.short_steps and ops:
             steps = 1 if self.t.short_operand(ops[0].kind, ops[0].number) else 2

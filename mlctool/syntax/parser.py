@@ -21,7 +21,7 @@ GRAMMAR = Path(__file__).resolve().parents[2] / "grammars" / "il.lark"
 _PACKAGED_GRAMMAR = Path(__file__).resolve().parent / "il.lark"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True)
 class Word:
     """A token as written, with its 1-based column."""
 
@@ -90,7 +90,8 @@ class _ToStatements(Transformer):
 @cache
 def _parser() -> Lark:
     path = GRAMMAR if GRAMMAR.exists() else _PACKAGED_GRAMMAR
-    return Lark(path.read_text("utf-8"), parser="lalr", lexer="contextual",
+    # cache=True: lark keeps the compiled tables in the temp dir, keyed by the grammar's hash
+    return Lark(path.read_text("utf-8"), parser="lalr", lexer="contextual", cache=True,
                 transformer=_ToStatements(), propagate_positions=False, maybe_placeholders=False)
 
 

@@ -1,0 +1,43 @@
+"""Deterministic generator of large, valid, warning-free NC5 programs for the benchmarks."""
+
+from __future__ import annotations
+
+import itertools
+import random
+
+# (template, steps); {o} is a fresh coil, {t} a fresh timer, {p} a fresh 32-bit pair, {w} a fresh word
+RUNGS = [
+    ("LD X{a}\nANI M{b}\nOR M{c}\nAND M{d}\nOUT M{o}\n", 5),
+    ("LD M{a}\nTMR T{t} K{k}\n", 4),
+    ("LD= D{w} K{k}\nMOV K{k} D{w2}\n", 8),
+    ("LDP X{a}\nADD D{w} K1 D{w2}\n", 8),
+    ("LD M{a}\nMPS\nAND M{b}\nOUT M{o}\nMPP\nANI M{d}\nOUT M{o2}\n", 7),
+    ("LD X{a}\nOR M{b}\nLD M{c}\nORI M{d}\nANB\nDMOV K70000 D{p}\n", 11),
+]
+
+
+def program(steps: int, seed: int = 1) -> str:
+    """A main program of about `steps` steps, ending with END, that `mlc check` passes cleanly."""
+    rnd = random.Random(seed)
+    coils = itertools.count(1000)
+    timers = itertools.count(0)
+    pairs = itertools.count(0, 2)  # D0, D2, ... : pairs never overlap
+    words = itertools.count(3000)  # 16-bit words, apart from the pairs below D3000
+    out = ["; generated benchmark program\n"]
+    total = 0
+    while total < steps - 1:
+        k = rnd.randrange(len(RUNGS))
+        if k == 1 and total > steps // 2:
+            k = 0  # 256 timers only
+        template, n = RUNGS[k]
+        t = next(timers) if k == 1 else 0
+        if t > 255:
+            template, n = RUNGS[0]
+        vals = {c: rnd.randrange(0, 32) if c == "a" else rnd.randrange(0, 999) for c in "abcd"}
+        fresh = {"o": coils, "o2": coils, "p": pairs, "w": words, "w2": words}
+        vals.update({name: next(it) for name, it in fresh.items() if "{" + name + "}" in template})
+        vals.update(t=t, k=rnd.randrange(1, 1000))
+        out.append(template.format(**vals))
+        total += n
+    out.append("END\n")
+    return "".join(out)
