@@ -1,0 +1,95 @@
+"""The IL grammar: statements, spans, error columns; the regex fast path equals lark."""
+
+from __future__ import annotations
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from mlctool.syntax.operands import Operand, OperandSyntaxError, format_operand, parse_operand
+from mlctool.syntax.parser import parse
+from mlctool.syntax.source import decode
+
+
+def _parse(text: str, fast: bool = True):
+    src, diags = decode("t.il", text.encode())
+    assert not diags
+    return parse(src, fast=fast)
+
+
+def _shape(pf):
+    return [(s.line, s.kind, s.name.text, s.name.col, [(w.text, w.col) for w in s.operands],
+             (s.step.text, s.step.col) if s.step else None) for s in pf.statements]
+
+
+def test_forms_from_the_issue():
+    pf = _parse("0000 LD X0\n000013,LD,X0\nP10\nP11:\n  mov  K10,D0  ; comment\nDLD= D0 K5 // c\n"
+                ".define START X0\n\n; only a comment\nDAND<> D0 K1\n")
+    assert _shape(pf) == [
+        (1, "instr", "LD", 6, [("X0", 9)], ("0000", 1)),
+        (2, "instr", "LD", 8, [("X0", 11)], ("000013", 1)),
+        (3, "instr", "P10", 1, [], None),
+        (4, "label", "P11", 1, [], None),
+        (5, "instr", "mov", 3, [("K10", 8), ("D0", 12)], None),
+        (6, "instr", "DLD=", 1, [("D0", 6), ("K5", 9)], None),
+        (7, "directive", ".define", 1, [("START", 9), ("X0", 15)], None),
+        (10, "instr", "DAND<>", 1, [("D0", 8), ("K1", 11)], None),
+    ]
+    assert pf.diagnostics == []
+
+
+def test_full_width_separators_and_tabs():
+    pf = _parse("LD\tX0\nMOV\u3000K1\uff0cD0\n")
+    assert [[w.text for w in s.operands] for s in pf.statements] == [["X0"], ["K1", "D0"]]
+
+
+def test_syntax_error_column_and_recovery():
+    pf = _parse("LD X0\nOUT Y0 @\nLD X1\nP1: X\n:\nOUT Y1\n")
+    got = [(d.code, d.span.line, d.span.col) for d in pf.diagnostics]
+    assert got == [("E103", 2, 8), ("E103", 4, 5), ("E103", 5, 1)]
+    assert "expected" in pf.diagnostics[0].message
+    assert [s.line for s in pf.statements] == [1, 3, 6]
+
+
+def test_noqa_comments():
+    pf = _parse("OUT Y0 ; mlc: noqa W401, W402\nOUT Y0 // mlc: noqa\nOUT Y0 ; noqa\n")
+    assert pf.noqa == {1: frozenset({"W401", "W402"}), 2: None}
+
+
+# -- fast path == lark on arbitrary lines ------------------------------------------------
+PIECES = ["LD", "ld", "DLD=", "AND<>", "OR>=", "X0", "K-5", "F1.5", "D5V0", "P10", ":", ",", " ",
+          "\t", ";c", "//c", "0000", "12", ".define", "@", "=", "<", "\u3000", "K2M0Z1", "A_B"]
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.lists(st.lists(st.sampled_from(PIECES), max_size=8).map("".join), max_size=12))
+def test_fast_path_matches_lark(lines):
+    text = "\n".join(lines) + "\n"
+    fast, slow = _parse(text, True), _parse(text, False)
+    assert _shape(fast) == _shape(slow)
+    assert [(d.code, d.span) for d in fast.diagnostics] == [(d.code, d.span) for d in slow.diagnostics]
+
+
+# -- operands ----------------------------------------------------------------------------
+def test_operand_forms():
+    assert parse_operand("d5v0") == Operand("D", number=5, index=("V", 0))
+    assert parse_operand("K20V0") == Operand("K", value=20, index=("V", 0))
+    assert parse_operand("K2M0Z1") == Operand("KnM", number=0, digits=2, index=("Z", 1))
+    assert parse_operand("F12.3") == Operand("F", value=12.3, decimals=1)
+    assert parse_operand("K-32768").value == -32768
+    assert parse_operand("P255") == Operand("P", number=255)
+
+
+def test_operand_errors_are_helpful():
+    for text, needle in [("10", "K prefix"), ("H1F", "no hexadecimal"), ("X", "not a device"), ("K1.5", "not a device")]:
+        try:
+            parse_operand(text)
+        except OperandSyntaxError as e:
+            assert needle in str(e), (text, str(e))
+        else:
+            raise AssertionError(text)
+
+
+@given(st.sampled_from(["X0", "Y17", "M65535", "D5V0", "K-7", "K20Z3", "K4Y0", "K8M100V2", "F1.250", "F-3", "P7", "T255"]))
+def test_format_round_trip(text):
+    op = parse_operand(text)
+    assert parse_operand(format_operand(op)) == op
