@@ -170,3 +170,9 @@ def test_invalid_utf8_and_nul(mlc, tmp_path):
     p.write_bytes(b"LD X0\n\x00\x01\x02")
     d = json.loads(mlc("check", "--format", "json", str(p)).out)["diagnostics"][0]
     assert (d["code"], d["line"], d["column"]) == ("E101", 2, 1)
+
+
+def test_docs_list_every_code():
+    text = (ROOT / "docs" / "check.md").read_text()
+    missing = [c for c in CODES if f"`{c}`" not in text]
+    assert not missing, missing
