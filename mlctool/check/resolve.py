@@ -63,6 +63,8 @@ class _Resolver:
                 self.err(st.line, sym, "E106", f"symbol {sym.text!r} is already defined")
             elif not self._is_operand(val.text):
                 self.err(st.line, val, "E106", f"{val.text!r} is not a valid operand for symbol {sym.text!r}")
+            elif not (op := parse_operand(val.text)).is_const and op.device not in self.t.devices:
+                self.err(st.line, val, "E106", f"{val.text!r}: no device {op.device} on target {self.t.name}")
             else:
                 self.module.symbols[sym.text.upper()] = val.text
         elif name == ".export" and ops:
@@ -90,6 +92,10 @@ class _Resolver:
         m = _LABEL.fullmatch(w.text)
         if not m:
             self.err(st.line, w, "E103", f"label {w.text!r} is not a P pointer (P0-P255)")
+            return
+        dev = self.t.devices[next(iter(self.label_spec.operands[0].kinds))]
+        if not dev.lo <= int(m[1]) <= dev.hi:
+            self.err(st.line, w, "E205", f"label {w.text} out of range {dev.name}{dev.lo}-{dev.name}{dev.hi}")
             return
         self.emit(st, self.label_spec, (Operand("P", number=int(m[1])),), (w.text.upper(),))
 
@@ -132,7 +138,8 @@ class _Resolver:
         n = len(spec.operands)
         if len(texts) != n and not (spec.table and n < len(texts) <= n + spec.table):
             form = " ".join([spec.mnemonic] + [o.role for o in spec.operands])
-            where = _Arg(n, "") if len(texts) > n else mnemonic
+            extra = n + spec.table  # VRT: the table entries may follow the operands
+            where = _Arg(extra, "") if len(texts) > extra else mnemonic
             self.report(where, "E202", f"{spec.mnemonic} takes {n} operand{'s' if n != 1 else ''}, "
                         f"got {len(texts)}", f"form: {form}")
             return spec, (), (), False
@@ -217,10 +224,14 @@ class _Resolver:
             self.report(w, "E211", f"{op.kind} devices may be operands of 16-bit instructions only; "
                      f"{spec.mnemonic} is 32-bit")
             return False
-        if (op.kind == "C" and spec.api is not None and width == 16 and spec.op not in ("cnt",)
-                and t.is_counter32(op.number)):
-            self.report(w, "E211", f"32-bit counter {w.text} may be used only by 32-bit instructions "
-                     f"(3.2.5); use D{spec.mnemonic}" if f"D{spec.mnemonic}" in t.instructions else "")
+        # 3.2.5 item 5: C64-C79 as data only in 32-bit instructions. Not for the counter
+        # instructions (CNT/DCNT name their counter, checked by devices16/32 above) nor for
+        # ranges of counters whose widths are checked as a whole (ZRST C64 C77, 4.5).
+        if (op.kind == "C" and spec.api is not None and width == 16 and not (o.devices16 or o.devices32)
+                and "no-counter-width-mix" not in spec.constraints and t.is_counter32(op.number)):
+            d_form = f"D{spec.mnemonic}"
+            self.report(w, "E211", f"32-bit counter {w.text} may be used only by 32-bit instructions (3.2.5)"
+                        + (f"; use {d_form}" if d_form in t.instructions else ""))
             return False
         for lo, hi in (o.forbid16 if width == 16 else ()):
             if lo <= op.number <= hi:
@@ -263,6 +274,9 @@ class _Resolver:
                 return False
             return True
         rng = (o.range32 if spec.width == 32 else o.range16) or self.t.krange(spec.width)
+        if not rng[0] <= op.value <= rng[1]:
+            self.report(w, "E206", f"{spec.mnemonic} operand {o.role}: {w.text} outside K{rng[0]}..K{rng[1]}")
+            return False
         if o.word_range and o.word_range_of:
             k = next(i for i, s in enumerate(spec.operands) if s.role == o.word_range_of)
             other = all_ops[k]
@@ -271,9 +285,6 @@ class _Resolver:
                     self.report(w, "E216", f"{spec.mnemonic} n must be K{o.word_range[0]}-K{o.word_range[1]} "
                              f"when {o.word_range_of} is a word device")
                     return False
-        if not rng[0] <= op.value <= rng[1]:
-            self.report(w, "E206", f"{spec.mnemonic} operand {o.role}: {w.text} outside K{rng[0]}..K{rng[1]}")
-            return False
         return True
 
     def check_areas(self, w, o: OperandSpec, dev, first: int, last: int) -> None:
