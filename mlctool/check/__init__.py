@@ -52,8 +52,13 @@ def check_texts(sources: list[SourceText], target: Target, config: Config | None
         modules.append(module)
         diags += found
     # rung checks see every line; the rest only lines whose operands resolved
+    # lines lost to syntax errors or unknown mnemonics: rung/END checks around them would echo them
+    broken: dict[str, frozenset[int]] = {m.path: frozenset() for m in modules}
+    for d in diags:
+        if d.code in ("E103", "E201") and d.file in broken:
+            broken[d.file] |= {d.span.line}
     for m in modules:
-        diags += check_rungs(m, target)
+        diags += check_rungs(m, target, broken[m.path])
     valid = [dataclasses.replace(m, instrs=[i for i in m.instrs if i.valid]) for m in modules]
     # labels across modules
     exported: dict[int, str] = {}
@@ -69,7 +74,8 @@ def check_texts(sources: list[SourceText], target: Target, config: Config | None
                 exported[p] = m.path
     refs, calls = referenced_labels(valid)
     for m in valid:
-        diags += check_layout(m, target, {p: f for p, f in exported.items() if f != m.path}, calls)
+        diags += check_layout(m, target, {p: f for p, f in exported.items() if f != m.path}, calls,
+                              broken[m.path])
         diags += lint_module(m, target, refs)
     if len(valid) > 1:
         for (_kind, _num), coils in sorted(coil_map(valid).items()):

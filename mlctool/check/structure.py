@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from bisect import bisect_right
+
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module
 from mlctool.targets.model import Target
@@ -13,9 +15,15 @@ def _at(ins: Instr, code: str, msg: str, *notes: str) -> Diagnostic:
     return diag(ins.file, Span(ins.line, ins.col, ins.line, ins.col + len(ins.mnemonic)), code, msg, *notes)
 
 
-def check_rungs(module: Module, target: Target) -> list[Diagnostic]:
-    """Walk the contact/block/stack machine of each rung (2.2 ANB, ORB, MPS, MRD, MPP)."""
+def check_rungs(module: Module, target: Target, broken: frozenset[int] = frozenset()) -> list[Diagnostic]:
+    """Walk the contact/block/stack machine of each rung (2.2 ANB, ORB, MPS, MRD, MPP).
+
+    `broken`: lines that did not parse or name no instruction (E103, E201; already reported).
+    A rung next to such a line has lost an instruction, so its rung errors would only echo
+    the first error: they are not reported."""
     out: list[Diagnostic] = []
+    gaps = sorted(broken)
+    tainted = hit = False
     depth_limit = target.settings["mps_depth"]
     acc = False  # a current result exists
     driven = False  # the current rung has driven at least one output
@@ -23,19 +31,29 @@ def check_rungs(module: Module, target: Target) -> list[Diagnostic]:
     mps = 0
     last = None
 
+    def emit(d: Diagnostic) -> None:
+        if not tainted:
+            out.append(d)
+
     def close(ins: Instr | None) -> None:
-        nonlocal acc, driven, blocks, mps
+        nonlocal acc, driven, blocks, mps, tainted
         where = ins or last
         if where is not None and acc and not driven:
-            out.append(_at(where, "E313", "rung ends without an output"))
+            emit(_at(where, "E313", "rung ends without an output"))
         elif where is not None and blocks:
-            out.append(_at(where, "E313", f"{blocks} block(s) never combined with ANB/ORB"))
+            emit(_at(where, "E313", f"{blocks} block(s) never combined with ANB/ORB"))
         if where is not None and mps:
-            out.append(_at(where, "E308", f"{mps} MPS without MPP at the end of the rung"))
+            emit(_at(where, "E308", f"{mps} MPS without MPP at the end of the rung"))
         acc = driven = False
         blocks = mps = 0
+        tainted = hit  # a broken line just before `ins` may belong to the next rung too
 
+    prev_line = 0
     for ins in module.instrs:
+        k = bisect_right(gaps, prev_line)
+        hit = k < len(gaps) and gaps[k] < ins.line
+        tainted = tainted or hit
+        prev_line = ins.line
         cls = ins.spec.cls
         if cls == "load":
             if driven:
@@ -45,40 +63,43 @@ def check_rungs(module: Module, target: Target) -> list[Diagnostic]:
             acc = True
         elif cls in ("and", "or", "inv"):
             if not acc or driven and cls == "or":
-                out.append(_at(ins, "E311", f"{ins.mnemonic} needs a preceding load (LD, LDI, LDP, LD=, ...)"))
+                emit(_at(ins, "E311", f"{ins.mnemonic} needs a preceding load (LD, LDI, LDP, LD=, ...)"))
             acc = True
         elif cls in ("anb", "orb"):
             if blocks < 1:
-                out.append(_at(ins, "E310", f"{ins.mnemonic} needs two blocks, each started by a load"))
+                emit(_at(ins, "E310", f"{ins.mnemonic} needs two blocks, each started by a load"))
             else:
                 blocks -= 1
         elif cls == "mps":
             if not acc:
-                out.append(_at(ins, "E311", "MPS needs a current result"))
+                emit(_at(ins, "E311", "MPS needs a current result"))
             mps += 1
             if mps > depth_limit:
-                out.append(_at(ins, "E309", f"MPS nested {mps} deep; the stack holds {depth_limit}"))
+                emit(_at(ins, "E309", f"MPS nested {mps} deep; the stack holds {depth_limit}"))
         elif cls in ("mrd", "mpp"):
             if mps < 1:
-                out.append(_at(ins, "E308", f"{ins.mnemonic} without a preceding MPS"))
+                emit(_at(ins, "E308", f"{ins.mnemonic} without a preceding MPS"))
             elif cls == "mpp":
                 mps -= 1
         elif cls == "output":
             if not acc:
-                out.append(_at(ins, "E312", f"{ins.mnemonic} has no driving condition"))
+                emit(_at(ins, "E312", f"{ins.mnemonic} has no driving condition"))
             elif blocks:
-                out.append(_at(ins, "E313", f"{blocks} block(s) not combined with ANB/ORB before {ins.mnemonic}"))
+                emit(_at(ins, "E313", f"{blocks} block(s) not combined with ANB/ORB before {ins.mnemonic}"))
                 blocks = 0
             driven = True
             acc = True
         elif cls in ("free", "label"):
             close(ins)
         last = ins
+    hit = bool(gaps) and gaps[-1] > prev_line
+    tainted = tainted or hit
     close(None)
     return out
 
 
-def check_layout(module: Module, target: Target, exported: dict[int, str], is_called: set[int]) -> list[Diagnostic]:
+def check_layout(module: Module, target: Target, exported: dict[int, str], is_called: set[int],
+                 broken: frozenset[int] = frozenset()) -> list[Diagnostic]:
     """END, FEND, labels, jumps, FOR/NEXT. `exported` maps P -> module of every module's exports."""
     out: list[Diagnostic] = []
     instrs = module.instrs
@@ -88,8 +109,10 @@ def check_layout(module: Module, target: Target, exported: dict[int, str], is_ca
         for k in ends:
             out.append(_at(instrs[k], "E305", "a .library module has no END; the linker adds it"))
     elif not ends:
-        line = instrs[-1].line if instrs else 1
-        out.append(diag(module.path, Span.at(line), "E301", "program has no END"))
+        # a broken last line is most likely the END itself, already reported
+        if not (broken and max(broken) > (instrs[-1].line if instrs else 0)):
+            line = instrs[-1].line if instrs else 1
+            out.append(diag(module.path, Span.at(line), "E301", "program has no END"))
     elif ends[0] != len(instrs) - 1:
         out.append(_at(instrs[ends[0] + 1], "E302", "code after END is never scanned"))
     fends = [k for k, op in enumerate(ops) if op == "fend"]
@@ -113,13 +136,14 @@ def check_layout(module: Module, target: Target, exported: dict[int, str], is_ca
             if p not in labels and p not in exported:
                 out.append(_at(ins, "E304", f"{ins.mnemonic} P{p}: no such label"
                                + (" (labels of other modules must be .export-ed)" if p not in labels else "")))
-    for p in sorted(set(cj_targets) & (set(call_targets) | is_called)):
+    shared = set(cj_targets) & (set(call_targets) | is_called)
+    for p in sorted(shared):
         out.append(_at(cj_targets[p], "E305", f"P{p} is used by CALL, so CJ may not use it (4.1 API-00)"))
     for p, ins in sorted(call_targets.items()):
         if p in labels and labels[p] < sub_start:
             out.append(_at(ins, "E305", f"CALL target P{p} lies before FEND; subroutines go after FEND (4.1 API-01)"))
     for p, ins in sorted(cj_targets.items()):
-        if p in labels and ((labels[p] >= sub_start) != (instrs.index(ins) >= sub_start)):
+        if p in labels and p not in shared and ((labels[p] >= sub_start) != (instrs.index(ins) >= sub_start)):
             out.append(_at(ins, "E305", f"CJ P{p} jumps between the main program and the subroutine area"))
     for k, ins in enumerate(instrs):
         if ins.spec.op == "sret" and k < sub_start:
