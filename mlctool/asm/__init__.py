@@ -2,26 +2,37 @@
 
 from __future__ import annotations
 
-from mlctool.check import check_files
 from mlctool.config import Config
-from mlctool.diagnostics import Diagnostic
+from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image
 from mlctool.targets import Target
 
 
 def program_from_paths(paths: list[str], target: Target, config: Config | None = None
                        ) -> tuple[Image | None, list[Diagnostic], dict[str, list[str]]]:
-    """Sources (.il), object modules (.mlo) or a linked image (.mlx) -> one linked Image.
+    """Sources (.il), object modules (.mlo) or one linked program (.mlx) -> one linked Image.
 
     Returns (image or None when errors prevent it, diagnostics, source lines for rendering).
+    Source paths stay as given (diagnostics point at the files); objects keep their names.
     """
-    from mlctool.asm.link import link_modules
+    from mlctool.asm.build import load_inputs, with_capacity
+    from mlctool.asm.encode import image_from_object
+    from mlctool.asm.link import link
 
-    result = check_files(paths, target, config)
-    if result.errors:
-        return None, result.diagnostics, result.lines
-    image, diags = link_modules(result.modules, target)
-    diags = result.diagnostics + diags
-    if any(d.severity == "error" for d in diags):
-        return None, diags, result.lines
-    return image, diags, result.lines
+    target = with_capacity(target, config)
+    inputs = load_inputs(list(paths), target, config)
+    diags = list(inputs.diagnostics)
+    if inputs.errors:
+        return None, diags, inputs.lines
+    if inputs.programs:
+        if len(paths) == 1:
+            return image_from_object(inputs.programs[0][1]), diags, inputs.lines
+        where = inputs.programs[0][0]
+        diags.append(diag(where, Span.at(1), "E509", "a linked program (.mlx) runs alone; "
+                          "it cannot be linked with other inputs"))
+        return None, diags, inputs.lines
+    program, found = link(inputs.objects, target, inputs.checked_together)
+    diags += found
+    if program is None:
+        return None, diags, inputs.lines
+    return image_from_object(program), diags, inputs.lines

@@ -1,0 +1,400 @@
+"""The object file format (docs/object-format.md): ObjectFile <-> bytes.
+
+One format serves object modules (.mlo: one unit, addresses from 0) and linked programs
+(.mlx: every unit at its final address). Layout: a 16-byte header, tagged sections, and a
+SHA-256 trailer over everything before it. Integers are LEB128 varints (zigzag for signed
+values), strings are indices into the STRS section. Nothing depends on time, host or cwd.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import struct
+from dataclasses import dataclass, field
+
+from mlctool.program import Instr
+from mlctool.syntax.operands import Operand
+from mlctool.targets.model import Target
+
+MAGIC = b"\x7fMLCOBJ\n"
+VERSION = 1
+KINDS = ("module", "program")  # .mlo, .mlx
+HEADER = struct.Struct("<8sHBBI")  # magic, version, kind, reserved, total length
+TRAILER = 32  # SHA-256
+SECTIONS = (b"TRGT", b"STRS", b"UNIT", b"CODE", b"SYMS", b"RELO", b"LINE")
+FLAG_INSERTED = 1  # instruction inserted by the linker (the FEND before library code)
+
+
+@dataclass(frozen=True, slots=True)
+class Directive:
+    """A directive line as written (`.define`, `.export`, `.library`): kept so that
+    `objdump --il` can put it back on its line and the round trip gives the same bytes."""
+
+    line: int
+    col: int
+    text: str
+
+
+@dataclass(slots=True)
+class Unit:
+    """One source module inside an object file."""
+
+    path: str  # the source's name relative to the project root (docs/object-format.md)
+    library: bool = False
+    first: int = 0  # address range [first, end) of its code in this file
+    end: int = 0
+    exports: tuple[int, ...] = ()
+    symbols: dict[str, str] = field(default_factory=dict)  # device symbols: NAME -> operand
+    directives: tuple[Directive, ...] = ()
+
+
+@dataclass(slots=True)
+class ObjectFile:
+    kind: str  # "module" | "program"
+    target: str
+    units: list[Unit]
+    instrs: list[Instr]  # Instr.file is the path of its unit
+    unit_of: list[int]  # unit index of each instruction
+    inserted: frozenset[int] = frozenset()  # indices of linker-inserted instructions
+
+    @property
+    def total_steps(self) -> int:
+        return sum(i.steps for i in self.instrs)
+
+    def relocations(self) -> list[tuple[int, int]]:
+        """(instruction index, P) of every CJ/CALL whose label its own unit does not define."""
+        own: set[tuple[int, int]] = {(u, ins.operands[0].number) for ins, u in zip(self.instrs, self.unit_of)
+                                     if ins.spec.cls == "label"}
+        return [(k, ins.operands[0].number) for k, (ins, u) in enumerate(zip(self.instrs, self.unit_of))
+                if ins.spec.op in ("cj", "call") and not ins.operands[0].index
+                and (u, ins.operands[0].number) not in own]
+
+
+class ObjectError(Exception):
+    """Bad object bytes; `code` is E501 (not an object), E502 (corrupt) or E503 (mismatch)."""
+
+    def __init__(self, code: str, message: str):
+        super().__init__(message)
+        self.code = code
+
+
+# ------------------------------------------------------------------ primitive encoding
+
+class _Writer:
+    def __init__(self) -> None:
+        self.buf = bytearray()
+
+    def uint(self, n: int) -> None:
+        if n < 0:
+            raise ValueError(f"negative unsigned value {n}")
+        while True:
+            b = n & 0x7F
+            n >>= 7
+            self.buf.append(b | (0x80 if n else 0))
+            if not n:
+                return
+
+    def sint(self, n: int) -> None:
+        self.uint(n * 2 if n >= 0 else -n * 2 - 1)
+
+    def f64(self, x: float) -> None:
+        self.buf += struct.pack("<d", x)
+
+
+class _Reader:
+    def __init__(self, data: bytes) -> None:
+        self.data = data
+        self.pos = 0
+
+    def bad(self, what: str) -> ObjectError:
+        return ObjectError("E502", f"{what} at byte {self.pos}")
+
+    def uint(self) -> int:
+        n = shift = 0
+        while True:
+            if self.pos >= len(self.data) or shift > 63:
+                raise self.bad("bad number")
+            b = self.data[self.pos]
+            self.pos += 1
+            n |= (b & 0x7F) << shift
+            shift += 7
+            if not b & 0x80:
+                return n
+
+    def sint(self) -> int:
+        n = self.uint()
+        return n >> 1 if not n & 1 else -(n >> 1) - 1
+
+    def f64(self) -> float:
+        if self.pos + 8 > len(self.data):
+            raise self.bad("truncated float")
+        (x,) = struct.unpack_from("<d", self.data, self.pos)
+        self.pos += 8
+        return x
+
+    def take(self, n: int) -> bytes:
+        if n > len(self.data) - self.pos:
+            raise self.bad("truncated data")
+        out = self.data[self.pos:self.pos + n]
+        self.pos += n
+        return out
+
+    def done(self) -> bool:
+        return self.pos == len(self.data)
+
+
+class _Strings:
+    """The string table, in order of first use (deterministic)."""
+
+    def __init__(self) -> None:
+        self.index: dict[str, int] = {}
+
+    def __call__(self, s: str) -> int:
+        return self.index.setdefault(s, len(self.index))
+
+
+# ------------------------------------------------------------------ encode
+
+def _operand(w: _Writer, s: _Strings, op: Operand) -> None:
+    # flags: 1 index, 2 float value
+    w.uint(s(op.kind))
+    w.uint((1 if op.index else 0) | (2 if isinstance(op.value, float) else 0))
+    w.uint(op.number)
+    if isinstance(op.value, float):
+        w.f64(op.value)
+    else:
+        w.sint(op.value)
+    w.uint(op.digits)
+    w.uint(op.decimals)
+    if op.index:
+        w.uint(s(op.index[0]))
+        w.uint(op.index[1])
+
+
+def encode(obj: ObjectFile) -> bytes:
+    s = _Strings()
+    sections: dict[bytes, _Writer] = {tag: _Writer() for tag in SECTIONS}
+    unit_index = {u.path: k for k, u in enumerate(obj.units)}
+
+    w = sections[b"UNIT"]
+    w.uint(len(obj.units))
+    for u in obj.units:
+        w.uint(s(u.path))
+        w.uint(1 if u.library else 0)
+        w.uint(u.first)
+        w.uint(u.end)
+        w.uint(len(u.directives))
+        for d in u.directives:
+            w.uint(d.line)
+            w.uint(d.col)
+            w.uint(s(d.text))
+
+    w = sections[b"CODE"]
+    w.uint(len(obj.instrs))
+    for k, ins in enumerate(obj.instrs):
+        w.uint(s(ins.spec.mnemonic))  # the instruction id
+        w.uint(FLAG_INSERTED if k in obj.inserted else 0)
+        w.uint(ins.steps)
+        w.uint(ins.addr)
+        w.uint(len(ins.operands))
+        for op in ins.operands:
+            _operand(w, s, op)
+        w.uint(len(ins.texts))
+        for t in ins.texts:
+            w.uint(s(t))
+        w.uint(len(ins.table))
+        for v in ins.table:
+            w.sint(v)
+
+    w = sections[b"SYMS"]
+    labels = [(u, ins.operands[0].number, ins.addr) for ins, u in zip(obj.instrs, obj.unit_of)
+              if ins.spec.cls == "label"]
+    w.uint(len(labels))
+    for u, p, addr in labels:
+        w.uint(u)
+        w.uint(p)
+        w.uint(addr)
+        w.uint(1 if p in obj.units[u].exports else 0)
+    syms = [(k, name, value) for k, u in enumerate(obj.units) for name, value in u.symbols.items()]
+    w.uint(len(syms))
+    for k, name, value in syms:
+        w.uint(k)
+        w.uint(s(name))
+        w.uint(s(value))
+
+    w = sections[b"RELO"]
+    relocs = obj.relocations()
+    w.uint(len(relocs))
+    for k, p in relocs:
+        w.uint(k)
+        w.uint(p)
+
+    w = sections[b"LINE"]
+    w.uint(len(obj.instrs))
+    for ins in obj.instrs:
+        w.uint(ins.addr)
+        w.uint(unit_index[ins.file])
+        w.uint(ins.line)
+        w.uint(ins.col)
+
+    w = sections[b"TRGT"]
+    w.uint(s(obj.target))
+
+    strings = _Writer()
+    strings.uint(len(s.index))
+    for text in s.index:
+        raw = text.encode("utf-8")
+        strings.uint(len(raw))
+        strings.buf += raw
+    sections[b"STRS"] = strings
+
+    body = bytearray()
+    for tag in SECTIONS:
+        payload = sections[tag].buf
+        body += tag + struct.pack("<I", len(payload)) + payload
+    total = HEADER.size + len(body) + TRAILER
+    head = HEADER.pack(MAGIC, VERSION, KINDS.index(obj.kind), 0, total)
+    data = head + bytes(body)
+    return data + hashlib.sha256(data).digest()
+
+
+# ------------------------------------------------------------------ decode
+
+def check_envelope(data: bytes) -> tuple[str, dict[bytes, bytes]]:
+    """Magic, version, length and checksum; returns (kind, sections)."""
+    if len(data) < len(MAGIC) or data[:len(MAGIC)] != MAGIC:
+        raise ObjectError("E501", "not an mlctool object file (no object magic)")
+    if len(data) < HEADER.size + TRAILER:
+        raise ObjectError("E502", f"truncated: {len(data)} bytes")
+    _magic, version, kind, _reserved, total = HEADER.unpack_from(data)
+    if version != VERSION:
+        raise ObjectError("E503", f"object format version {version}; this mlctool reads version {VERSION}")
+    if total != len(data):
+        raise ObjectError("E502", f"truncated or padded: header says {total} bytes, file has {len(data)}")
+    if hashlib.sha256(data[:-TRAILER]).digest() != data[-TRAILER:]:
+        raise ObjectError("E502", "integrity check failed (SHA-256 mismatch)")
+    if kind >= len(KINDS):
+        raise ObjectError("E502", f"unknown object kind {kind}")
+    r = _Reader(data[HEADER.size:-TRAILER])
+    sections: dict[bytes, bytes] = {}
+    while not r.done():
+        tag = r.take(4)
+        (n,) = struct.unpack("<I", r.take(4))
+        sections[tag] = r.take(n)
+    missing = [t.decode() for t in SECTIONS if t not in sections]
+    if missing:
+        raise ObjectError("E502", f"missing section {missing[0]}")
+    return KINDS[kind], sections
+
+
+def _read_strings(payload: bytes) -> list[str]:
+    r = _Reader(payload)
+    out = []
+    for _ in range(r.uint()):
+        try:
+            out.append(r.take(r.uint()).decode("utf-8"))
+        except UnicodeDecodeError as e:
+            raise r.bad("bad string") from e
+    return out
+
+
+class _Decoder:
+    def __init__(self, sections: dict[bytes, bytes], target: Target):
+        self.sections = sections
+        self.target = target
+        self.strings = _read_strings(sections[b"STRS"])
+
+    def reader(self, tag: bytes) -> _Reader:
+        return _Reader(self.sections[tag])
+
+    def str(self, r: _Reader) -> str:
+        k = r.uint()
+        if k >= len(self.strings):
+            raise r.bad("bad string index")
+        return self.strings[k]
+
+    def operand(self, r: _Reader) -> Operand:
+        kind = self.str(r)
+        flags = r.uint()
+        number = r.uint()
+        value = r.f64() if flags & 2 else r.sint()
+        digits = r.uint()
+        decimals = r.uint()
+        index = (self.str(r), r.uint()) if flags & 1 else None
+        return Operand(kind, number, value, digits, index, decimals)
+
+
+def decode(data: bytes, target: Target) -> ObjectFile:
+    """Bytes -> ObjectFile, Instr objects rebuilt against `target`. Raises ObjectError."""
+    kind, sections = check_envelope(data)
+    try:
+        return _decode(kind, sections, target)
+    except ObjectError:
+        raise
+    except (ValueError, IndexError, KeyError, OverflowError, struct.error) as e:
+        raise ObjectError("E502", f"malformed contents ({type(e).__name__})") from e
+
+
+def _decode(kind: str, sections: dict[bytes, bytes], target: Target) -> ObjectFile:
+    d = _Decoder(sections, target)
+    r = d.reader(b"TRGT")
+    target_name = d.str(r)
+    if target_name != target.name:
+        raise ObjectError("E503", f"object is for target {target_name!r}, not {target.name!r}")
+
+    r = d.reader(b"UNIT")
+    units = []
+    for _ in range(r.uint()):
+        path = d.str(r)
+        library = bool(r.uint())
+        first, end = r.uint(), r.uint()
+        directives = tuple(Directive(r.uint(), r.uint(), d.str(r)) for _ in range(r.uint()))
+        units.append(Unit(path, library, first, end, (), {}, directives))
+
+    r = d.reader(b"LINE")
+    lines = [(r.uint(), r.uint(), r.uint(), r.uint()) for _ in range(r.uint())]
+
+    r = d.reader(b"CODE")
+    instrs: list[Instr] = []
+    unit_of: list[int] = []
+    inserted = set()
+    count = r.uint()
+    if count != len(lines):
+        raise ObjectError("E502", f"{count} instructions but {len(lines)} line-table entries")
+    for k in range(count):
+        mnemonic = d.str(r)
+        spec = target.instruction(mnemonic)
+        if spec is None or spec.mnemonic != mnemonic:
+            raise ObjectError("E503", f"instruction {mnemonic!r} does not exist on target {target.name}")
+        if r.uint() & FLAG_INSERTED:
+            inserted.add(k)
+        steps, addr = r.uint(), r.uint()
+        operands = tuple(d.operand(r) for _ in range(r.uint()))
+        texts = tuple(d.str(r) for _ in range(r.uint()))
+        table = tuple(r.sint() for _ in range(r.uint()))
+        laddr, unit, line, col = lines[k]
+        if laddr != addr or unit >= len(units):
+            raise ObjectError("E502", f"line table disagrees with code at instruction {k}")
+        instrs.append(Instr(spec, operands, texts, steps, addr, units[unit].path, line, col, table))
+        unit_of.append(unit)
+
+    r = d.reader(b"SYMS")
+    for _ in range(r.uint()):
+        unit, p, _addr, exported = r.uint(), r.uint(), r.uint(), r.uint()
+        if exported:
+            units[unit].exports += (p,)
+    for _ in range(r.uint()):
+        unit = r.uint()
+        name = d.str(r)  # (a subscript assignment would read the value first)
+        units[unit].symbols[name] = d.str(r)
+    return ObjectFile(kind, target_name, units, instrs, unit_of, frozenset(inserted))
+
+
+def read_header_target(data: bytes) -> str:
+    """The target named by a verified object (for commands that default to it)."""
+    _kind, sections = check_envelope(data)
+    try:
+        strings = _read_strings(sections[b"STRS"])
+        return strings[_Reader(sections[b"TRGT"]).uint()]
+    except (IndexError, ValueError) as e:
+        raise ObjectError("E502", "malformed target section") from e

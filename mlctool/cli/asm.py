@@ -1,0 +1,218 @@
+"""`mlc build`, `mlc link`, `mlc objdump`.
+
+Exit codes: 0 ok; 1 source or link errors; 2 usage, unreadable input or a bad object file.
+Nothing is written unless everything succeeded; every output is replaced atomically.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+
+import click
+
+from mlctool.asm.build import (
+    Inputs,
+    is_object,
+    load_inputs,
+    object_target,
+    read_object,
+    with_capacity,
+)
+from mlctool.asm.encode import source_name
+from mlctool.asm.link import link
+from mlctool.asm.listing import listing, objdump_json, objdump_text, unit_il
+from mlctool.asm.mapfile import link_map
+from mlctool.asm.objfile import ObjectFile, encode
+from mlctool.asm.project import project_build
+from mlctool.cli import main_group
+from mlctool.cli.common import config_option, get_config, get_target, show, target_option
+from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
+from mlctool.fileio import write_atomic
+from mlctool.report import summary_line
+from mlctool.targets import load_target
+
+OBJECT_CODES = frozenset({"E501", "E502", "E503"})
+
+
+def _usage(message: str, where: str = "<command line>") -> MlcError:
+    return MlcError(diag(where, Span.at(1), "E510", message), 2)
+
+
+def _report(diags: list[Diagnostic], lines: dict[str, list[str]]) -> None:
+    show(diags, lines)
+    errors = sum(d.severity == "error" for d in diags)
+    warnings = sum(d.severity == "warning" for d in diags)
+    if diags:
+        click.echo(summary_line(errors, warnings), err=True)
+
+
+def _exit_for(diags: list[Diagnostic]) -> None:
+    errors = [d for d in diags if d.severity == "error"]
+    if any(d.code in OBJECT_CODES or d.code == "E100" for d in errors):
+        sys.exit(2)
+    if errors:
+        sys.exit(1)
+
+
+def _write(path: str, data: bytes | str, make_dirs: bool = False) -> None:
+    if make_dirs:
+        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    write_atomic(path, data)
+
+
+def _write_program(program: ObjectFile, target, out: str, listing_path: str | None,
+                   map_path: str | None, lines, make_dirs: bool = False) -> None:
+    # everything is rendered before the first write, so a failure leaves no partial set
+    files = [(out, encode(program))]
+    if map_path:
+        files.append((map_path, link_map(program, target, os.path.basename(out))))
+    if listing_path:
+        files.append((listing_path, listing(program, lines)))
+    for path, data in files:
+        _write(path, data, make_dirs)
+
+
+@main_group.command("build")
+@target_option
+@config_option
+@click.option("-o", "--output", default=None, help="program.mlx (link), module.mlo, or a folder with -c")
+@click.option("-c", "compile_only", is_flag=True, help="write one object module (.mlo) per source")
+@click.option("--listing", "listing_path", default=None, metavar="FILE", help="write a listing")
+@click.option("--map", "map_path", default=None, metavar="FILE", help="write a link map (linking only)")
+@click.argument("sources", nargs=-1, type=click.Path())
+def build_cmd(target_name, config_path, output, compile_only, listing_path, map_path, sources):
+    """Assemble sources into object modules (.mlo) or a linked program (.mlx).
+
+    With no SOURCES, builds the project described by mlc.toml (docs/project.md).
+    """
+    config = get_config(config_path)
+    target = with_capacity(get_target(target_name, config), config)
+    make_dirs = False
+    if not sources:
+        job = project_build(config)
+        sources, make_dirs = job.sources, True
+        output = output or job.output
+        listing_path = listing_path or job.listing
+        map_path = map_path or job.map
+    root = str(config.root) if config.root else None
+    inputs = load_inputs(list(sources), target, config, root)
+    _report(inputs.diagnostics, inputs.lines)
+    _exit_for(inputs.diagnostics)
+    if inputs.programs:
+        raise _usage("a linked program (.mlx) cannot be an input of build or link", inputs.programs[0][0])
+    if compile_only:
+        _compile_each(inputs, sources, output, listing_path, map_path)
+        return
+    if output is None:
+        raise _usage("no output: give -o PROGRAM.mlx or -o MODULE.mlo (or -c)")
+    if output.lower().endswith(".mlo"):
+        if len(inputs.objects) != 1 or is_object(sources[0]):
+            raise _usage("a .mlo output holds one module compiled from one source; use -c for several")
+        if map_path:
+            raise _usage("--map needs a linked output (.mlx)")
+        obj = inputs.objects[0]
+        files = [(output, encode(obj))] + ([(listing_path, listing(obj, inputs.lines))] if listing_path else [])
+        for path, data in files:
+            _write(path, data, make_dirs)
+        return
+    if not output.lower().endswith(".mlx"):
+        raise _usage(f"output {output!r}: use .mlx for a linked program or .mlo for an object module")
+    _link_and_write(inputs, target, output, listing_path, map_path, make_dirs)
+
+
+def _compile_each(inputs: Inputs, sources, output, listing_path, map_path) -> None:
+    if listing_path or map_path:
+        raise _usage("-c writes objects only; --listing/--map need one output")
+    if any(is_object(s) for s in sources):
+        raise _usage("-c compiles sources; pass objects to mlc link")
+    folder = output or "."
+    if not os.path.isdir(folder):
+        raise _usage(f"-c -o names a folder for the objects; {folder!r} is not one")
+    outs = {}
+    for src in sources:
+        path = os.path.join(folder, os.path.splitext(os.path.basename(src))[0] + ".mlo")
+        if path in outs:
+            raise _usage(f"{src} and {outs[path]} would both write {path}")
+        outs[path] = src
+    for path, obj in zip(outs, inputs.objects, strict=True):
+        _write(path, encode(obj))
+
+
+def _link_and_write(inputs: Inputs, target, output, listing_path, map_path, make_dirs=False) -> None:
+    program, diags = link(inputs.objects, target, inputs.checked_together)
+    _report(diags, inputs.lines)
+    if program is None:
+        sys.exit(1)
+    _write_program(program, target, output, listing_path, map_path, inputs.lines, make_dirs)
+
+
+def _object_target_name(path: str, explicit: str | None, config) -> str:
+    return explicit or config.target or object_target(path) or "nc5"
+
+
+@main_group.command("link")
+@target_option
+@config_option
+@click.option("-o", "--output", required=True, help="the linked program (.mlx)")
+@click.option("--listing", "listing_path", default=None, metavar="FILE", help="write a listing")
+@click.option("--map", "map_path", default=None, metavar="FILE", help="write a link map")
+@click.argument("objects", nargs=-1, required=True, type=click.Path())
+def link_cmd(target_name, config_path, output, listing_path, map_path, objects):
+    """Link object modules (.mlo): one main module and its subroutine libraries."""
+    config = get_config(config_path)
+    target = with_capacity(get_target(target_name or _object_target_name(objects[0], None, config), config),
+                           config)
+    if not output.lower().endswith(".mlx"):
+        raise _usage(f"output {output!r}: a linked program is written as .mlx")
+    inputs = Inputs()
+    for p in objects:
+        obj, problem = read_object(p, target)
+        if problem is not None:
+            inputs.diagnostics.append(problem)
+        elif obj.kind == "program":
+            inputs.diagnostics.append(diag(p, Span.at(1), "E509", "a linked program cannot be linked again"))
+        else:
+            inputs.objects.append(obj)
+    names = {}
+    for p, obj in zip(objects, inputs.objects, strict=False):
+        if obj.units[0].path in names:
+            inputs.diagnostics.append(diag(p, Span.at(1), "E508", f"{p} and {names[obj.units[0].path]} "
+                                           f"are both module {obj.units[0].path!r}"))
+        names.setdefault(obj.units[0].path, p)
+    _report(inputs.diagnostics, {})
+    if inputs.diagnostics:
+        sys.exit(2)
+    _link_and_write(inputs, target, output, listing_path, map_path)
+
+
+@main_group.command("objdump")
+@target_option
+@click.option("--json", "as_json", is_flag=True, help="machine-readable JSON")
+@click.option("--il", "as_il", is_flag=True, help="IL source that assembles back to the same bytes")
+@click.option("--il-dir", default=None, metavar="DIR",
+              help="write each module's IL to DIR/<module name> (to rebuild a linked program)")
+@click.argument("file", type=click.Path())
+def objdump_cmd(target_name, as_json, as_il, il_dir, file):
+    """Show an object module (.mlo) or linked program (.mlx)."""
+    name = target_name or object_target(file) or "nc5"
+    try:
+        target = load_target(name)
+    except KeyError:
+        raise MlcError(diag(file, Span.at(1), "E503", f"object is for target {name!r}, "
+                            "which this mlctool does not know"), 2) from None
+    obj, problem = read_object(file, target)
+    if problem is not None:
+        raise MlcError(problem, 2)
+    if as_json:
+        click.echo(objdump_json(obj), nl=False)
+    elif il_dir:
+        for k, u in enumerate(obj.units):
+            path = os.path.join(il_dir, *u.path.split("/"))
+            if source_name(path, il_dir) != u.path:
+                raise _usage(f"module name {u.path!r} cannot be written under {il_dir}")
+            _write(path, unit_il(obj, k), make_dirs=True)
+    elif as_il:
+        click.echo("".join(unit_il(obj, k) for k in range(len(obj.units))), nl=False)
+    else:
+        click.echo(objdump_text(obj), nl=False)
