@@ -1,0 +1,54 @@
+"""`mlc fmt`: canonical IL layout."""
+
+from __future__ import annotations
+
+import difflib
+import sys
+
+import click
+
+from mlctool.cli import main_group
+from mlctool.cli.common import config_option, get_config, get_target, show, target_option
+from mlctool.fileio import write_atomic
+from mlctool.syntax.layout import FormatOptions, format_source
+from mlctool.syntax.source import read_source
+
+
+@main_group.command("fmt")
+@target_option
+@config_option
+@click.option("--check", "check_only", is_flag=True, help="change nothing; exit 1 and show a diff if a file would change")
+@click.option("--steps", type=click.Choice(["drop", "keep", "renumber"]), default="drop", show_default=True,
+              help="leading step numbers: drop them, keep them, or write the computed addresses")
+@click.argument("files", nargs=-1, required=True, type=click.Path())
+def fmt_cmd(target_name, config_path, check_only, steps, files):
+    """Rewrite IL files in the canonical layout (idempotent; code unchanged).
+
+    Exit 0: nothing to change (or rewritten); 1: --check found changes or a file has syntax
+    errors; 2: unreadable input.
+    """
+    target = get_target(target_name, get_config(config_path))
+    worst = 0
+    for path in files:
+        src, diags = read_source(path)
+        if src is None:
+            show(diags, {})
+            worst = max(worst, 2 if any(d.code == "E100" for d in diags) else 1)
+            continue
+        new, diags = format_source(src, target, FormatOptions(steps))
+        if new is None:
+            show(diags, {path: src.text.split("\n")})
+            click.echo(f"{path}: not formatted (syntax errors)", err=True)
+            worst = max(worst, 1)
+            continue
+        if new == src.text:
+            continue
+        if check_only:
+            diff = difflib.unified_diff(src.text.splitlines(True), new.splitlines(True),
+                                        f"{path} (current)", f"{path} (formatted)")
+            sys.stdout.writelines(diff)
+            worst = max(worst, 1)
+        else:
+            write_atomic(path, new)
+            click.echo(f"formatted {path}", err=True)
+    sys.exit(worst)
