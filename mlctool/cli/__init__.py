@@ -18,6 +18,7 @@ def main_group() -> None:
 
 
 from mlctool.cli import check as _check  # noqa: E402,F401  (registers commands)
+from mlctool.cli import sim as _sim  # noqa: E402,F401
 from mlctool.cli import fmt as _fmt  # noqa: E402,F401
 from mlctool.cli import asm as _asm  # noqa: E402,F401
 

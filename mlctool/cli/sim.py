@@ -1,0 +1,155 @@
+"""`mlc sim`: run a program on virtual time against a stimulus file.
+
+Exit 0: every expectation held; 1: an expectation failed, the program faulted or raised an
+alarm no expectation names; 2: usage errors or unreadable input.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+
+import click
+
+from mlctool.asm import program_from_paths
+from mlctool.cli import main_group
+from mlctool.cli.common import config_option, get_config, get_target, show, target_option
+from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.fileio import write_atomic
+from mlctool.sim.output import failure_message, json_value, summary, to_json
+from mlctool.sim.run import DEFAULT_SCAN_US, RunResult, Simulation, build_models, plan_scans
+from mlctool.sim.scan import DEFAULT_WATCHDOG
+from mlctool.sim.state import NameError_, parse_device_name
+from mlctool.sim.stimulus import StimError, Stimulus, load_stimulus, parse_time
+
+PROGRESS_MIN_SCANS = 5000
+
+
+def _time_option(value: str | None, flag: str) -> int | None:
+    if value is None:
+        return None
+    try:
+        us = parse_time(value)
+    except StimError as e:
+        raise click.BadParameter(e.message, param_hint=flag) from None
+    if flag == "--scan-time" and us <= 0:
+        raise click.BadParameter("must be positive", param_hint=flag)
+    return us
+
+
+def _errors(diags: list[Diagnostic]) -> bool:
+    return any(d.severity == "error" for d in diags)
+
+
+@main_group.command("sim")
+@target_option
+@config_option
+@click.option("--stimulus", "stim_path", default=None, type=click.Path(dir_okay=False),
+              help="stimulus file (docs/stimulus.md)")
+@click.option("--scan-time", default=None, metavar="TIME", help="scan period (default 10ms)")
+@click.option("--until", default=None, metavar="TIME", help="run the scans that start before TIME")
+@click.option("--scans", type=click.IntRange(0, 10**9), default=None, help="run N scans")
+@click.option("--vcd", "vcd_path", default=None, type=click.Path(dir_okay=False),
+              help="write a VCD waveform (and a .gtkw save file beside it)")
+@click.option("--watch", multiple=True, metavar="DEV,...", help="devices to report and show")
+@click.option("--json", "as_json", is_flag=True, help="print the result as JSON on stdout")
+@click.option("--junit", "junit_path", default=None, type=click.Path(dir_okay=False),
+              help="write JUnit XML, one test case per expectation line")
+@click.option("--watchdog", type=click.IntRange(1), default=DEFAULT_WATCHDOG, show_default=True,
+              help="steps one scan may execute before it is stopped as a runaway")
+@click.argument("program", nargs=-1, required=True, type=click.Path())
+def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_path, watch,
+            as_json, junit_path, watchdog, program):
+    """Simulate PROGRAM (sources, objects or a linked image) on virtual time."""
+    if until is not None and scans is not None:
+        raise click.UsageError("give --until or --scans, not both")
+    scan_us = _time_option(scan_time, "--scan-time")
+    until_us = _time_option(until, "--until")
+    config = get_config(config_path)
+    target = get_target(target_name, config)
+
+    image, diags, lines = program_from_paths(list(program), target, config)
+    if image is None:
+        show([d for d in diags if d.severity == "error"], lines)
+        sys.exit(2)
+
+    st, stim_diags = (load_stimulus(stim_path, target) if stim_path
+                      else (Stimulus("<none>", []), []))
+    watch_views, watch_diags = _watch(watch, target)
+    models, model_diags = build_models(st, target) if st is not None else ([], [])
+    bad = stim_diags + watch_diags + model_diags
+    if st is None or _errors(bad):
+        show(bad, {stim_path: st.lines} if st is not None else {})
+        sys.exit(2)
+
+    period = st.scan_us or scan_us or DEFAULT_SCAN_US
+    n_scans = plan_scans(st, period, until_us, scans)
+    sim = Simulation(image, target, st, models, period, watch_views, trace=vcd_path is not None,
+                     watchdog=watchdog)
+    result = _run(sim, n_scans)
+
+    _report(result, st, lines, as_json, watch_views)
+    if vcd_path:
+        from mlctool.sim.vcd import to_gtkw, to_vcd
+
+        write_atomic(vcd_path, to_vcd(result, image, target))
+        shown = watch_views or result.views
+        write_atomic(os.path.splitext(vcd_path)[0] + ".gtkw", to_gtkw(vcd_path, shown))
+    if junit_path:
+        from mlctool.sim.junit import to_junit
+
+        write_atomic(junit_path, to_junit(result, st.path, " ".join(program)))
+    sys.exit(0 if result.ok else 1)
+
+
+def _watch(items: tuple[str, ...], target):
+    views, diags = [], []
+    for item in items:
+        for name in filter(None, (x.strip() for x in item.split(","))):
+            try:
+                view = parse_device_name(name, target)
+            except NameError_ as e:
+                diags.append(diag("<--watch>", Span.at(1), "E602", str(e)))
+                continue
+            if view not in views:
+                views.append(view)
+    return views, diags
+
+
+def _run(sim: Simulation, n_scans: int) -> RunResult:
+    if not (sys.stderr.isatty() and n_scans >= PROGRESS_MIN_SCANS):
+        return sim.run(n_scans)
+    from rich.console import Console
+    from rich.progress import Progress
+
+    progress = Progress(console=Console(stderr=True), transient=True)
+    with progress:
+        task = progress.add_task("simulating", total=n_scans)
+        step = max(1, n_scans // 200)
+        return sim.run(n_scans, lambda k: progress.update(task, completed=k) if k % step == 0 else None)
+
+
+def _report(r: RunResult, st: Stimulus, lines: dict[str, list[str]], as_json: bool, watch) -> None:
+    diags: list[Diagnostic] = []
+    for f in r.failed:
+        diags.append(diag(st.path, Span.at(f.line, f.col, len(f.text)), "E603", failure_message(f)))
+    for a in r.alarms:
+        if not a.expected:
+            diags.append(diag(a.file, Span.at(a.line), "E604",
+                              f"alarm {a.name} at {a.time_us / 1000:g} ms (scan {a.scan}), step {a.addr}: "
+                              f"{a.message}", "name it in the stimulus with `expect alarm "
+                              f"{a.name}` if it is intended"))
+    if r.fault:
+        f = r.fault
+        diags.append(diag(f.file, Span.at(f.line), "E604",
+                          f"program fault at {f.time_us / 1000:g} ms (scan {f.scan}), step {f.addr}"
+                          f"{' (' + f.source + ')' if f.source else ''}: {f.message}; run stopped"))
+    all_lines = dict(lines)
+    all_lines[st.path] = st.lines
+    show(diags, all_lines)
+    if as_json:
+        sys.stdout.write(to_json(r))
+        return
+    for v in watch:
+        click.echo(f"{v.name} = {json_value(r.devices.get(v.name))}")
+    click.echo(summary(r))

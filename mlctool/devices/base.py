@@ -1,0 +1,87 @@
+"""The interface between the scan loop and device (plant) models.
+
+A model reads the PLC's outputs and drives its inputs once per scan, before the scan runs,
+on the same virtual clock (`t_us` = start time of the coming scan). Models never read the
+wall clock. A stimulus file attaches one with `model KIND key=value ...` (docs/stimulus.md).
+"""
+
+from __future__ import annotations
+
+from mlctool.sim.state import DeviceView, Machine, NameError_, parse_device_name
+from mlctool.sim.stimulus import StimError, parse_time
+from mlctool.targets.model import Target
+
+
+class ModelIO:
+    """What a model may touch: named devices and the servo table (WRTL/RDTL, 4.9)."""
+
+    def __init__(self, machine: Machine):
+        self._m = machine
+
+    def get(self, view: DeviceView) -> int | float:
+        return view.read(self._m)
+
+    def set(self, view: DeviceView, value: int | float) -> None:
+        view.write(self._m, value)
+
+    def torque_limit(self, station: int) -> int | None:
+        return self._m.servo_limit.get(station)
+
+    def set_torque_reached(self, station: int, reached: bool) -> None:
+        self._m.servo_at_limit[station] = 1 if reached else 0
+
+
+class DeviceModel:
+    """Base class. Subclasses set `kind`, read their parameters in __init__ (raising
+    ParamError naming the parameter) and implement `step`."""
+
+    kind = ""
+
+    def __init__(self, params: dict[str, str], target: Target):
+        self.params = params
+        self.target = target
+        self.used: set[str] = set()
+
+    # -- parameter helpers
+    def device(self, key: str, default: str | None = None) -> DeviceView:
+        text = self._param(key, default)
+        try:
+            return parse_device_name(text, self.target)
+        except NameError_ as e:
+            raise ParamError(key, str(e), "E602") from None
+
+    def time(self, key: str, default: str | None = None) -> int:
+        text = self._param(key, default)
+        try:
+            return parse_time(text)
+        except StimError as e:
+            raise ParamError(key, e.message) from None
+
+    def _param(self, key: str, default: str | None) -> str:
+        self.used.add(key)
+        if key in self.params:
+            return self.params[key]
+        if default is None:
+            raise ParamError(key, f"model {self.kind} needs {key}=...")
+        return default
+
+    def check_unused(self) -> None:
+        for key in sorted(self.params):
+            if key not in self.used:
+                raise ParamError(key, f"model {self.kind} has no parameter {key!r}")
+
+    # -- simulation
+    def devices(self) -> list[DeviceView]:
+        """Devices the model reads or drives (reported in JSON and waveforms)."""
+        return []
+
+    def step(self, io: ModelIO, t_us: int, period_us: int) -> None:  # pragma: no cover
+        raise NotImplementedError
+
+
+class ParamError(ValueError):
+    def __init__(self, key: str, message: str, code: str = "E601"):
+        super().__init__(message)
+        self.key = key
+        self.message = message
+        self.code = code

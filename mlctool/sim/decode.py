@@ -1,0 +1,144 @@
+"""Linked Image -> executable steps, decoded once: operand accessors, label and FOR/NEXT
+targets, rung boundaries, and the routine each step runs (table-driven on `spec.op`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from mlctool.program import Image, Instr
+from mlctool.sim import semantics
+from mlctool.sim.operands import Ref, decode_operand
+from mlctool.sim.state import DeviceView
+from mlctool.targets.model import Target
+
+
+@dataclass(slots=True, eq=False)
+class Step:
+    ins: Instr
+    index: int
+    ops: tuple[Ref, ...]
+    width: int
+    steps: int
+    table: tuple[int, ...]
+    new_rung: bool = False  # a load that starts a rung (after an output, label or free instr)
+    target: int = -1  # CJ/CALL: label index; FOR: its NEXT; NEXT: its FOR
+    run: Callable = field(default=semantics.nop)
+
+
+@dataclass
+class Program:
+    steps: list[Step]
+    labels: dict[int, int]  # P number -> step index
+    image: Image
+    target: Target
+
+
+def _combine(cls: str, contact: Callable) -> Callable:
+    """Contacts update the rung result by their class (2.2 LD/AND/OR). A contact is always
+    evaluated, even when the result is already decided, so edge memories stay current."""
+    if cls == "load":
+        def run(m, s):
+            v = contact(m, s)
+            if s.new_rung:
+                m.blocks.clear()
+                m.stack.clear()
+            else:
+                m.blocks.append(m.acc)
+            m.acc = v
+    elif cls == "and":
+        def run(m, s):
+            v = contact(m, s)
+            m.acc = m.acc and v
+    else:
+        def run(m, s):
+            v = contact(m, s)
+            m.acc = m.acc or v
+    return run
+
+
+def decode(image: Image, target: Target, flow: dict[str, Callable]) -> Program:
+    """`flow`: the program-flow routines of scan.py (CJ, CALL, SRET, FEND, END, FOR, NEXT)."""
+    steps: list[Step] = []
+    prev_cls = "free"
+    for k, ins in enumerate(image.instrs):
+        spec = ins.spec
+        contact_like = spec.cls in ("load", "and", "or") and spec.api is None
+        ops = []
+        for o_spec, op, text in zip(spec.operands, ins.operands, ins.texts, strict=False):
+            as_bits = contact_like or (spec.op == "vrt" and o_spec.role == "S")
+            dev = target.devices.get(op.device) if not op.is_const else None
+            if dev is not None and dev.kind == "pointer":
+                ops.append(Ref(op, 16, dev.hi, text))
+                continue
+            ops.append(decode_operand(op, spec.width, target, text, as_bits))
+        step = Step(ins, k, tuple(ops), spec.width, ins.steps, ins.table,
+                    new_rung=spec.cls == "load" and prev_cls in ("output", "free", "label"))
+        op = spec.op
+        if op in semantics.CONTACTS:
+            step.run = _combine(spec.cls, semantics.CONTACTS[op])
+        elif op in semantics.ACTIONS:
+            step.run = semantics.ACTIONS[op]
+        else:
+            step.run = flow[op]
+        steps.append(step)
+        prev_cls = spec.cls
+    labels = {s.ins.operands[0].number: s.index for s in steps if s.ins.spec.cls == "label"}
+    for s in steps:
+        if s.ins.spec.op in ("cj", "call") and not s.ins.operands[0].index:
+            s.target = labels.get(s.ins.operands[0].number, -1)
+    open_fors: list[Step] = []
+    for s in steps:  # FOR/NEXT pair by nesting in program order (4.1 API-07/08)
+        if s.ins.spec.op == "for":
+            open_fors.append(s)
+        elif s.ins.spec.op == "next" and open_fors:
+            f = open_fors.pop()
+            f.target, s.target = s.index, f.index
+    return Program(steps, labels, image, target)
+
+
+# Float instructions whose operand holds a 32-bit integer, not a float (4.8 API-63/64).
+_INTEGER_ROLE = {"fint": "D", "fdot": "S"}
+
+
+def program_devices(prog: Program) -> set[DeviceView]:
+    """Every device the program names, in the view its instruction uses it."""
+    out: set[DeviceView] = set()
+    for s in prog.steps:
+        spec = s.ins.spec
+        for o_spec, op in zip(spec.operands, s.ins.operands, strict=False):
+            out.update(_views(prog.target, spec, o_spec, op, s.ins.operands))
+    return out
+
+
+def _views(target: Target, spec, o_spec, op, all_ops) -> list[DeviceView]:
+    if op.is_const or op.kind == "P":
+        return []
+    dev = target.devices[op.device]
+    if op.is_group:
+        return [DeviceView("K", op.number, "group", op.digits, op.device)]
+    if dev.kind == "bit":
+        count = o_spec.bits
+        if spec.op in ("deco", "enco", "vrt"):
+            n_op = next(o for o, so in zip(all_ops, spec.operands, strict=False) if so.role == "n")
+            count = n_op.value if spec.op == "vrt" else 1 << n_op.value
+        return [DeviceView(op.kind, op.number + k, "bit") for k in range(count)
+                if op.number + k <= dev.hi]
+    if dev.kind in ("timer", "counter"):
+        value = "w" if dev.kind == "timer" or not target.is_counter32(op.number) else "d"
+        contact = spec.api is None or spec.op in ("tmr", "cnt", "vrt")
+        data = spec.api is not None or spec.op == "rst"
+        views = [DeviceView(op.kind, op.number, "bit")] if contact else []
+        return views + ([DeviceView(op.kind, op.number, value)] if data else [])
+    if op.kind == "Z" or spec.api is None or spec.op in ("for", "wrtl", "rdtl", "deco", "enco", "bon"):
+        return [DeviceView(op.kind, op.number, "w")]
+    if spec.width == 16:
+        words, size, view = o_spec.words[0], 1, "w"
+    else:
+        words, size = o_spec.words[1], 2
+        view = "f" if spec.is_float and _INTEGER_ROLE.get(spec.op) != o_spec.role else "d"
+    if op.kind == "V":
+        return [DeviceView("V", op.number, view)]
+    return [DeviceView(op.kind, op.number + k, view) for k in range(0, words, size)
+            if op.number + k + size - 1 <= dev.hi]

@@ -1,0 +1,213 @@
+"""Operands decoded once per image into small accessor objects (no parsing per scan).
+
+Every accessor knows the instruction's width: `get` returns a signed 16- or 32-bit integer,
+`set` wraps to the width. 32-bit values live in pairs (n+1 high, n low) for D, T and the
+16-bit counters (3.2.5 item 4); C64-C79 hold 32 bits themselves; 32-bit V is (Z n, V n).
+Index modification (1.8.2, 3.4) adds the signed index register at run time; an address
+outside the device range is a fatal fault (the manual leaves it undefined).
+"""
+
+from __future__ import annotations
+
+from mlctool.sim.state import Machine, SimFault, bits_f32, f32_bits, s16, s32
+from mlctool.syntax.operands import Operand
+from mlctool.targets.model import Target
+
+
+class Ref:
+    __slots__ = ("kind", "num", "width", "ix", "ixn", "hi", "text")
+
+    def __init__(self, op: Operand, width: int, hi: int, text: str):
+        self.kind = op.device if not op.is_const else op.kind
+        self.num = op.number
+        self.width = width
+        self.ix, self.ixn = op.index if op.index else (None, 0)
+        self.hi = hi  # highest valid device number
+        self.text = text
+
+    def index_value(self, m: Machine) -> int:
+        if self.ix is None:
+            return 0
+        if self.width == 32 and self.ix == "V":
+            return s32(m.words["V"][self.ixn] | (m.words["Z"][self.ixn] << 16))
+        return s16(m.words[self.ix][self.ixn])
+
+    def addr(self, m: Machine, extent: int = 1) -> int:
+        a = self.num
+        if self.ix is not None:
+            a += self.index_value(m)
+            if a < 0 or a + extent - 1 > self.hi:
+                raise SimFault(f"{self.text} with {self.ix}{self.ixn}={self.index_value(m)} addresses "
+                               f"{self.kind}{a}, outside {self.kind}0-{self.kind}{self.hi}")
+        return a
+
+    def wrap(self, v: int) -> int:
+        return s32(v) if self.width == 32 else s16(v)
+
+    # float view of a 32-bit operand
+    def getf(self, m: Machine) -> float:
+        return bits_f32(self.get(m))
+
+    def setf(self, m: Machine, x: float) -> None:
+        self.set(m, f32_bits(x))
+
+    def get(self, m: Machine) -> int:  # pragma: no cover - overridden
+        raise NotImplementedError
+
+    def set(self, m: Machine, v: int) -> None:
+        raise SimFault(f"{self.text} cannot be written")
+
+
+class ConstRef(Ref):
+    __slots__ = ("value", "is_f")
+
+    def __init__(self, op: Operand, width: int, text: str):
+        super().__init__(op, width, 0, text)
+        self.value = op.value
+        self.is_f = op.kind == "F"
+
+    def get(self, m: Machine) -> int:
+        if self.is_f:  # an F constant in an integer view: its IEEE-754 pattern (DMOV F1.5 D0)
+            return s32(f32_bits(self.value))
+        return self.wrap(int(self.value) + self.index_value(m))
+
+    def getf(self, m: Machine) -> float:
+        # K and F constants are converted to float (4.8: "變換成二進浮點數值")
+        return float(self.value) + self.index_value(m) if not self.is_f else float(self.value)
+
+
+class WordRef(Ref):
+    """D, T (present value), V, Z."""
+
+    __slots__ = ()
+
+    def _pair(self, m: Machine, a: int) -> tuple[list[int], int, list[int], int]:
+        if self.kind == "V":
+            return m.words["V"], a, m.words["Z"], a
+        w = m.words[self.kind]
+        return w, a, w, a + 1
+
+    def get(self, m: Machine) -> int:
+        if self.width == 16 or self.kind == "Z":
+            return s16(m.words[self.kind][self.addr(m)])
+        lo, la, hi, ha = self._pair(m, self.addr(m, 2 if self.kind != "V" else 1))
+        return s32(lo[la] | (hi[ha] << 16))
+
+    def set(self, m: Machine, v: int) -> None:
+        if self.width == 16 or self.kind == "Z":
+            a = self.addr(m)
+            m.words[self.kind][a] = v & 0xFFFF
+            m.writer[(self.kind, a)] = m.pc
+            return
+        lo, la, hi, ha = self._pair(m, self.addr(m, 2 if self.kind != "V" else 1))
+        lo[la] = v & 0xFFFF
+        hi[ha] = (v >> 16) & 0xFFFF
+        m.writer[(self.kind, la)] = m.pc
+        m.writer[("Z" if self.kind == "V" else self.kind, ha)] = m.pc
+
+    def set_words(self, m: Machine, words: list[int]) -> None:
+        """Consecutive 16-bit words from the operand on (MUL/DIV destinations)."""
+        a = self.addr(m, len(words))
+        w = m.words[self.kind]
+        for k, x in enumerate(words):
+            w[a + k] = x & 0xFFFF
+            m.writer[(self.kind, a + k)] = m.pc
+
+
+class CounterRef(Ref):
+    """C as data: C0-C63 16-bit words (pairs in 32-bit instructions), C64-C79 32-bit each."""
+
+    __slots__ = ()
+
+    def get(self, m: Machine) -> int:
+        if self.width == 16:
+            return s16(m.cval[self.addr(m)])
+        a = self.addr(m)
+        if m.is_c32(a):
+            return s32(m.cval[a])
+        a = self.addr(m, 2)
+        return s32(m.cval[a] | (m.cval[a + 1] << 16))
+
+    def set(self, m: Machine, v: int) -> None:
+        a = self.addr(m)
+        m.writer[("C", a)] = m.pc
+        if self.width == 16:
+            m.cval[a] = v & 0xFFFF
+        elif m.is_c32(a):
+            m.cval[a] = s32(v)
+        else:
+            a = self.addr(m, 2)
+            m.cval[a] = v & 0xFFFF
+            m.cval[a + 1] = (v >> 16) & 0xFFFF
+            m.writer[("C", a + 1)] = m.pc
+
+    def set_words(self, m: Machine, words: list[int]) -> None:
+        a = self.addr(m)
+        if m.is_c32(a):  # C64-C79 hold 32 bits each: pair the words up
+            a = self.addr(m, len(words) // 2)
+            for k in range(0, len(words), 2):
+                m.cval[a + k // 2] = s32(words[k] | (words[k + 1] << 16))
+                m.writer[("C", a + k // 2)] = m.pc
+            return
+        a = self.addr(m, len(words))
+        for k, x in enumerate(words):
+            m.cval[a + k] = x & 0xFFFF
+            m.writer[("C", a + k)] = m.pc
+
+
+class GroupRef(Ref):
+    """KnX/KnY/KnM/KnA: 4n consecutive bits, unused high bits zero-filled (3.3)."""
+
+    __slots__ = ("n",)
+
+    def __init__(self, op: Operand, width: int, hi: int, text: str):
+        super().__init__(op, width, hi, text)
+        self.n = 4 * op.digits
+
+    def get(self, m: Machine) -> int:
+        a = self.addr(m, self.n)
+        bits = m.bits[self.kind]
+        v = 0
+        for i in range(self.n):
+            if bits[a + i]:
+                v |= 1 << i
+        # K4 in 16-bit and K8 in 32-bit are signed; smaller groups are zero-filled (3.2.7)
+        return self.wrap(v) if self.n == self.width else v
+
+    def set(self, m: Machine, v: int) -> None:
+        a = self.addr(m, self.n)
+        bits = m.bits[self.kind]
+        for i in range(self.n):
+            bits[a + i] = (v >> i) & 1
+            m.writer[(self.kind, a + i)] = m.pc
+
+
+class BitRef(Ref):
+    """X Y M A, and T/C contacts; `k` selects a following bit (FCMP D, D+1, D+2)."""
+
+    __slots__ = ()
+
+    def bit(self, m: Machine, k: int = 0) -> int:
+        return m.bits[self.kind][self.addr(m, k + 1) + k]
+
+    def setbit(self, m: Machine, v: int, k: int = 0) -> None:
+        a = self.addr(m, k + 1) + k
+        m.bits[self.kind][a] = 1 if v else 0
+        m.writer[(self.kind, a)] = m.pc
+
+    def get(self, m: Machine) -> int:  # a bit read as a word (DECO/ENCO/VRT use bits directly)
+        return self.bit(m)
+
+
+def decode_operand(op: Operand, width: int, target: Target, text: str, as_bits: bool) -> Ref:
+    """`as_bits`: the instruction uses a T/C operand as its contact (LD T0) rather than data."""
+    if op.is_const:
+        return ConstRef(op, width, text)
+    dev = target.devices[op.device]
+    if op.is_group:
+        return GroupRef(op, width, dev.hi, text)
+    if dev.kind == "bit" or as_bits:
+        return BitRef(op, width, dev.hi, text)
+    if dev.kind == "counter":
+        return CounterRef(op, width, dev.hi, text)
+    return WordRef(op, width, dev.hi, text)

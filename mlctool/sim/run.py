@@ -1,0 +1,282 @@
+"""One simulation run: program + stimulus + models -> a plain RunResult.
+
+Timing rule (docs/stimulus.md): scan k starts at k x period. Events at time t apply before
+the first scan that starts at or after t (models step first, then the stimulus, then forces);
+expectations at time t are checked after that same scan completes.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from mlctool.devices import MODELS, DeviceModel, ModelIO, ParamError
+from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.program import Image
+from mlctool.sim.decode import Program, program_devices
+from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, load_program, run_scan
+from mlctool.sim.state import DeviceView, Machine
+from mlctool.sim.stimulus import Check, Event, Stimulus
+from mlctool.targets.model import Target
+
+DEFAULT_SCAN_US = 10_000
+
+
+@dataclass
+class Failure:
+    line: int
+    col: int
+    time_us: int
+    scan: int
+    device: str
+    expected: str
+    actual: int | float | str
+    writer: str  # "file:line: INSTR ..." of the last write, or "stimulus line N", or ""
+    text: str
+
+
+@dataclass
+class ExpectOutcome:
+    line: int
+    text: str
+    time_us: int
+    scan: int
+    failures: list[Failure] = field(default_factory=list)
+
+    @property
+    def passed(self) -> bool:
+        return not self.failures
+
+
+@dataclass
+class AlarmReport:
+    time_us: int
+    scan: int
+    name: str
+    message: str
+    addr: int
+    file: str
+    line: int
+    expected: bool = False
+
+
+@dataclass
+class FaultReport:
+    time_us: int
+    scan: int
+    message: str
+    addr: int | None
+    file: str
+    line: int
+    source: str
+
+
+@dataclass
+class RunResult:
+    period_us: int
+    scans: int
+    devices: dict[str, int | float]  # final values, sorted by device
+    views: list[DeviceView]
+    expectations: list[ExpectOutcome]
+    alarms: list[AlarmReport]
+    fault: FaultReport | None
+    trace: list[tuple[int, list[tuple[int, int | float]]]]  # (time us, [(view index, value)])
+
+    @property
+    def time_us(self) -> int:
+        return self.scans * self.period_us
+
+    @property
+    def failed(self) -> list[Failure]:
+        return [f for e in self.expectations for f in e.failures]
+
+    @property
+    def ok(self) -> bool:
+        return (self.fault is None and not self.failed
+                and all(a.expected for a in self.alarms))
+
+
+def build_models(st: Stimulus, target: Target) -> tuple[list[DeviceModel], list[Diagnostic]]:
+    models, diags = [], []
+    for spec in st.models:
+        cls = MODELS.get(spec.kind)
+        if cls is None:
+            diags.append(diag(st.path, Span.at(spec.line, spec.col, len(spec.kind)), "E601",
+                              f"unknown device model {spec.kind!r}; models: {', '.join(sorted(MODELS))}"))
+            continue
+        try:
+            models.append(cls({k: v for k, (v, _) in spec.params.items()}, target))
+        except ParamError as e:
+            col = spec.params.get(e.key, ("", spec.col))[1]
+            diags.append(diag(st.path, Span.at(spec.line, col, len(e.key)), e.code, e.message))
+    return models, diags
+
+
+def plan_scans(st: Stimulus, period_us: int, until_us: int | None, scans: int | None) -> int:
+    """Number of scans: --scans/--until, else the stimulus `run`, else through the last event."""
+    if scans is not None:
+        return scans
+    if until_us is not None:
+        return -(-until_us // period_us)
+    if st.run_scans is not None:
+        return st.run_scans
+    if st.run_time_us is not None:
+        return -(-st.run_time_us // period_us)
+    return max((e.scan_index(period_us) + 1 for e in st.events), default=1)
+
+
+class Simulation:
+    def __init__(self, image: Image, target: Target, st: Stimulus, models: list[DeviceModel],
+                 period_us: int, watch: list[DeviceView], trace: bool,
+                 watchdog: int = DEFAULT_WATCHDOG):
+        self.image = image
+        self.target = target
+        self.prog: Program = load_program(image, target)
+        self.m = Machine(target, len(self.prog.steps))
+        self.st = st
+        self.models = models
+        self.io = ModelIO(self.m)
+        self.period = period_us
+        self.watchdog = watchdog
+        names = program_devices(self.prog) | st.devices() | set(watch)
+        for model in models:
+            names.update(model.devices())
+        self.views = sorted(names, key=DeviceView.sort_key)
+        self.tracing = trace
+        self.forces: dict[DeviceView, int | float] = {}
+        self.by_scan: dict[int, list[Event]] = {}
+        for e in st.events:
+            self.by_scan.setdefault(e.scan_index(period_us), []).append(e)
+        self.alarm_names = {e.alarm for e in st.events if e.kind == "alarm"}
+
+    def writer_of(self, view: DeviceView) -> str:
+        keys = ([(view.gdev, view.number + i) for i in range(4 * view.digits)] if view.view == "group"
+                else [(view.kind, view.number)] + ([(view.kind, view.number + 1)]
+                                                   if view.view in ("d", "f") and view.kind in "DT" else []))
+        who = [self.m.writer[k] for k in keys if k in self.m.writer]
+        if not who:
+            return ""
+        w = who[0]
+        if w < 0:
+            return f"stimulus line {-w}"
+        ins = self.prog.steps[w].ins
+        return f"{ins.file}:{ins.line}: {' '.join((ins.mnemonic, *ins.texts))}"
+
+    def apply(self, e: Event) -> None:
+        if e.kind == "power":
+            self.m.power_cycle()
+        elif e.kind == "set":
+            for view, value in e.assigns:
+                view.write(self.m, value)
+                self._mark(view, e.line)
+        elif e.kind == "force":
+            for view, value in e.assigns:
+                self.forces[view] = value
+                self._mark(view, e.line)
+        elif e.kind == "release":
+            for view, _ in e.assigns:
+                self.forces.pop(view, None)
+
+    def _mark(self, view: DeviceView, line: int) -> None:
+        kind = view.gdev if view.view == "group" else view.kind
+        self.m.writer[(kind, view.number)] = -line
+
+    def apply_forces(self) -> None:
+        for view, value in self.forces.items():
+            view.write(self.m, value)
+
+    def check(self, e: Event, k: int) -> ExpectOutcome:
+        out = ExpectOutcome(e.line, e.text, k * self.period, k)
+        if e.kind == "alarm":
+            if not any(a[2] == e.alarm for a in self.m.alarms):
+                out.failures.append(Failure(e.line, e.col, k * self.period, k, f"alarm {e.alarm}",
+                                            "raised", "not raised", "", e.text))
+            return out
+        for c in e.checks:
+            actual = c.view.read(self.m)
+            if not c.holds(actual):
+                out.failures.append(self._failure(e, c, k, actual))
+        return out
+
+    def _failure(self, e: Event, c: Check, k: int, actual) -> Failure:
+        return Failure(e.line, c.col, k * self.period, k, c.view.name, c.expected_text(),
+                       actual, self.writer_of(c.view), c.text)
+
+    def run(self, n_scans: int, progress: Callable[[int], None] | None = None) -> RunResult:
+        m = self.m
+        outcomes: list[ExpectOutcome] = []
+        trace: list[tuple[int, list[tuple[int, int | float]]]] = []
+        last: list[int | float | None] = [None] * len(self.views)
+        fault = None
+        seen_alarms = 0
+        alarms: list[AlarmReport] = []
+        scans_done = 0
+        for k in range(n_scans):
+            m.now_us = k * self.period
+            for model in self.models:
+                model.step(self.io, m.now_us, self.period)
+            events = self.by_scan.get(k, ())
+            for e in events:
+                if e.kind not in ("expect", "alarm"):
+                    self.apply(e)
+            self.apply_forces()
+            try:
+                run_scan(self.prog, m, self.watchdog)
+            except Fault as f:
+                fault = self._fault(f, k)
+            self.apply_forces()
+            scans_done = k + 1
+            for a in m.alarms[seen_alarms:]:
+                ins = self.prog.steps[a[1]].ins
+                alarms.append(AlarmReport(a[0], k, a[2], a[3], ins.addr, ins.file, ins.line,
+                                          a[2] in self.alarm_names))
+            seen_alarms = len(m.alarms)
+            if self.tracing:
+                changes = []
+                for i, v in enumerate(self.views):
+                    val = v.read(m)
+                    if val != last[i] or (isinstance(val, float) and math.isnan(val)
+                                          and not (isinstance(last[i], float) and math.isnan(last[i]))):
+                        changes.append((i, val))
+                        last[i] = val
+                if changes:
+                    trace.append((m.now_us, changes))
+            if fault:
+                break
+            for e in events:
+                if e.kind in ("expect", "alarm"):
+                    outcomes.append(self.check(e, k))
+            if progress:
+                progress(k + 1)
+        for k in sorted(s for s in self.by_scan if s >= scans_done):
+            for e in self.by_scan[k]:
+                if e.kind in ("expect", "alarm"):
+                    o = ExpectOutcome(e.line, e.text, k * self.period, k)
+                    o.failures.append(Failure(e.line, e.col, k * self.period, k, "(run)",
+                                              f"scan {k} to run", f"run ended after {scans_done} scans",
+                                              "", e.text))
+                    outcomes.append(o)
+        outcomes.sort(key=lambda o: (o.scan, o.line))
+        alarms = _first_alarms(alarms)
+        devices = {v.name: v.read(m) for v in self.views}
+        return RunResult(self.period, scans_done, devices, self.views, outcomes, alarms, fault, trace)
+
+    def _fault(self, f: Fault, k: int) -> FaultReport:
+        if f.step is None:
+            return FaultReport(k * self.period, k, f.message, None, self.image.modules[0][0]
+                               if self.image.modules else "<program>", 1, "")
+        ins = f.step.ins
+        return FaultReport(k * self.period, k, f.message, ins.addr, ins.file, ins.line,
+                           " ".join((ins.mnemonic, *ins.texts)))
+
+
+def _first_alarms(alarms: list[AlarmReport]) -> list[AlarmReport]:
+    """One report per (alarm, instruction): a continuous instruction repeats it every scan."""
+    seen, out = set(), []
+    for a in alarms:
+        key = (a.name, a.addr)
+        if key not in seen:
+            seen.add(key)
+            out.append(a)
+    return out

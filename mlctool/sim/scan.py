@@ -1,0 +1,147 @@
+"""The scan: address 0 to END (2.2 END), program flow (4.1), end-of-scan bookkeeping.
+
+A scan is a pure function of the machine state and its start time: nothing here reads a
+clock. Fatal faults carry the step index so the caller can name the address and source line.
+"""
+
+from __future__ import annotations
+
+from mlctool.program import Image
+from mlctool.sim.decode import Program, Step, decode
+from mlctool.sim.semantics import advance_timer, alarm
+from mlctool.sim.state import Machine, SimFault
+
+END_SCAN = -1
+CALL_ALARM = "CALL_NESTING"  # 4.1 API-01: a 6th level "該副程式不執行"
+DEFAULT_WATCHDOG = 1_000_000  # steps per scan
+
+
+class Fault(Exception):
+    """A fatal fault at a step: stops the run (E604)."""
+
+    def __init__(self, message: str, step: Step | None):
+        super().__init__(message)
+        self.message = message
+        self.step = step
+
+
+def _jump_to(m: Machine, prog: Program, s: Step, target: int) -> int:
+    # leaving FOR loops by CJ is allowed (4.1 API-08 item 3): drop loops the target is outside of
+    while m.fors and not (m.fors[-1][0] < target <= m.fors[-1][1]):
+        m.fors.pop()
+    return target
+
+
+def _label(m: Machine, prog: Program, s: Step) -> int:
+    if s.target >= 0:
+        return s.target
+    p = s.ins.operands[0].number + s.ops[0].index_value(m)  # P may be V/Z-modified (API-00/01)
+    if p not in prog.labels:
+        raise SimFault(f"{s.ins.mnemonic} {s.ins.texts[0]}: P{p} is not defined")
+    return prog.labels[p]
+
+
+def flow_routines(prog_ref: list[Program]) -> dict:
+    """Program-flow routines; they return the next step index, END_SCAN, or None."""
+
+    def cj(m: Machine, s: Step):
+        if m.acc:
+            return _jump_to(m, prog_ref[0], s, _label(m, prog_ref[0], s))
+        return None
+
+    def call(m: Machine, s: Step):
+        if not m.acc:
+            return None
+        limit = prog_ref[0].target.settings["call_depth"]
+        if len(m.calls) >= limit:
+            alarm(m, CALL_ALARM, f"CALL {s.ins.texts[0]}: level {len(m.calls) + 1} exceeds "
+                  f"{limit}; subroutine not executed")
+            return None
+        m.calls.append(s.index + 1)
+        return _label(m, prog_ref[0], s)
+
+    def sret(m: Machine, s: Step):
+        if not m.calls:
+            raise SimFault("SRET executed without a CALL")
+        return m.calls.pop()
+
+    def fend(m: Machine, s: Step):
+        if m.calls:
+            raise SimFault(f"{s.ins.mnemonic} executed inside a subroutine, before SRET (4.1 API-06)")
+        if m.fors:
+            raise SimFault(f"{s.ins.mnemonic} executed inside FOR-NEXT (4.1 API-06)")
+        return END_SCAN
+
+    def for_(m: Machine, s: Step):
+        n = max(1, s.ops[0].get(m))  # N <= K1 is taken as K1 (4.1 API-08)
+        limit = prog_ref[0].target.settings["for_depth"]
+        if len(m.fors) >= limit:
+            raise SimFault(f"FOR nested deeper than {limit} levels (4.1 API-08)")
+        m.fors.append([s.index, s.target, n])
+        return None
+
+    def next_(m: Machine, s: Step):
+        if m.fors and m.fors[-1][1] == s.index:
+            loop = m.fors[-1]
+            loop[2] -= 1
+            if loop[2] > 0:
+                return loop[0] + 1
+            m.fors.pop()
+        return None  # a NEXT reached without its FOR running (CJ into the body) passes
+
+    return {"cj": cj, "call": call, "sret": sret, "fend": fend, "end": fend,
+            "for": for_, "next": next_}
+
+
+def load_program(image: Image, target) -> Program:
+    ref: list[Program] = []
+    prog = decode(image, target, flow_routines(ref))
+    ref.append(prog)
+    return prog
+
+
+def run_scan(prog: Program, m: Machine, watchdog: int = DEFAULT_WATCHDOG) -> None:
+    """Execute one scan starting at virtual time m.now_us. Raises Fault on fatal faults."""
+    steps = prog.steps
+    n = len(steps)
+    m.t_seen = bytearray(len(m.t_seen))
+    m.acc = False
+    m.blocks.clear()
+    m.stack.clear()
+    m.calls = []
+    m.fors = []
+    pc = 0
+    executed = 0
+    s = None
+    try:
+        while pc < n:
+            s = steps[pc]
+            m.pc = pc
+            executed += s.steps
+            if executed > watchdog:
+                raise SimFault(f"scan watchdog: more than {watchdog} steps executed in one scan "
+                               "(runaway loop?)")
+            r = s.run(m, s)
+            if r is None:
+                pc += 1
+            elif r == END_SCAN:
+                break
+            else:
+                pc = r
+        else:
+            raise SimFault("execution ran past the last instruction without END")
+    except SimFault as e:
+        raise Fault(e.message, s) from None
+    end_of_scan(m)
+
+
+def end_of_scan(m: Machine) -> None:
+    # counter contacts act at the end of the scan (1.7 table)
+    for n in sorted(m.c_pending):
+        m.bits["C"][n] = 1
+    m.c_pending.clear()
+    # running timers whose TMR was not executed (CJ-skipped, subroutine not called) keep
+    # timing and turn On when they reach the preset (4.1 API-00 item 3, example 2)
+    for n, running in enumerate(m.t_running):
+        if running and not m.t_seen[n]:
+            advance_timer(m, n, m.t_preset[n])

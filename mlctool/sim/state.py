@@ -1,0 +1,275 @@
+"""Machine state of the simulated MLC, and the one device-name scheme of stimulus files,
+`--watch` and JSON output (X0, T0:w, C64:d, D0:f, K4M0 ...).
+
+Words are stored as raw unsigned 16-bit patterns; signed views are computed on access.
+The 32-bit counters C64-C79 hold a signed 32-bit value each (1.7).
+"""
+
+from __future__ import annotations
+
+import re
+import struct
+from dataclasses import dataclass
+
+from mlctool.targets.model import Target
+
+
+class SimFault(Exception):
+    """A run-time fault of the program (E604). `fatal` faults stop the run."""
+
+    def __init__(self, message: str, fatal: bool = True, alarm: str | None = None):
+        super().__init__(message)
+        self.message = message
+        self.fatal = fatal
+        self.alarm = alarm
+
+
+def s16(v: int) -> int:
+    v &= 0xFFFF
+    return v - 0x10000 if v & 0x8000 else v
+
+
+def s32(v: int) -> int:
+    v &= 0xFFFFFFFF
+    return v - 0x100000000 if v & 0x80000000 else v
+
+
+def f32_bits(x: float) -> int:
+    """IEEE-754 single-precision bit pattern of x (rounded to nearest, overflow -> inf)."""
+    try:
+        return struct.unpack("<I", struct.pack("<f", x))[0]
+    except OverflowError:
+        return 0x7F800000 if x > 0 else 0xFF800000
+
+
+def bits_f32(v: int) -> float:
+    return struct.unpack("<f", struct.pack("<I", v & 0xFFFFFFFF))[0]
+
+
+def to_f32(x: float) -> float:
+    """x rounded to single precision (what the MLC stores)."""
+    return bits_f32(f32_bits(x))
+
+
+class Machine:
+    """All device memory, timer/counter bookkeeping and the rung-evaluation registers."""
+
+    def __init__(self, target: Target, n_instrs: int):
+        self.target = target
+        d = target.devices
+        self.bits = {k: bytearray(d[k].hi + 1) for k in ("X", "Y", "M", "A")}
+        self.bits["T"] = bytearray(d["T"].hi + 1)  # timer contacts
+        self.bits["C"] = bytearray(d["C"].hi + 1)  # counter contacts
+        self.words = {k: [0] * (d[k].hi + 1) for k in ("D", "V", "Z")}
+        self.words["T"] = [0] * (d["T"].hi + 1)  # timer present values (unsigned)
+        self.cval = [0] * (d["C"].hi + 1)  # C0-C63 unsigned 16-bit, C64-C79 signed 32-bit
+        self.c32_lo, _ = target.settings["counters32"]
+        self.n_instrs = n_instrs
+        # timer bookkeeping (1.6): running flag, virtual time (us) of the last update, remainder
+        nt = len(self.words["T"])
+        self.t_running = bytearray(nt)
+        self.t_last = [0] * nt
+        self.t_frac = [0] * nt
+        self.t_seen = bytearray(nt)  # its TMR executed in this scan
+        self.t_preset = [0] * nt  # preset seen by its last TMR execution
+        self.c_pending: dict[int, int] = {}  # counter contacts applied at end of scan (1.7)
+        self.edge = bytearray(n_instrs)  # per-instruction edge memory (LDP..., PLS/PLF, CNT)
+        self.writer: dict[tuple[str, int], int] = {}  # device -> index of last writing instr
+        self.now_us = 0
+        self.pc = 0
+        self.acc = False
+        self.blocks: list[bool] = []
+        self.stack: list[bool] = []
+        self.calls: list[int] = []  # return step indexes (CALL/SRET)
+        self.fors: list[list[int]] = []  # [FOR index, NEXT index, iterations left]
+        self.alarms: list[tuple[int, int, str, str]] = []  # (time us, instr index, alarm, message)
+        self.servo_limit: dict[int, int] = {}  # WRTL: station -> torque limit
+        self.servo_at_limit: dict[int, int] = {}  # RDTL input, driven by stimulus/models
+
+    # -- timers and counters
+    def is_c32(self, n: int) -> bool:
+        return n >= self.c32_lo
+
+    def timer_base_us(self, n: int) -> int:
+        return self.target.timer_base_ms(n) * 1000
+
+    def reset_timer(self, n: int) -> None:
+        self.words["T"][n] = 0
+        self.bits["T"][n] = 0
+        self.t_running[n] = 0
+        self.t_frac[n] = 0
+
+    def reset_counter(self, n: int) -> None:
+        self.cval[n] = 0
+        self.bits["C"][n] = 0
+        self.c_pending.pop(n, None)
+
+    # -- power
+    def power_cycle(self) -> None:
+        """Power off and on (1.4, 1.8.1): latched areas keep their values, the rest clear.
+
+        Inputs X are the hardware's and stay as the stimulus set them.
+        """
+        latched = {k: [a for a in self.target.devices[k].areas if a.latched] for k in ("M", "D")}
+        keep_m = [(a.lo, bytes(self.bits["M"][a.lo:a.hi + 1])) for a in latched["M"]]
+        keep_d = [(a.lo, self.words["D"][a.lo:a.hi + 1]) for a in latched["D"]]
+        for k in ("Y", "M", "A", "T", "C"):
+            self.bits[k][:] = bytes(len(self.bits[k]))
+        for k in self.words:
+            self.words[k] = [0] * len(self.words[k])
+        self.cval = [0] * len(self.cval)
+        for lo, data in keep_m:
+            self.bits["M"][lo:lo + len(data)] = data
+        for lo, data in keep_d:
+            self.words["D"][lo:lo + len(data)] = data
+        n = len(self.t_running)
+        self.t_running = bytearray(n)
+        self.t_frac = [0] * n
+        self.c_pending.clear()
+        self.edge = bytearray(self.n_instrs)
+        self.servo_limit.clear()
+
+
+# ---------------------------------------------------------------- device names
+
+_NAME = re.compile(r"(?:K(?P<n>[0-9]+)(?P<gdev>[XYMA])(?P<gnum>[0-9]+)|(?P<dev>[A-Z])(?P<num>[0-9]+))"
+                   r"(?::(?P<view>[A-Za-z]+))?")
+_KIND_ORDER = "XYMATCDVZK"
+
+
+class NameError_(ValueError):
+    """A device name that is malformed or not a device of the target (E602)."""
+
+
+@dataclass(frozen=True, slots=True)
+class DeviceView:
+    """One named view of device memory: `X0`, `T0:w`, `C64:d`, `D0:f`, `K4M0`."""
+
+    kind: str  # X Y M A T C D V Z, or "K" for a bit group
+    number: int
+    view: str  # bit | w | d | f | h | group
+    digits: int = 0  # bit group size n (K1-K8)
+    gdev: str = ""  # bit group device
+
+    @property
+    def name(self) -> str:
+        if self.view == "group":
+            return f"K{self.digits}{self.gdev}{self.number}"
+        if self.view in ("bit",) or (self.view == "w" and self.kind in "DVZ"):
+            return f"{self.kind}{self.number}"
+        return f"{self.kind}{self.number}:{self.view}"
+
+    @property
+    def width(self) -> int:
+        """Bits of the value (for waveforms)."""
+        if self.view == "bit":
+            return 1
+        if self.view == "group":
+            return 4 * self.digits
+        return 32 if self.view in ("d", "f") else 16
+
+    @property
+    def is_float(self) -> bool:
+        return self.view == "f"
+
+    def sort_key(self):
+        kind = self.gdev if self.view == "group" else self.kind
+        return (_KIND_ORDER.index(kind), self.number, self.view != "bit", self.view, self.digits)
+
+    # -- access
+    def read(self, m: Machine) -> int | float:
+        k, n, v = self.kind, self.number, self.view
+        if v == "bit":
+            return m.bits[k][n]
+        if v == "group":
+            bits = m.bits[self.gdev]
+            return sum(bits[n + i] << i for i in range(4 * self.digits))
+        if k == "T":
+            return m.words["T"][n]
+        if k == "C":
+            return m.cval[n] if v == "w" else s32(m.cval[n])
+        if v == "h":
+            return m.words[k][n]
+        if v == "w":
+            return s16(m.words[k][n])
+        raw = _pair_raw(m, k, n)
+        return s32(raw) if v == "d" else bits_f32(raw)
+
+    def write(self, m: Machine, value: int | float) -> None:
+        k, n, v = self.kind, self.number, self.view
+        if v == "bit":
+            m.bits[k][n] = 1 if value else 0
+        elif v == "group":
+            bits = m.bits[self.gdev]
+            for i in range(4 * self.digits):
+                bits[n + i] = (int(value) >> i) & 1
+        elif k == "T":
+            m.words["T"][n] = int(value) & 0xFFFF
+        elif k == "C":
+            m.cval[n] = int(value) & 0xFFFF if v == "w" else s32(int(value))
+        elif v in ("w", "h"):
+            m.words[k][n] = int(value) & 0xFFFF
+        else:
+            raw = f32_bits(float(value)) if v == "f" else int(value) & 0xFFFFFFFF
+            _set_pair_raw(m, k, n, raw)
+
+
+def _pair_raw(m: Machine, kind: str, n: int) -> int:
+    if kind == "V":  # 32-bit V: V n low, Z n high (target.toml decision, 1.8.2)
+        return m.words["V"][n] | (m.words["Z"][n] << 16)
+    w = m.words[kind]
+    return w[n] | (w[n + 1] << 16)
+
+
+def _set_pair_raw(m: Machine, kind: str, n: int, raw: int) -> None:
+    if kind == "V":
+        m.words["V"][n] = raw & 0xFFFF
+        m.words["Z"][n] = (raw >> 16) & 0xFFFF
+        return
+    w = m.words[kind]
+    w[n] = raw & 0xFFFF
+    w[n + 1] = (raw >> 16) & 0xFFFF
+
+
+def parse_device_name(text: str, target: Target) -> DeviceView:
+    """`D0:f` -> DeviceView. Raises NameError_ with a message for E602."""
+    m = _NAME.fullmatch(text.strip().upper())
+    if not m:
+        raise NameError_(f"{text!r} is not a device name (e.g. X0, T0:w, D0:d, K4M0)")
+    view = (m["view"] or "").lower()
+    devs = target.devices
+    if m["n"]:
+        digits, gdev, num = int(m["n"]), m["gdev"], int(m["gnum"])
+        dev = devs.get(gdev)
+        if view or dev is None:
+            raise NameError_(f"{text!r}: a bit group takes no view suffix")
+        if not 1 <= digits <= 8:
+            raise NameError_(f"{text!r}: bit groups are K1-K8")
+        if num + 4 * digits - 1 > dev.hi:
+            raise NameError_(f"{text!r} runs past {gdev}{dev.hi}")
+        return DeviceView("K", num, "group", digits, gdev)
+    kind, num = m["dev"], int(m["num"])
+    dev = devs.get(kind)
+    if dev is None or dev.kind == "pointer":
+        raise NameError_(f"{text!r}: no device {kind} on target {target.name}")
+    if not dev.lo <= num <= dev.hi:
+        raise NameError_(f"{text!r}: {kind} ranges {kind}{dev.lo}-{kind}{dev.hi}")
+    if dev.kind == "bit":
+        if view:
+            raise NameError_(f"{text!r}: bit devices take no view suffix")
+        return DeviceView(kind, num, "bit")
+    if kind == "T":
+        if view not in ("", "w"):
+            raise NameError_(f"{text!r}: timers are T{num} (contact) or T{num}:w (present value)")
+        return DeviceView(kind, num, "w" if view else "bit")
+    if kind == "C":
+        want = "d" if target.is_counter32(num) else "w"
+        if view not in ("", want):
+            raise NameError_(f"{text!r}: counter C{num} is C{num} (contact) or C{num}:{want} (value)")
+        return DeviceView(kind, num, want if view else "bit")
+    view = view or "w"
+    if view not in ("w", "d", "f", "h"):
+        raise NameError_(f"{text!r}: word views are :w :d :f :h")
+    if view in ("d", "f") and kind != "V" and num + 1 > dev.hi:
+        raise NameError_(f"{text!r}: the pair needs {kind}{num + 1}")
+    return DeviceView(kind, num, view)

@@ -1,0 +1,341 @@
+"""Stimulus files (docs/stimulus.md): timed inputs, expectations, forces, power cycles,
+device models, the scan period and the run length. Errors are diagnostics with line and
+column (E601 syntax, E602 unknown device), never exceptions.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+
+from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.sim.state import DeviceView, NameError_, parse_device_name, to_f32
+from mlctool.syntax.source import read_source
+from mlctool.targets.model import Target
+
+_UNITS = {"us": 1, "ms": 1000, "s": 1_000_000, "min": 60_000_000}
+_TIME = re.compile(r"(?P<num>[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?P<unit>us|ms|s|min)", re.IGNORECASE)
+_TOKEN = re.compile(r"\S+")
+KEYWORDS = ("expect", "force", "release", "power-cycle")
+MAX_TIME_US = 10**15  # about 31 years of virtual time; beyond is surely a typo
+
+
+class StimError(ValueError):
+    def __init__(self, message: str, col_offset: int = 0, code: str = "E601"):
+        super().__init__(message)
+        self.message = message
+        self.col_offset = col_offset
+        self.code = code
+
+
+def parse_time(text: str) -> int:
+    """'1.5s' -> 1500000 (microseconds). Raises StimError."""
+    m = _TIME.fullmatch(text.strip())
+    if not m:
+        raise StimError(f"{text!r} is not a time (e.g. 150ms, 1.5s, 500us, 2min)")
+    us = float(m["num"]) * _UNITS[m["unit"].lower()]
+    if us != int(us):
+        raise StimError(f"{text!r} is not a whole number of microseconds")
+    if us > MAX_TIME_US:
+        raise StimError(f"{text!r} is too far in the future")
+    return int(us)
+
+
+@dataclass(frozen=True, slots=True)
+class Check:
+    """One `DEV=V`, `DEV!=V` or `DEV=LO..HI` of an expect line."""
+
+    view: DeviceView
+    op: str  # "=" | "!=" | "range"
+    value: int | float
+    high: int | float | None
+    text: str
+    col: int
+
+    def holds(self, actual: int | float) -> bool:
+        if self.op == "range":
+            return self.value <= actual <= self.high
+        equal = (actual == self.value) if not (self.view.is_float and math.isnan(self.value)) \
+            else math.isnan(actual)
+        return equal if self.op == "=" else not equal
+
+    def expected_text(self) -> str:
+        if self.op == "range":
+            return f"{self.value}..{self.high}"
+        return ("!= " if self.op == "!=" else "") + str(self.value)
+
+
+@dataclass(slots=True)
+class Event:
+    scan: int | None  # "#250" form
+    time_us: int | None
+    kind: str  # set | expect | alarm | force | release | power
+    line: int
+    col: int
+    text: str
+    assigns: list[tuple[DeviceView, int | float]] = field(default_factory=list)
+    checks: list[Check] = field(default_factory=list)
+    alarm: str = ""
+
+    def scan_index(self, period_us: int) -> int:
+        """Events at time t act at the first scan that starts at or after t."""
+        return self.scan if self.scan is not None else -(-self.time_us // period_us)
+
+
+@dataclass(slots=True)
+class ModelSpec:
+    kind: str
+    params: dict[str, tuple[str, int]]  # key -> (value text, column)
+    line: int
+    col: int
+
+
+@dataclass(slots=True)
+class Stimulus:
+    path: str
+    lines: list[str]
+    scan_us: int | None = None
+    run_time_us: int | None = None
+    run_scans: int | None = None
+    events: list[Event] = field(default_factory=list)
+    models: list[ModelSpec] = field(default_factory=list)
+
+    def devices(self) -> set[DeviceView]:
+        out: set[DeviceView] = set()
+        for e in self.events:
+            out.update(v for v, _ in e.assigns)
+            out.update(c.view for c in e.checks)
+        return out
+
+
+def parse_value(text: str, view: DeviceView) -> int | float:
+    """Value for a device view: decimal (optional K), H hex (raw pattern), float for :f."""
+    t = text.strip()
+    u = t.upper()
+    if view.view == "bit" and u in ("ON", "OFF"):
+        return 1 if u == "ON" else 0
+    try:
+        if u.startswith("H"):
+            raw = int(u[1:], 16)
+            bits = view.width
+            if raw >= 1 << bits:
+                raise StimError(f"{t} does not fit {bits} bits")
+            if view.is_float:
+                from mlctool.sim.state import bits_f32
+                return bits_f32(raw)
+            signed = view.view in ("w", "d") and view.kind in "DVZ" or view.kind == "C" and view.view == "d"
+            return raw - (1 << bits) if signed and raw >> (bits - 1) else raw
+        if view.is_float:
+            x = float(t[1:] if u.startswith("F") else t)
+            return to_f32(x)
+        v = int(u[1:] if u.startswith("K") else u, 10)
+    except ValueError:
+        kind = "a float" if view.is_float else "an integer (decimal, K10 or H0F)"
+        raise StimError(f"{t!r} is not {kind} for {view.name}") from None
+    lo, hi = _range(view)
+    if not lo <= v <= hi:
+        raise StimError(f"{view.name} takes {lo}..{hi}, not {v}")
+    return v
+
+
+def _range(view: DeviceView) -> tuple[int, int]:
+    if view.view == "bit":
+        return 0, 1
+    if view.view == "group":
+        n = 4 * view.digits
+        return -(1 << (n - 1)), (1 << n) - 1
+    if view.kind == "T" or view.view == "h" or (view.kind == "C" and view.view == "w"):
+        return 0, 0xFFFF
+    if view.view == "d":
+        return -(1 << 31), (1 << 31) - 1
+    return -32768, 32767
+
+
+class _Parser:
+    def __init__(self, path: str, text: str, target: Target):
+        self.st = Stimulus(path, text.split("\n"))
+        self.target = target
+        self.diags: list[Diagnostic] = []
+        self.last_time = 0
+
+    def err(self, line: int, col: int, length: int, code: str, msg: str) -> None:
+        self.diags.append(diag(self.st.path, Span.at(line, col, length), code, msg))
+
+    def run(self) -> Stimulus:
+        for no, raw in enumerate(self.st.lines, 1):
+            body = _strip_comment(raw)
+            toks = [(m.group(), m.start() + 1) for m in _TOKEN.finditer(body)]
+            if not toks:
+                continue
+            try:
+                self.line(no, toks)
+            except StimError as e:
+                tok_text, col = toks[min(e.col_offset, len(toks) - 1)]
+                self.err(no, col, len(tok_text), e.code, e.message)
+        return self.st
+
+    def line(self, no: int, toks: list[tuple[str, int]]) -> None:
+        head = toks[0][0].lower()
+        if head == "scan":
+            self.need(toks, 2, "scan PERIOD, e.g. `scan 10ms`")
+            us = self.at(1, lambda: parse_time(toks[1][0]))
+            if us <= 0:
+                raise StimError("the scan period must be positive", 1)
+            self.st.scan_us = us
+            return
+        if head == "run":
+            self.need(toks, 2, "run TIME or run #SCANS, e.g. `run 4s`")
+            arg = toks[1][0]
+            if arg.startswith("#"):
+                self.st.run_scans = self.at(1, lambda: _scan_number(arg))
+            else:
+                self.st.run_time_us = self.at(1, lambda: parse_time(arg))
+            return
+        if head == "model":
+            self.model(no, toks)
+            return
+        when = toks[0][0]
+        scan, time_us = None, None
+        if when.startswith("#"):
+            scan = _scan_number(when)
+        elif when.startswith("+"):
+            time_us = self.last_time + parse_time(when[1:])
+        else:
+            time_us = parse_time(when)
+        if time_us is not None:
+            self.last_time = time_us
+        if len(toks) < 2:
+            raise StimError("a time needs an action: DEV=VALUE, expect ..., force ..., release ..., "
+                            "power-cycle")
+        self.action(Event(scan, time_us, "set", no, toks[1][1], " ".join(t for t, _ in toks)), toks[1:])
+
+    @staticmethod
+    def at(offset: int, fn):
+        try:
+            return fn()
+        except StimError as e:
+            raise StimError(e.message, offset, e.code) from None
+
+    @staticmethod
+    def need(toks, n: int, form: str) -> None:
+        if len(toks) != n:
+            raise StimError(f"expected {form}", min(n, len(toks) - 1))
+
+    def action(self, ev: Event, toks: list[tuple[str, int]]) -> None:
+        word = toks[0][0].lower()
+        off = 1  # token offset of toks[0] within the line
+        if word == "power-cycle":
+            if len(toks) > 1:
+                raise StimError("power-cycle takes no arguments", off + 1)
+            ev.kind = "power"
+        elif word == "expect":
+            if len(toks) < 2:
+                raise StimError("expect needs DEV=VALUE items or `alarm NAME`", off)
+            if toks[1][0].lower() == "alarm":
+                if len(toks) != 3 or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", toks[2][0]):
+                    raise StimError("expected `expect alarm NAME`, e.g. expect alarm MLC_ARITH_ERROR", off + 1)
+                ev.kind, ev.alarm = "alarm", toks[2][0].upper()
+            else:
+                ev.kind = "expect"
+                ev.checks = [self.check(t, col, off + 1 + k) for k, (t, col) in enumerate(toks[1:])]
+        elif word == "release":
+            if len(toks) < 2:
+                raise StimError("release needs device names", off)
+            ev.kind = "release"
+            ev.assigns = [(self.view(t, off + 1 + k), 0) for k, (t, _) in enumerate(toks[1:])]
+        else:
+            items = toks
+            if word == "force":
+                ev.kind = "force"
+                items = toks[1:]
+                if not items:
+                    raise StimError("force needs DEV=VALUE items", off)
+                off += 1
+            for k, (t, _) in enumerate(items):
+                if "=" not in t or t.startswith("="):
+                    raise StimError(f"{t!r}: expected DEV=VALUE, expect, force, release or "
+                                    "power-cycle", off + k)
+                name, value = t.split("=", 1)
+                view = self.view(name, off + k)
+                ev.assigns.append((view, self.at(off + k, lambda v=value, w=view: parse_value(v, w))))
+        self.st.events.append(ev)
+
+    def view(self, name: str, offset: int) -> DeviceView:
+        try:
+            return parse_device_name(name, self.target)
+        except NameError_ as e:
+            raise StimError(str(e), offset, "E602") from None
+
+    def check(self, t: str, col: int, offset: int) -> Check:
+        m = re.fullmatch(r"([^=!]+)(!=|=)(.+)", t)
+        if not m:
+            raise StimError(f"{t!r}: expected DEV=VALUE, DEV!=VALUE or DEV=LOW..HIGH", offset)
+        view = self.view(m[1], offset)
+        value = m[3]
+        if ".." in value and m[2] == "=":
+            lo, hi = value.split("..", 1)
+            a = self.at(offset, lambda: parse_value(lo, view))
+            b = self.at(offset, lambda: parse_value(hi, view))
+            if a > b:
+                raise StimError(f"empty range {value}", offset)
+            return Check(view, "range", a, b, t, col)
+        return Check(view, m[2], self.at(offset, lambda: parse_value(value, view)), None, t, col)
+
+    def model(self, no: int, toks: list[tuple[str, int]]) -> None:
+        if len(toks) < 2:
+            raise StimError("expected `model KIND key=value ...`", 0)
+        params: dict[str, tuple[str, int]] = {}
+        for k, (t, col) in enumerate(toks[2:], 2):
+            if "=" not in t:
+                raise StimError(f"{t!r}: model parameters are key=value", k)
+            key, value = t.split("=", 1)
+            params[key.lower()] = (value, col)
+        self.st.models.append(ModelSpec(toks[1][0].lower(), params, no, toks[1][1]))
+
+
+def _strip_comment(raw: str) -> str:
+    """`#` starts a comment, except `#250` (a scan number) at the start of a line or after `run`."""
+    out = []
+    for m in _TOKEN.finditer(raw):
+        t = m.group()
+        if t.startswith("#"):
+            first = not out
+            after_run = len(out) == 1 and out[0].lower() == "run"
+            if not (re.fullmatch(r"#[0-9]+", t) and (first or after_run)):
+                break
+        out.append(t)
+    return _rejoin(raw, len(out))
+
+
+def _rejoin(raw: str, count: int) -> str:
+    """The first `count` tokens of raw with their original columns."""
+    end = 0
+    for k, m in enumerate(_TOKEN.finditer(raw)):
+        if k == count:
+            break
+        end = m.end()
+    return raw[:end]
+
+
+def _scan_number(text: str) -> int:
+    if not re.fullmatch(r"#[0-9]+", text) or len(text) > 16:
+        raise StimError(f"{text!r} is not a scan number (e.g. #250)")
+    return int(text[1:])
+
+
+def parse_stimulus_text(path: str, text: str, target: Target) -> tuple[Stimulus, list[Diagnostic]]:
+    p = _Parser(path, text, target)
+    st = p.run()
+    return st, p.diags
+
+
+def load_stimulus(path: str, target: Target) -> tuple[Stimulus | None, list[Diagnostic]]:
+    src, diags = read_source(path)
+    if src is None:
+        return None, diags
+    return parse_stimulus_text(path, src.text, target)
+
+
+__all__ = ["Check", "Event", "ModelSpec", "Stimulus", "StimError", "load_stimulus",
+           "parse_stimulus_text", "parse_time", "parse_value"]
