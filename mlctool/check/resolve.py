@@ -96,6 +96,7 @@ class _Resolver:
         dev = self.t.devices[next(iter(self.label_spec.operands[0].kinds))]
         if not dev.lo <= int(m[1]) <= dev.hi:
             self.err(st.line, w, "E205", f"label {w.text} out of range {dev.name}{dev.lo}-{dev.name}{dev.hi}")
+            self.emit_invalid(st, self.label_spec)  # it still ends the rung before it
             return
         self.emit(st, self.label_spec, (Operand("P", number=int(m[1])),), (w.text.upper(),))
 
