@@ -15,12 +15,13 @@ def program_from_paths(paths: list[str], target: Target, config: Config | None =
     Returns (image or None when errors prevent it, diagnostics, source lines for rendering).
     Source paths stay as given (diagnostics point at the files); objects keep their names.
     """
-    from mlctool.asm.build import load_inputs, with_capacity
+    from mlctool.asm.build import is_object, load_inputs, with_capacity
     from mlctool.asm.encode import image_from_object
     from mlctool.asm.link import link
 
     target = with_capacity(target, config)
-    inputs = load_inputs(list(paths), target, config)
+    # with objects among the inputs, calls into them are resolved by the linker (E505)
+    inputs = load_inputs(list(paths), target, config, separate=any(is_object(p) for p in paths))
     diags = list(inputs.diagnostics)
     if inputs.errors:
         return None, diags, inputs.lines

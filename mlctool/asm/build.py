@@ -15,6 +15,7 @@ from mlctool.asm.objfile import MAGIC, ObjectError, ObjectFile, decode, read_hea
 from mlctool.check import check_files
 from mlctool.config import Config
 from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.program import Module
 from mlctool.targets import Target
 
 OBJECT_SUFFIXES = (".mlo", ".mlx")
@@ -71,15 +72,33 @@ def object_target(path: str) -> str | None:
         return None
 
 
+def _external_calls(modules: list[Module]) -> set[tuple[str, int]]:
+    """(file, line) of each CALL to a P its own module does not define."""
+    out = set()
+    for m in modules:
+        own = m.labels()
+        for ins in m.instrs:
+            if ins.spec.op == "call" and ins.operands and not ins.operands[0].index \
+                    and ins.operands[0].number not in own:
+                out.add((m.path, ins.line))
+    return out
+
+
 def load_inputs(paths: list[str], target: Target, config: Config | None,
-                root: str | None = None) -> Inputs:
+                root: str | None = None, separate: bool = False) -> Inputs:
     """Check the sources (together) and read the objects. `root` set: name sources as
-    objects store them (relative to root); None: keep the paths as given."""
+    objects store them (relative to root); None: keep the paths as given. `separate`:
+    compiling object modules, so a CALL to a label no source defines is left to the linker
+    (a relocation) instead of being an error."""
     out = Inputs()
     sources = [p for p in paths if not is_object(p)]
     modules = {}
     if sources:
         result = check_files(sources, target, config)
+        if separate:
+            external = _external_calls(result.modules)
+            result.diagnostics = [d for d in result.diagnostics
+                                  if not (d.code == "E304" and (d.file, d.span.line) in external)]
         out.diagnostics += result.diagnostics
         for m in result.modules:
             name = source_name(m.path, root) if root is not None else m.path

@@ -95,40 +95,50 @@ def build_cmd(target_name, config_path, output, compile_only, listing_path, map_
         output = output or job.output
         listing_path = listing_path or job.listing
         map_path = map_path or job.map
+    _check_request(sources, output, compile_only, listing_path, map_path)
     root = str(config.root) if config.root else None
-    inputs = load_inputs(list(sources), target, config, root)
+    # objects compile separately: a CALL into another module is the linker's to resolve
+    separate = compile_only or output.lower().endswith(".mlo") or any(is_object(s) for s in sources)
+    inputs = load_inputs(list(sources), target, config, root, separate)
     _report(inputs.diagnostics, inputs.lines)
     _exit_for(inputs.diagnostics)
     if inputs.programs:
         raise _usage("a linked program (.mlx) cannot be an input of build or link", inputs.programs[0][0])
     if compile_only:
-        _compile_each(inputs, sources, output, listing_path, map_path)
+        _compile_each(inputs, sources, output)
         return
-    if output is None:
-        raise _usage("no output: give -o PROGRAM.mlx or -o MODULE.mlo (or -c)")
     if output.lower().endswith(".mlo"):
-        if len(inputs.objects) != 1 or is_object(sources[0]):
-            raise _usage("a .mlo output holds one module compiled from one source; use -c for several")
-        if map_path:
-            raise _usage("--map needs a linked output (.mlx)")
         obj = inputs.objects[0]
         files = [(output, encode(obj))] + ([(listing_path, listing(obj, inputs.lines))] if listing_path else [])
         for path, data in files:
             _write(path, data, make_dirs)
         return
-    if not output.lower().endswith(".mlx"):
-        raise _usage(f"output {output!r}: use .mlx for a linked program or .mlo for an object module")
     _link_and_write(inputs, target, output, listing_path, map_path, make_dirs)
 
 
-def _compile_each(inputs: Inputs, sources, output, listing_path, map_path) -> None:
-    if listing_path or map_path:
-        raise _usage("-c writes objects only; --listing/--map need one output")
-    if any(is_object(s) for s in sources):
-        raise _usage("-c compiles sources; pass objects to mlc link")
+def _check_request(sources, output, compile_only, listing_path, map_path) -> None:
+    """Usage errors, found before any work (exit 2)."""
+    if compile_only:
+        if listing_path or map_path:
+            raise _usage("-c writes objects only; --listing/--map need one output")
+        if any(is_object(s) for s in sources):
+            raise _usage("-c compiles sources; pass objects to mlc link")
+        if not os.path.isdir(output or "."):
+            raise _usage(f"-c -o names a folder for the objects; {output!r} is not one")
+        return
+    if output is None:
+        raise _usage("no output: give -o PROGRAM.mlx or -o MODULE.mlo (or -c)")
+    if output.lower().endswith(".mlo"):
+        if len(sources) != 1 or is_object(sources[0]):
+            raise _usage("a .mlo output holds one module compiled from one source; use -c for several")
+        if map_path:
+            raise _usage("--map needs a linked output (.mlx)")
+    elif not output.lower().endswith(".mlx"):
+        raise _usage(f"output {output!r}: use .mlx for a linked program or .mlo for an object module")
+
+
+def _compile_each(inputs: Inputs, sources, output) -> None:
     folder = output or "."
-    if not os.path.isdir(folder):
-        raise _usage(f"-c -o names a folder for the objects; {folder!r} is not one")
     outs = {}
     for src in sources:
         path = os.path.join(folder, os.path.splitext(os.path.basename(src))[0] + ".mlo")
