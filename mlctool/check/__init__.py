@@ -9,12 +9,13 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
-from mlctool.check.lint import coil_map, lint_module, referenced_labels
+from mlctool.check.lint import cross_module_coils, lint_module, referenced_labels
 from mlctool.check.resolve import resolve
 from mlctool.check.structure import check_layout, check_rungs
 from mlctool.config import Config
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Module
+from mlctool.syntax.operands import SYMBOL, OperandSyntaxError, parse_operand
 from mlctool.syntax.parser import parse
 from mlctool.syntax.source import SourceText, decode, read_source
 from mlctool.targets import Target
@@ -44,11 +45,13 @@ def check_texts(sources: list[SourceText], target: Target, config: Config | None
     modules: list[Module] = []
     lines: dict[str, list[str]] = {}
     noqa: dict[str, dict] = {}
+    symbols, found = project_symbols(config)
+    diags += found
     for src in sources:
         parsed = parse(src)
         lines[src.path] = parsed.lines
         noqa[src.path] = parsed.noqa
-        module, found = resolve(parsed, target)
+        module, found = resolve(parsed, target, symbols)
         modules.append(module)
         diags += found
     # rung checks see every line; the rest only lines whose operands resolved
@@ -77,16 +80,38 @@ def check_texts(sources: list[SourceText], target: Target, config: Config | None
         diags += check_layout(m, target, {p: f for p, f in exported.items() if f != m.path}, calls,
                               broken[m.path])
         diags += lint_module(m, target, refs)
-    if len(valid) > 1:
-        for (_kind, _num), coils in sorted(coil_map(valid).items()):
-            files = {c.file for c in coils}
-            if len(files) > 1:
-                first = coils[0]
-                for c in coils[1:]:
-                    if c.file != first.file:
-                        diags.append(diag(c.file, Span(c.line, c.col, c.line, c.col + 3), "W401",
-                                          f"{c.texts[0]} is also driven at {first.file}:{first.line}; the last OUT in the scan wins (1.3.2)"))
+    # Each main module is its own program together with the libraries; independent main
+    # programs checked in one call do not share coils.
+    libs = [m for m in valid if m.library]
+    programs = [[m, *libs] for m in valid if not m.library] or [libs]
+    for program in programs:
+        if len(program) > 1:
+            diags += cross_module_coils(program)
     return CheckResult(modules, _finish(diags, config, ignore, noqa), lines)
+
+
+def project_symbols(config: Config) -> tuple[dict[str, str], list[Diagnostic]]:
+    """mlc.toml `[symbols]` NAME = "OPERAND": device symbols of every module (docs/project.md)."""
+    table = config.data.get("symbols", {})
+    where = str(config.root / "mlc.toml") if config.root else "mlc.toml"
+    if not isinstance(table, dict):
+        return {}, [diag(where, Span.at(1), "E106", "[symbols] must be a table of NAME = \"OPERAND\"")]
+    out, diags = {}, []
+    for name, value in table.items():
+        if not (isinstance(value, str) and SYMBOL.fullmatch(name) and _operand_ok(value)) or _operand_ok(name):
+            diags.append(diag(where, Span.at(1), "E106", f"[symbols] {name} = {value!r}: "
+                              "a symbol name (not an operand) and an operand are needed"))
+        else:
+            out[name.upper()] = value
+    return out, diags
+
+
+def _operand_ok(text: str) -> bool:
+    try:
+        parse_operand(text)
+    except OperandSyntaxError:
+        return False
+    return True
 
 
 def _finish(diags, config: Config, ignore, noqa) -> list[Diagnostic]:

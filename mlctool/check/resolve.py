@@ -331,5 +331,9 @@ def _kind_name(op: Operand) -> str:
     return f"{op.kind} device"
 
 
-def resolve(parsed: ParsedFile, target: Target) -> tuple[Module, list[Diagnostic]]:
-    return _Resolver(parsed, target).run()
+def resolve(parsed: ParsedFile, target: Target, predefined: dict[str, str] | None = None
+            ) -> tuple[Module, list[Diagnostic]]:
+    """`predefined`: device symbols every module starts with (mlc.toml [symbols])."""
+    r = _Resolver(parsed, target)
+    r.module.symbols.update(predefined or {})
+    return r.run()
