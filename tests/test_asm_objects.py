@@ -236,3 +236,15 @@ def test_program_from_paths_mixes_sources_objects_and_programs(tmp_path, monkeyp
         assert image.modules == from_sources.modules and image.symbols == {"START": "X0"}
     bad, diags, _ = program_from_paths(["p.mlx", "lib.mlo"], T)
     assert bad is None and any(d.code == "E509" for d in diags)
+
+
+def test_project_symbols_from_mlc_toml(tmp_path):
+    (tmp_path / "mlc.toml").write_text('sources = ["a.il"]\noutput = "out/a.mlx"\n[symbols]\nSTART = "X0"\n')
+    _files(tmp_path, a="LD START\nOUT Y0\nEND\n")
+    r = run_mlc("build", cwd=tmp_path)
+    assert r.code == 0, r.err
+    doc = json.loads(run_mlc("objdump", "--json", "out/a.mlx", cwd=tmp_path).out)
+    assert doc["instructions"][0]["operands"] == ["X0"] and doc["instructions"][0]["texts"] == ["START"]
+    (tmp_path / "mlc.toml").write_text('sources = ["a.il"]\n[symbols]\nK1 = "X0"\n')
+    r = run_mlc("build", cwd=tmp_path)
+    assert r.code == 1 and "E106" in r.err
