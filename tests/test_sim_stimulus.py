@@ -1,0 +1,97 @@
+"""Stimulus files: syntax, diagnostics with line/column, the time rule, forces, ranges."""
+
+from __future__ import annotations
+
+import pytest
+from simkit import NC5, passed, simulate
+
+from mlctool.sim.stimulus import parse_stimulus_text, parse_time
+
+
+def diags_of(text: str):
+    _, diags = parse_stimulus_text("s.stim", text, NC5)
+    return [(d.code, d.span.line, d.span.col) for d in diags]
+
+
+def test_full_syntax_parses():
+    st, diags = parse_stimulus_text("s.stim", """
+# comment
+scan 10ms                       # scan period
+0ms     X0=1                    # inputs
+150ms   X0=0 X1=1
+1.5s    D100=25 K4M0=H00FF
+#250    X2=1
++10ms   X3=on
+2s      expect Y0=1 D0=30 T0=1
+2.5s    expect D10:d=70000 D20:f=1.5 D0!=3 D1=-5..5 D2:h=HFFFF
+3s      power-cycle
+3s      force X5=1
+4s      release X5
+4s      expect alarm MLC_ARITH_ERROR
+500us   C64:d=-1 T0:w=65535 C3:w=7 V0:d=100000
+run 4s
+""", NC5)
+    assert diags == []
+    assert st.scan_us == 10_000 and st.run_time_us == 4_000_000
+    kinds = [e.kind for e in st.events]
+    assert kinds == ["set", "set", "set", "set", "set", "expect", "expect", "power", "force",
+                     "release", "alarm", "set"]
+    assert st.events[3].scan == 250 and st.events[4].time_us == 1_510_000
+    assert st.events[2].assigns[1][1] == 0xFF
+
+
+@pytest.mark.parametrize("text,code,line,col", [
+    ("0ms X0=2", "E601", 1, 5),
+    ("0ms Q0=1", "E602", 1, 5),
+    ("0ms D0:q=1", "E602", 1, 5),
+    ("\n12 X0=1", "E601", 2, 1),
+    ("0ms expect", "E601", 1, 5),
+    ("0ms D0=1.5", "E601", 1, 5),
+    ("0ms D0=40000", "E601", 1, 5),
+    ("0ms X0=1 bogus", "E601", 1, 10),
+    ("scan 0ms", "E601", 1, 6),
+    ("run 4", "E601", 1, 5),
+    ("1s expect D0=5..1", "E601", 1, 11),
+    ("0ms T0:d=1", "E602", 1, 5),
+    ("0ms C3:d=1", "E602", 1, 5),
+    ("0ms X600=1", "E602", 1, 5),
+    ("0ms expect alarm", "E601", 1, 12),
+])
+def test_errors_have_code_line_and_column(text, code, line, col):
+    assert diags_of(text)[:1] == [(code, line, col)]
+
+
+def test_time_units():
+    assert [parse_time(t) for t in ("500us", "1.5ms", "2s", "1min", ".5s")] == \
+        [500, 1500, 2_000_000, 60_000_000, 500_000]
+
+
+def test_event_applies_before_first_scan_at_or_after_its_time():
+    # 25 ms lies between scans 2 (20 ms) and 3 (30 ms): X0 is seen by scan 3 only
+    r = simulate("LD X0\nINC D0\nEND", "25ms X0=1\n20ms expect D0=0\n25ms expect D0=1\n"
+                 "40ms expect D0=2\n#5 expect D0=3")
+    assert passed(r)
+
+
+def test_force_holds_against_the_program_until_release():
+    r = simulate("LD X0\nOUT Y0\nEND", "0ms force Y0=1\n10ms expect Y0=1\n20ms release Y0\n"
+                 "20ms expect Y0=0")
+    assert passed(r)
+
+
+def test_failed_expectation_reports_device_values_and_writer():
+    r = simulate("LD X0\nMOV K30 D0\nEND", "0ms X0=1\n1s expect D0=31 D1=0")
+    [f] = r.failed
+    assert (f.device, f.expected, f.actual, f.scan, f.time_us) == ("D0", "31", 30, 100, 1_000_000)
+    assert f.writer.endswith("t.il:2: MOV K30 D0")
+
+
+def test_expectation_after_the_run_fails():
+    r = simulate("LD X0\nOUT Y0\nEND", "1s expect Y0=0\nrun 500ms")
+    assert r.scans == 50 and len(r.failed) == 1 and "run ended" in r.failed[0].actual
+
+
+def test_float_and_range_expectations():
+    r = simulate("LD X0\nFDIV F1 F3 D0\nEND", "0ms X0=1\n0ms expect D0:f=0.33333334 "
+                 "D0:f=0.333..0.334 D0:f!=0.5")
+    assert passed(r)
