@@ -176,3 +176,14 @@ def test_docs_list_every_code():
     text = (ROOT / "docs" / "check.md").read_text()
     missing = [c for c in CODES if f"`{c}`" not in text]
     assert not missing, missing
+
+
+def test_independent_programs_do_not_share_coils_but_libraries_do(mlc, tmp_path):
+    (tmp_path / "a.il").write_text("LD X0\nOUT Y0\nEND\n")
+    (tmp_path / "b.il").write_text("LD X1\nOUT Y0\nEND\n")
+    data = json.loads(mlc("check", "--format", "json", "a.il", "b.il", cwd=tmp_path).out)
+    assert data["diagnostics"] == []
+    (tmp_path / "lib.il").write_text(".library\n.export P1\nP1\nLD X2\nOUT Y0\nSRET\n")
+    (tmp_path / "c.il").write_text("LD X1\nCALL P1\nFEND\nEND\n")
+    data = json.loads(mlc("check", "--format", "json", "a.il", "c.il", "lib.il", cwd=tmp_path).out)
+    assert [(d["file"], d["line"], d["code"]) for d in data["diagnostics"]] == [("lib.il", 5, "W401")]

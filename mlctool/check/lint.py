@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from collections import defaultdict
-
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module
 from mlctool.targets.model import Target
@@ -127,10 +125,18 @@ def referenced_labels(modules: list[Module]) -> tuple[set[int], set[int]]:
     return refs, calls
 
 
-def coil_map(modules: list[Module]) -> dict:
-    out = defaultdict(list)
+def cross_module_coils(modules: list[Module]) -> list[Diagnostic]:
+    """W401 for a coil driven by OUT in two modules of one program (first module wins the
+    'first' role: the main program comes first)."""
+    first: dict = {}
+    out = []
     for m in modules:
         for ins in m.instrs:
-            if ins.spec.op == "out":
-                out[(ins.operands[0].kind, ins.operands[0].number)].append(ins)
+            if ins.spec.op != "out" or ins.operands[0].index:
+                continue
+            key = (ins.operands[0].kind, ins.operands[0].number)
+            f = first.setdefault(key, ins)
+            if f.file != ins.file:
+                out.append(_at(ins, None, "W401", f"{ins.texts[0]} is also driven at {_where(f)}; "
+                               "the last OUT in the scan wins (1.3.2)"))
     return out
