@@ -85,6 +85,9 @@ class _Writer:
         self.buf = bytearray()
 
     def uint(self, n: int) -> None:
+        if 0 <= n < 0x80:  # most numbers: one byte
+            self.buf.append(n)
+            return
         if n < 0:
             raise ValueError(f"negative unsigned value {n}")
         while True:
@@ -110,6 +113,9 @@ class _Reader:
         return ObjectError("E502", f"{what} at byte {self.pos}")
 
     def uint(self) -> int:
+        if self.pos < len(self.data) and self.data[self.pos] < 0x80:  # one byte
+            self.pos += 1
+            return self.data[self.pos - 1]
         n = shift = 0
         while True:
             if self.pos >= len(self.data) or shift > 63:
