@@ -248,3 +248,20 @@ def test_project_symbols_from_mlc_toml(tmp_path):
     (tmp_path / "mlc.toml").write_text('sources = ["a.il"]\n[symbols]\nK1 = "X0"\n')
     r = run_mlc("build", cwd=tmp_path)
     assert r.code == 1 and "E106" in r.err
+
+
+def test_well_formed_but_wrong_objects_are_rejected(good_object):
+    """A valid checksum is not enough: shapes and addresses must match the target's tables."""
+    from mlctool.asm.objfile import encode
+    obj = decode(good_object, T)
+    obj.instrs[3].steps += 1
+    with pytest.raises(ObjectError, match="form"):
+        decode(encode(obj), T)
+    obj = decode(good_object, T)
+    obj.instrs[3].addr += 1
+    with pytest.raises(ObjectError):
+        decode(encode(obj), T)
+    obj = decode(good_object, T)
+    obj.instrs[0].texts = ()
+    with pytest.raises(ObjectError):
+        decode(encode(obj), T)

@@ -134,7 +134,10 @@ def programs(draw) -> str:
         else:
             lines.append(draw(st.sampled_from(["", "; a comment", "   // another"])))
     call = next(labels)
-    lines += ["LD X3", f"CALL P{call}", "FEND", f"P{call}:", "LD X4", "INC D1", "SRET", "END"]
+    if draw(st.booleans()):  # a main program with its own subroutine
+        lines += ["LD X3", f"CALL P{call}", "FEND", f"P{call}:", "LD X4", "INC D1", "SRET", "END"]
+    else:  # a library: the same rungs as an exported subroutine
+        lines = [".library", f".export P{call}", f"P{call}:"] + lines + ["SRET"]
     out = []
     for n, line in enumerate(lines):
         indent = draw(st.sampled_from(["", " ", "    ", "\t"]))
@@ -148,7 +151,7 @@ def programs(draw) -> str:
     return "\n".join(out) + "\n"
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(programs())
 def test_generated_round_trip(text):
     first = build_bytes("gen/prog.il", text)

@@ -330,6 +330,17 @@ class _Decoder:
         return Operand(kind, number, value, digits, index, decimals)
 
 
+def _validate(k: int, spec, operands, texts, table, steps) -> None:
+    """The shape the target's tables give an instruction, so a well-formed but wrong object
+    (written by another tool, or crafted) cannot reach the simulator."""
+    wanted = 1 if spec.short_steps else spec.steps
+    ok = (len(operands) == len(spec.operands) and len(texts) == len(operands)
+          and len(table) == spec.table and (steps == wanted or spec.short_steps and steps == 2))
+    if not ok:
+        raise ObjectError("E502", f"instruction {k} ({spec.mnemonic}) does not have the form "
+                          "the target's tables give it")
+
+
 def decode(data: bytes, target: Target) -> ObjectFile:
     """Bytes -> ObjectFile, Instr objects rebuilt against `target`. Raises ObjectError."""
     kind, sections = check_envelope(data)
@@ -378,11 +389,20 @@ def _decode(kind: str, sections: dict[bytes, bytes], target: Target) -> ObjectFi
         operands = tuple(d.operand(r) for _ in range(r.uint()))
         texts = tuple(d.str(r) for _ in range(r.uint()))
         table = tuple(r.sint() for _ in range(r.uint()))
+        _validate(k, spec, operands, texts, table, steps)
         laddr, unit, line, col = lines[k]
         if laddr != addr or unit >= len(units):
             raise ObjectError("E502", f"line table disagrees with code at instruction {k}")
         instrs.append(Instr(spec, operands, texts, steps, addr, units[unit].path, line, col, table))
         unit_of.append(unit)
+
+    addr = 0
+    for k, ins in enumerate(instrs):
+        if ins.addr != addr:
+            raise ObjectError("E502", f"instruction {k} at step {ins.addr}, expected {addr}")
+        addr += ins.steps
+    if any(not 0 <= u.first <= u.end <= addr for u in units) or (kind == "module" and len(units) != 1):
+        raise ObjectError("E502", "unit address ranges do not fit the code")
 
     r = d.reader(b"SYMS")
     for _ in range(r.uint()):
