@@ -28,6 +28,16 @@ from mlctool.asm.project import project_build
 from mlctool.cli import main_group
 from mlctool.cli.common import config_option, get_config, get_target, show, target_option
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
+from mlctool.fbs.files import (
+    build_image,
+    check_positioning,
+    dump_json,
+    dump_text,
+    is_image,
+    load_image,
+)
+from mlctool.fbs.image import ImageError
+from mlctool.fbs.model import is_positioning_source
 from mlctool.fileio import write_atomic
 from mlctool.report import summary_line
 from mlctool.targets import load_target
@@ -80,13 +90,21 @@ def _write_program(program: ObjectFile, target, out: str, listing_path: str | No
 @click.option("-c", "compile_only", is_flag=True, help="write one object module (.mlo) per source")
 @click.option("--listing", "listing_path", default=None, metavar="FILE", help="write a listing")
 @click.option("--map", "map_path", default=None, metavar="FILE", help="write a link map (linking only)")
+@click.option("--sr", "sr", default=None, metavar="REG",
+              help="FBs positioning table (.pos/.mpos): its start register SR (default R0)")
 @click.argument("sources", nargs=-1, type=click.Path())
-def build_cmd(target_name, config_path, output, compile_only, listing_path, map_path, sources):
+def build_cmd(target_name, config_path, output, compile_only, listing_path, map_path, sr, sources):
     """Assemble sources into object modules (.mlo) or a linked program (.mlx).
 
     With no SOURCES, builds the project described by mlc.toml (docs/project.md).
+    A positioning program (.pos/.mpos) builds into a register image (-o TABLE.json|.csv).
     """
     config = get_config(config_path)
+    if any(is_positioning_source(s) for s in sources):
+        _build_positioning(sources, output, sr, config)
+        return
+    if sr is not None:
+        raise _usage("--sr is for FBs positioning programs (.pos/.mpos)")
     target = with_capacity(get_target(target_name, config), config)
     make_dirs = False
     if not sources:
@@ -135,6 +153,22 @@ def _check_request(sources, output, compile_only, listing_path, map_path) -> Non
             raise _usage("--map needs a linked output (.mlx)")
     elif not output.lower().endswith(".mlx"):
         raise _usage(f"output {output!r}: use .mlx for a linked program or .mlo for an object module")
+
+
+def _build_positioning(sources, output, sr, config) -> None:
+    """One FBs positioning source -> its SR register image (mlctool/fbs)."""
+    if len(sources) != 1:
+        raise _usage("build one positioning program (.pos/.mpos) at a time")
+    if output is None or not is_image(output):
+        raise _usage("a positioning program builds a register image: give -o TABLE.json or -o TABLE.csv")
+    checked = check_positioning(list(sources), config)
+    _report(checked.diagnostics, checked.lines)
+    _exit_for(checked.diagnostics)
+    try:
+        data = build_image(checked.programs[sources[0]], output, sr)
+    except ImageError as e:
+        raise _usage(str(e)) from None
+    _write(output, data)
 
 
 def _compile_each(inputs: Inputs, sources, output) -> None:
@@ -204,7 +238,14 @@ def link_cmd(target_name, config_path, output, listing_path, map_path, objects):
               help="write each module's IL to DIR/<module name> (to rebuild a linked program)")
 @click.argument("file", type=click.Path())
 def objdump_cmd(target_name, as_json, as_il, il_dir, file):
-    """Show an object module (.mlo) or linked program (.mlx)."""
+    """Show an object module (.mlo) or linked program (.mlx), or an FBs positioning
+    register image (.json/.csv) as program text."""
+    if is_image(file):
+        program, sr, problem = load_image(file)
+        if problem is not None:
+            raise MlcError(problem, 2)
+        click.echo(dump_json(program, sr) if as_json else dump_text(program, sr), nl=False)
+        return
     name = target_name or object_target(file) or "nc5"
     try:
         target = load_target(name)

@@ -10,6 +10,9 @@ from mlctool.check import check_files
 from mlctool.cli import main_group
 from mlctool.cli.common import config_option, get_config, get_target, show, target_option
 from mlctool.codes import CODES
+from mlctool.diagnostics import Diagnostic
+from mlctool.fbs.files import check_positioning
+from mlctool.fbs.model import is_positioning_source
 from mlctool.report import summary_line, to_json, to_sarif
 from mlctool.targets import available_targets, load_target
 
@@ -32,19 +35,27 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, files):
     ignored = frozenset(c.upper() for c in ignore)
     if no_lint:
         ignored |= {c for c in CODES if c.startswith("W4")}
-    result = check_files(list(files), target, config, ignored)
+    # FBs positioning programs (.pos/.mpos) have their own language: mlctool/fbs
+    positioning = [f for f in files if is_positioning_source(f)]
+    il_files = [f for f in files if f not in positioning]
+    result = check_files(il_files, target, config, ignored)
+    pos = check_positioning(positioning, config, ignored)
+    diags = sorted(result.diagnostics + pos.diagnostics, key=Diagnostic.sort_key)
+    lines = {**result.lines, **pos.lines}
+    errors = sum(d.severity == "error" for d in diags)
+    warnings = sum(d.severity == "warning" for d in diags)
     if fmt == "json":
-        sys.stdout.write(to_json(result.diagnostics))
+        sys.stdout.write(to_json(diags))
     elif fmt == "sarif":
-        sys.stdout.write(to_sarif(result.diagnostics))
+        sys.stdout.write(to_sarif(diags))
     else:
-        show(result.diagnostics, result.lines)
-        if result.diagnostics:
-            click.echo(summary_line(result.errors, result.warnings), err=True)
-    unreadable = any(d.code == "E100" for d in result.diagnostics)
+        show(diags, lines)
+        if diags:
+            click.echo(summary_line(errors, warnings), err=True)
+    unreadable = any(d.code == "E100" for d in diags)
     if unreadable:
         sys.exit(2)
-    if result.errors or (werror and result.warnings):
+    if errors or (werror and warnings):
         sys.exit(1)
 
 

@@ -1,0 +1,97 @@
+"""Positioning files for the CLI: check sources, build register images, dump images as text.
+
+The `mlc check` / `mlc build` / `mlc objdump` commands hand files to these functions by
+extension (.pos FUN140, .mpos FUN147 sources; .json/.csv register images). They return data
+and diagnostics; writing and exit codes stay with the CLI.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+
+from mlctool.config import Config
+from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.fbs.image import ImageError, parse_sr, read_image, to_csv, to_json
+from mlctool.fbs.lang import parse_program
+from mlctool.fbs.model import PosProgram, tables
+from mlctool.fbs.table import TableError, decode, encode, program_text
+from mlctool.syntax.source import read_source
+
+IMAGE_SUFFIXES = (".json", ".csv")
+
+
+def is_image(path: str) -> bool:
+    return path.lower().endswith(IMAGE_SUFFIXES)
+
+
+@dataclass
+class Checked:
+    programs: dict[str, PosProgram] = field(default_factory=dict)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    lines: dict[str, list[str]] = field(default_factory=dict)
+
+    @property
+    def errors(self) -> int:
+        return sum(d.severity == "error" for d in self.diagnostics)
+
+
+def check_positioning(paths: list[str], config: Config | None = None,
+                      ignore: frozenset[str] = frozenset()) -> Checked:
+    out = Checked()
+    severity = config.severity if config else {}
+    for path in paths:
+        src, problems = read_source(path)
+        out.diagnostics += problems
+        if src is None:
+            continue
+        out.lines[path] = src.text.split("\n")
+        program, diags = parse_program(path, src.text, tables().dialect_for(path))
+        out.programs[path] = program
+        for d in diags:
+            sev = severity.get(d.code, d.severity)
+            if sev != "off" and d.code not in ignore:
+                out.diagnostics.append(d if sev == d.severity else d.with_severity(sev))
+    return out
+
+
+def build_image(program: PosProgram, output: str, sr_text: str | None) -> str:
+    """The register image of `program` for `output` (.json or .csv). Raises ImageError."""
+    words = encode(program)
+    sr = parse_sr(sr_text or "R0", len(words))
+    if output.lower().endswith(".csv"):
+        return to_csv(words, sr)
+    return to_json(words, sr, tables().dialects[program.dialect].instruction)
+
+
+def load_image(path: str) -> tuple[PosProgram | None, str, Diagnostic | None]:
+    """Read and decode an image file -> (program, SR name, problem)."""
+    try:
+        with open(path, encoding="utf-8-sig") as f:
+            text = f.read(16 * 1024 * 1024)
+    except (OSError, UnicodeDecodeError) as e:
+        return None, "", diag(path, Span.at(1), "E100", f"cannot read: {getattr(e, 'strerror', None) or e}")
+    try:
+        words, sr = read_image(text)
+    except ImageError as e:
+        return None, "", diag(path, Span.at(1), "F034", f"not a positioning register image: {e}")
+    try:
+        return decode(words), sr, None
+    except TableError as e:
+        # CSV: register k is on line k + 2 (after the header row); JSON: no useful line
+        line = e.offset + 2 if path.lower().endswith(".csv") else 1
+        return None, sr, diag(path, Span.at(line), e.code, f"SR+{e.offset}: {e.message}")
+
+
+def dump_text(program: PosProgram, sr: str) -> str:
+    d = tables().dialects[program.dialect]
+    n = len(program.steps)
+    head = f"; {d.instruction} table at {sr}: {n} step{'s' if n != 1 else ''}, {d.table_words(n)} registers\n"
+    return head + program_text(program)
+
+
+def dump_json(program: PosProgram, sr: str) -> str:
+    d = tables().dialects[program.dialect]
+    doc = {"instruction": d.instruction, "sr": sr, "steps": len(program.steps),
+           "registers": d.table_words(len(program.steps)), "program": program_text(program)}
+    return json.dumps(doc, indent=1, ensure_ascii=False) + "\n"
