@@ -217,6 +217,11 @@ class _Resolver:
         if not dev.lo <= op.number <= dev.hi:
             self.report(w, "E205", f"{op.device}{op.number} out of range {op.device}{dev.lo}-{op.device}{dev.hi}")
             return False
+        allowed = o.allowed(op.kind)
+        if allowed and not any(lo <= op.number <= hi for lo, hi in allowed):
+            spans = ", ".join(f"{op.kind}{lo}-{op.kind}{hi}" for lo, hi in allowed)
+            self.report(w, "E205", f"{spec.mnemonic} operand {o.role} takes {spans}, not {w.text}")
+            return False
         narrow = o.devices32 if width == 32 else o.devices16
         if narrow and not narrow[0] <= op.number <= narrow[1]:
             self.report(w, "E211", f"{spec.mnemonic} takes {op.kind}{narrow[0]}-{op.kind}{narrow[1]}, not {w.text}")

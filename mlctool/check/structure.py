@@ -82,10 +82,18 @@ def check_rungs(module: Module, target: Target, broken: frozenset[int] = frozens
             elif cls == "mpp":
                 mps -= 1
         elif cls == "output":
+            extra = max(len(ins.spec.inputs) - 1, 0)  # multi-input: one block per further input
             if not acc:
                 emit(_at(ins, "E312", f"{ins.mnemonic} has no driving condition"))
-            elif blocks:
+            elif blocks < extra:
+                emit(_at(ins, "E313", f"{ins.mnemonic} takes {len(ins.spec.inputs)} inputs "
+                         f"({', '.join(ins.spec.inputs)}), one block each; got {blocks + 1}"))
+                blocks = 0
+            elif blocks > extra:
+                blocks -= extra
                 emit(_at(ins, "E313", f"{blocks} block(s) not combined with ANB/ORB before {ins.mnemonic}"))
+                blocks = 0
+            else:
                 blocks = 0
             driven = True
             acc = True

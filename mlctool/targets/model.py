@@ -58,6 +58,11 @@ class OperandSpec:
     forbid16: tuple[tuple[int, int], ...] = ()  # device numbers not allowed in the 16-bit form
     word_range: tuple[int, int] | None = None  # constant range when operand `word_range_of`
     word_range_of: str | None = None  # ... is a word device (DECO/ENCO n)
+    ranges: tuple[tuple[str, tuple[tuple[int, int], ...]], ...] = ()  # per kind: allowed numbers
+
+    def allowed(self, kind: str) -> tuple[tuple[int, int], ...] | None:
+        """Device-number ranges this operand allows for `kind` (None: the device's range)."""
+        return next((r for k, r in self.ranges if k == kind), None)
 
     @property
     def writes(self) -> bool:
@@ -82,6 +87,7 @@ class InstrSpec:
     constraints: tuple[str, ...]  # named cross-operand rules (ZRST), checked generically
     section: str
     notes: tuple[str, ...]
+    inputs: tuple[str, ...] = ()  # a multi-input instruction: its inputs, one block each
 
 
 @dataclass(frozen=True, slots=True)
@@ -138,6 +144,7 @@ def _operand(o: dict) -> OperandSpec:
         forbid16=tuple(tuple(r) for r in o.get("forbid16", ())),
         word_range=_pair(o.get("word_range")),
         word_range_of=o.get("word_range_of"),
+        ranges=tuple((k, tuple(tuple(r) for r in v)) for k, v in sorted(o.get("ranges", {}).items())),
     )
 
 
@@ -150,14 +157,17 @@ def _instructions(entries: list[dict]) -> dict[str, InstrSpec]:
         for width, name, steps in zip((16, 32), e["names"], e["steps"], strict=True):
             if not name:
                 continue
-            out[name] = InstrSpec(
+            spec = InstrSpec(
                 mnemonic=name, api=e.get("api"), width=width, is_float=is_float, steps=steps,
                 cls=e["class"], op=e["op"], operands=operands,
                 index=bool(e.get("index", e.get("api") is not None and e["class"] != "free")),
                 short_steps=e.get("steps_rule") == "short", table=e.get("table", 0),
                 constraints=tuple(e.get("constraints", ())),
-                section=e["section"], notes=notes,
+                section=e["section"], notes=notes, inputs=tuple(e.get("inputs", ())),
             )
+            # aliases name the 16-bit form too (FBs: HSPSO is also written FUN140)
+            for alias in [name] + (e.get("aliases", []) if width == 16 else []):
+                out[alias] = spec
     return out
 
 
