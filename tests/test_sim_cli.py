@@ -92,7 +92,7 @@ def test_junit_one_case_per_expectation_line(tmp_path):
     assert r.code == 1
     suite = ET.parse(xml).getroot().find("testsuite")
     cases = suite.findall("testcase")
-    assert [c.get("line") for c in cases] == ["2", "3"]
+    assert [c.get("name").split(":")[0] for c in cases] == ["line 2", "line 3"]
     assert cases[0].find("failure") is None and cases[1].find("failure") is not None
     assert suite.get("failures") == "1"
 

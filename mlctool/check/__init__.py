@@ -9,7 +9,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
-from mlctool.check.lint import cross_module_coils, lint_module, referenced_labels
+from mlctool.check.lint import cross_module_coils, lint_module, referenced_labels, set_without_reset
 from mlctool.check.resolve import resolve
 from mlctool.check.structure import check_layout, check_rungs
 from mlctool.config import Config
@@ -85,6 +85,7 @@ def check_texts(sources: list[SourceText], target: Target, config: Config | None
     libs = [m for m in valid if m.library]
     programs = [[m, *libs] for m in valid if not m.library] or [libs]
     for program in programs:
+        diags += set_without_reset(program)
         if len(program) > 1:
             diags += cross_module_coils(program)
     return CheckResult(modules, _finish(diags, config, ignore, noqa), lines)

@@ -76,7 +76,23 @@ def lint_module(module: Module, target: Target, referenced: set[int]) -> list[Di
             if p not in referenced and p not in module.exports:
                 out.append(_at(ins, None, "W404", f"P{p} is never the target of CJ or CALL"))
 
-    # SET without RST
+    # unreachable: after FEND or SRET, until the next label
+    dead = False
+    for ins in instrs:
+        if ins.spec.cls == "label":
+            dead = False
+        elif dead and ins.spec.op not in ("end", "fend", "nop"):
+            out.append(_at(ins, None, "W406", f"{ins.mnemonic} is never executed: it follows FEND/SRET and no label"))
+            dead = False  # one warning per dead stretch
+        if ins.spec.op in ("fend", "sret"):
+            dead = True
+    return out
+
+
+def set_without_reset(modules: list[Module]) -> list[Diagnostic]:
+    """W405 over one program (a main module and its libraries): a SET device that nothing
+    resets (RST, ZRST, OUT, or an application instruction writing it)."""
+    instrs = [ins for m in modules for ins in m.instrs]
     reset: set = set()
     ranges: list = []
     for ins in instrs:
@@ -91,7 +107,7 @@ def lint_module(module: Module, target: Target, referenced: set[int]) -> list[Di
                     reset.add((o.kind, o.number))
                     if o.is_group:
                         ranges.append((o.device, o.number, o.number + 4 * o.digits - 1))
-    seen = set()
+    out, seen = [], set()
     for ins in instrs:
         if ins.spec.op == "set" and not ins.operands[0].index:
             key = (ins.operands[0].kind, ins.operands[0].number)
@@ -99,17 +115,6 @@ def lint_module(module: Module, target: Target, referenced: set[int]) -> list[Di
                 continue
             seen.add(key)
             out.append(_at(ins, None, "W405", f"{ins.texts[0]} is SET but never reset"))
-
-    # unreachable: after FEND or SRET, until the next label
-    dead = False
-    for ins in instrs:
-        if ins.spec.cls == "label":
-            dead = False
-        elif dead and ins.spec.op not in ("end", "fend", "nop"):
-            out.append(_at(ins, None, "W406", f"{ins.mnemonic} is never executed: it follows FEND/SRET and no label"))
-            dead = False  # one warning per dead stretch
-        if ins.spec.op in ("fend", "sret"):
-            dead = True
     return out
 
 

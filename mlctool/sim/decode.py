@@ -58,8 +58,9 @@ def _combine(cls: str, contact: Callable) -> Callable:
     return run
 
 
-def decode(image: Image, target: Target, flow: dict[str, Callable]) -> Program:
-    """`flow`: the program-flow routines of scan.py (CJ, CALL, SRET, FEND, END, FOR, NEXT)."""
+def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) -> Program:
+    """`flow`: the program-flow routines of scan.py (CJ, CALL, SRET, FEND, END, FOR, NEXT).
+    `probe`: a coverage recorder (mlctool/sim/coverage.py) whose wrappers every step runs through."""
     steps: list[Step] = []
     prev_cls = "free"
     for k, ins in enumerate(image.instrs):
@@ -77,11 +78,14 @@ def decode(image: Image, target: Target, flow: dict[str, Callable]) -> Program:
                     new_rung=spec.cls == "load" and prev_cls in ("output", "free", "label"))
         op = spec.op
         if op in semantics.CONTACTS:
-            step.run = _combine(spec.cls, semantics.CONTACTS[op])
+            contact = semantics.CONTACTS[op]
+            step.run = _combine(spec.cls, probe.contact(contact) if probe else contact)
         elif op in semantics.ACTIONS:
             step.run = semantics.ACTIONS[op]
         else:
             step.run = flow[op]
+        if probe:
+            step.run = probe.step(step.run, spec.cls)
         steps.append(step)
         prev_cls = spec.cls
     labels = {s.ins.operands[0].number: s.index for s in steps if s.ins.spec.cls == "label"}

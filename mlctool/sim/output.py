@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 
+from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.sim.run import RunResult
 from mlctool.sim.state import to_f32
 
@@ -76,3 +77,22 @@ def summary(r: RunResult) -> str:
     failed = len(r.expectations) - passed
     return (f"sim: {r.scans} scans, {ms(r.time_us)} ms virtual time; expectations: "
             f"{passed} passed, {failed} failed" + ("; program fault" if r.fault else ""))
+
+
+def run_diagnostics(r: RunResult, stim_path: str) -> list[Diagnostic]:
+    """Failed expectations (at their stimulus line), unexpected alarms and the fault."""
+    diags: list[Diagnostic] = []
+    for f in r.failed:
+        diags.append(diag(stim_path, Span.at(f.line, f.col, len(f.text)), "E603", failure_message(f)))
+    for a in r.alarms:
+        if not a.expected:
+            diags.append(diag(a.file, Span.at(a.line), "E604",
+                              f"alarm {a.name} at {a.time_us / 1000:g} ms (scan {a.scan}), step {a.addr}: "
+                              f"{a.message}", "name it in the stimulus with `expect alarm "
+                              f"{a.name}` if it is intended"))
+    if r.fault:
+        f = r.fault
+        diags.append(diag(f.file, Span.at(f.line), "E604",
+                          f"program fault at {f.time_us / 1000:g} ms (scan {f.scan}), step {f.addr}"
+                          f"{' (' + f.source + ')' if f.source else ''}: {f.message}; run stopped"))
+    return diags

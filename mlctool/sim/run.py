@@ -129,10 +129,10 @@ def plan_scans(st: Stimulus, period_us: int, until_us: int | None, scans: int | 
 class Simulation:
     def __init__(self, image: Image, target: Target, st: Stimulus, models: list[DeviceModel],
                  period_us: int, watch: list[DeviceView], trace: bool,
-                 watchdog: int = DEFAULT_WATCHDOG):
+                 watchdog: int = DEFAULT_WATCHDOG, probe=None):
         self.image = image
         self.target = target
-        self.prog: Program = load_program(image, target)
+        self.prog: Program = load_program(image, target, probe)
         self.m = Machine(target, len(self.prog.steps))
         self.st = st
         self.models = models

@@ -93,9 +93,9 @@ def flow_routines(prog_ref: list[Program]) -> dict:
             "for": for_, "next": next_}
 
 
-def load_program(image: Image, target) -> Program:
+def load_program(image: Image, target, probe=None) -> Program:
     ref: list[Program] = []
-    prog = decode(image, target, flow_routines(ref))
+    prog = decode(image, target, flow_routines(ref), probe)
     ref.append(prog)
     return prog
 

@@ -1,0 +1,98 @@
+"""`mlc test`: run a project's stimulus files against its program; JUnit and coverage."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import click
+
+from mlctool.asm import program_from_paths
+from mlctool.cli import main_group
+from mlctool.cli.common import get_target, show, target_option
+from mlctool.config import load_config
+from mlctool.diagnostics import MlcError, Span, diag
+from mlctool.fileio import write_atomic
+from mlctool.sim import coverage as cov
+from mlctool.sim.junit import to_junit
+from mlctool.sim.output import ms
+from mlctool.sim.suite import discover, merged_probe, run_all
+
+
+def _enter_project(path: str | None):
+    """cd into the project folder (the one holding mlc.toml) and load its configuration."""
+    p = Path(path or ".")
+    folder = p.parent if p.is_file() else p
+    if not (folder / "mlc.toml").is_file():
+        raise MlcError(diag(str(folder / "mlc.toml"), Span.at(1), "E100",
+                            f"no mlc.toml in {folder} (mlc test runs a project's tests)"))
+    os.chdir(folder)
+    return load_config(explicit="mlc.toml")
+
+
+@main_group.command("test")
+@target_option
+@click.option("--jobs", "-j", type=click.IntRange(1, 64), default=1, show_default=True,
+              help="run scenarios in N worker processes")
+@click.option("--junit", "junit_path", default=None, help="write JUnit XML (path relative to the project)")
+@click.option("--coverage", "with_coverage", is_flag=True,
+              help="record coverage; writes coverage.txt, coverage.json and coverage.xml (Cobertura)")
+@click.option("--coverage-dir", default=".", show_default=True, help="folder for the coverage reports")
+@click.argument("path", required=False, type=click.Path())
+def test_cmd(target_name, jobs, junit_path, with_coverage, coverage_dir, path):
+    """Run the stimulus files of the project at PATH (default: the current folder).
+
+    mlc.toml names the program (`sources`) and the scenarios (`tests`, globs). Exit 0 when
+    every expectation held, 1 on any failure or fault, 2 on usage errors or unreadable input.
+    """
+    config = _enter_project(path)
+    target = get_target(target_name, config)
+    sources, stims, problems = discover(config)
+    if problems:
+        show(problems, {})
+        sys.exit(2)
+    image, diags, lines = program_from_paths(sources, target, config)
+    if image is None:
+        show([d for d in diags if d.severity == "error"], lines)
+        sys.exit(2)
+    scenarios = run_all(image, target, stims, sources, jobs, with_coverage)
+
+    all_lines = dict(lines)
+    for sc in scenarios:
+        all_lines[sc.stim] = sc.stim_lines
+        show(sc.diagnostics, all_lines)
+    _table(scenarios)
+    if junit_path:
+        write_atomic(junit_path, to_junit(scenarios, config.data.get("name", "mlc test")))
+    if with_coverage:
+        rep = cov.report(image, merged_probe(len(image.instrs), scenarios))
+        os.makedirs(coverage_dir, exist_ok=True)
+        write_atomic(os.path.join(coverage_dir, "coverage.txt"), cov.to_text(rep))
+        write_atomic(os.path.join(coverage_dir, "coverage.json"), cov.to_json(rep))
+        write_atomic(os.path.join(coverage_dir, "coverage.xml"), cov.to_cobertura(rep))
+        click.echo(cov.to_text(rep), nl=False)
+    sys.exit(0 if all(sc.ok for sc in scenarios) else 1)
+
+
+def _table(scenarios) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    from mlctool.report import use_color
+
+    table = Table(title="mlc test", title_justify="left")
+    for col in ("scenario", "expectations", "failed", "scans", "virtual time", "result"):
+        table.add_column(col, justify="left" if col in ("scenario", "result") else "right")
+    for sc in scenarios:
+        r = sc.result
+        if r is None:
+            table.add_row(sc.stim, "-", "-", "-", "-", "[red]ERROR[/red] (stimulus)")
+            continue
+        failed = sum(not e.passed for e in r.expectations)
+        status = "[green]PASS[/green]" if sc.ok else "[red]FAIL[/red]" + (" (fault)" if r.fault else "")
+        table.add_row(sc.stim, str(len(r.expectations)), str(failed), str(r.scans), f"{ms(r.time_us)} ms", status)
+    passed = sum(sc.ok for sc in scenarios)
+    console = Console(file=sys.stdout, no_color=not use_color(sys.stdout), highlight=False, width=110)
+    console.print(table)
+    console.print(f"{passed} passed, {len(scenarios) - passed} failed")

@@ -1,0 +1,101 @@
+"""A test suite: one program, many stimulus files (the scenarios), optional coverage.
+
+`mlc test` discovers the scenarios from the project file (`tests = ["tests/*.stim"]` in
+mlc.toml), runs each like `mlc sim PROGRAM --stimulus FILE`, in worker processes when asked,
+and merges their JUnit results and coverage. Results do not depend on the number of jobs.
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+from mlctool.asm import program_from_paths
+from mlctool.config import Config, load_config
+from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.program import Image
+from mlctool.sim.coverage import Probe
+from mlctool.sim.output import run_diagnostics
+from mlctool.sim.run import DEFAULT_SCAN_US, RunResult, Simulation, build_models, plan_scans
+from mlctool.sim.stimulus import load_stimulus
+from mlctool.targets import Target, load_target
+
+
+@dataclass
+class Scenario:
+    """The outcome of one stimulus file."""
+
+    stim: str
+    result: RunResult | None  # None: the stimulus could not be loaded
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    stim_lines: list[str] = field(default_factory=list)
+    probe: Probe | None = None
+
+    @property
+    def ok(self) -> bool:
+        return self.result is not None and self.result.ok
+
+
+def discover(config: Config) -> tuple[list[str], list[str], list[Diagnostic]]:
+    """(program sources, stimulus files, problems) named by the project file, relative to its folder."""
+    where = str(config.root / "mlc.toml") if config.root else "mlc.toml"
+    problems = []
+    sources = config.data.get("sources") or []
+    patterns = config.data.get("tests") or []
+    if not sources:
+        problems.append(diag(where, Span.at(1), "E105", "mlc.toml names no `sources` (the program to test)"))
+    if not patterns:
+        problems.append(diag(where, Span.at(1), "E105", 'mlc.toml names no `tests` (e.g. tests = ["tests/*.stim"])'))
+    stims = sorted({p for pat in patterns for p in glob.glob(pat, recursive=True)})
+    if patterns and not stims:
+        problems.append(diag(where, Span.at(1), "E105", f"no stimulus file matches {patterns}"))
+    return list(sources), stims, problems
+
+
+def run_scenario(image: Image, target: Target, stim_path: str, coverage: bool = False) -> Scenario:
+    st, diags = load_stimulus(stim_path, target)
+    if st is None or any(d.severity == "error" for d in diags):
+        return Scenario(stim_path, None, diags, st.lines if st else [])
+    models, model_diags = build_models(st, target)
+    if any(d.severity == "error" for d in model_diags):
+        return Scenario(stim_path, None, diags + model_diags, st.lines)
+    probe = Probe(len(image.instrs)) if coverage else None
+    period = st.scan_us or DEFAULT_SCAN_US
+    sim = Simulation(image, target, st, models, period, [], trace=False, probe=probe)
+    result = sim.run(plan_scans(st, period, None, None))
+    return Scenario(stim_path, result, run_diagnostics(result, stim_path), st.lines, probe)
+
+
+@lru_cache(maxsize=4)
+def _worker_image(sources: tuple[str, ...], target_name: str, root: str):
+    """Each worker process builds the program once."""
+    os.chdir(root)
+    target = load_target(target_name)
+    image, _, _ = program_from_paths(list(sources), target, load_config())
+    return image, target
+
+
+def _run_in_worker(args) -> Scenario:
+    sources, target_name, root, stim, coverage = args
+    image, target = _worker_image(sources, target_name, root)
+    return run_scenario(image, target, stim, coverage)
+
+
+def run_all(image: Image, target: Target, stims: list[str], sources: list[str], jobs: int = 1,
+            coverage: bool = False) -> list[Scenario]:
+    if jobs <= 1 or len(stims) <= 1:
+        return [run_scenario(image, target, s, coverage) for s in stims]
+    args = [(tuple(sources), target.name, os.getcwd(), s, coverage) for s in stims]
+    with ProcessPoolExecutor(max_workers=jobs) as pool:
+        return list(pool.map(_run_in_worker, args))
+
+
+def merged_probe(n_steps: int, scenarios: list[Scenario]) -> Probe:
+    probe = Probe(n_steps)
+    for sc in scenarios:
+        if sc.probe is not None:
+            probe.merge(sc.probe)
+    return probe
