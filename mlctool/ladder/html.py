@@ -63,7 +63,7 @@ def sheets_body(sheets: list[Sheet]) -> str:
             aid = anchor(no, it)
             h = item_height(it)
             out.append(f'<div class="{cls}" id="{aid}" data-text="{_e(search_text(sh, it))}">'
-                       f'<a class="here" href="#{aid}">{it.addr}</a>'
+                       f'<a class="here" href="#{aid}" title="link to this rung">#</a>'
                        f'<svg xmlns="http://www.w3.org/2000/svg" class="lad" width="{geo.width}" '
                        f'height="{h}" viewBox="0 0 {geo.width} {h}">'
                        + "".join(item_svg(sh, it, geo)) + "</svg></div>")
