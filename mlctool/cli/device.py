@@ -1,0 +1,108 @@
+"""`mlc device serve`: a device model as a real Modbus device (docs/xc100.md).
+
+Exit 0 after Ctrl-C / SIGTERM or --duration; 2 on bad options (E801) or a link that cannot
+be opened (E802).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import signal
+import sys
+
+import click
+
+from mlctool.cli import main_group
+from mlctool.diagnostics import MlcError, Span, diag
+from mlctool.sim.stimulus import StimError, parse_time
+
+LOOPBACK = {"127.0.0.1", "localhost"}
+BAUDS = ("9600", "19200", "38400", "57600", "115200")
+
+
+def _fail(code: str, message: str) -> MlcError:
+    return MlcError(diag("<command line>", Span.at(1), code, message))
+
+
+def parse_tcp(text: str) -> tuple[str, int]:
+    host, sep, port = text.rpartition(":")
+    if not sep or not port.isdigit() or not 0 < int(port) < 65536:
+        raise _fail("E801", f"--tcp {text!r}: expected HOST:PORT, e.g. 127.0.0.1:5020")
+    if host not in LOOPBACK:
+        raise _fail("E801", f"--tcp {text!r}: only loopback (127.0.0.1, localhost) is served")
+    return "127.0.0.1", int(port)
+
+
+@main_group.group("device")
+def device_group() -> None:
+    """Device models as real devices on a Modbus link."""
+
+
+@device_group.command("serve")
+@click.argument("kind", type=click.Choice(["xc100"]))
+@click.option("--tcp", metavar="HOST:PORT", help="serve Modbus frames over TCP on loopback")
+@click.option("--serial", metavar="PATH", help="serve on a serial device (or pseudo-terminal)")
+@click.option("--ascii/--rtu", "use_ascii", default=True,
+              help="framing: Modbus ASCII (the XC100's factory setting, 0A04H = 0) or RTU")
+@click.option("--station", type=click.IntRange(1, 16), default=1, show_default=True,
+              help="Modbus station = rotary switch CH + 1 (8.2)")
+@click.option("--baud", type=click.Choice(BAUDS), default="19200", show_default=True)
+@click.option("--duration", metavar="TIME", default=None, help="stop by itself after TIME")
+@click.option("--unlocked", is_flag=True,
+              help="accept parameter writes without the 8.2 write-unlock frame first")
+@click.option("--lead", type=click.FloatRange(0.1, 100), default=10.0, show_default=True,
+              help="cylinder lead, mm per motor revolution")
+@click.option("--stroke", type=click.FloatRange(1, 10000), default=300.0, show_default=True,
+              help="mechanical stroke, mm")
+def serve_cmd(kind, tcp, serial, use_ascii, station, baud, duration, unlocked, lead, stroke):
+    """Run device KIND as a Modbus server, with a live status view, until Ctrl-C."""
+    if (tcp is None) == (serial is None):
+        raise _fail("E801", "give exactly one of --tcp HOST:PORT and --serial PATH")
+    address = parse_tcp(tcp) if tcp else None
+    seconds = None
+    if duration is not None:
+        try:
+            seconds = parse_time(duration) / 1e6
+        except StimError as e:
+            raise _fail("E801", f"--duration: {e.message}") from None
+    from mlctool.devices.xc100 import controller as c
+
+    dev = c.new_xc100(lead_mm=lead, stroke_mm=stroke, start_mm=stroke / 6)
+    dev.unlocked = unlocked
+    framing = "ascii" if use_ascii else "rtu"
+    link = f"tcp {address[0]}:{address[1]}" if address else f"serial {serial} {baud} 8-N-1"
+    code = asyncio.run(_serve(dev, station, framing, address, serial, int(baud), seconds, link))
+    sys.exit(code)
+
+
+async def _serve(dev, station, framing, address, serial, baud, seconds, link) -> int:
+    from mlctool.devices.xc100.server import make_server, run_device
+    from mlctool.devices.xc100.status import StatusView
+
+    stop = asyncio.Event()
+    loop = asyncio.get_running_loop()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        loop.add_signal_handler(sig, stop.set)
+    try:
+        server = make_server(dev, station, framing, tcp=address, serial=serial, baudrate=baud)
+        view = StatusView(dev, f"XC100 station {station}, {framing.upper()}, {link}")
+        with view:
+            try:
+                await run_device(dev, server, seconds, on_tick=view.tick, stop=stop)
+            except (OSError, RuntimeError) as e:
+                view.close()
+                from mlctool.cli.common import show
+
+                show([diag("<command line>", Span.at(1), "E802", f"cannot open {link}: {e}")], {})
+                return 2
+    finally:
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            loop.remove_signal_handler(sig)
+    click.echo(f"stopped: {link}, position {dev.act / c_ppmm(dev) :.2f} mm", err=True)
+    return 0
+
+
+def c_ppmm(dev) -> float:
+    from mlctool.devices.xc100.controller import pulses_per_mm
+
+    return pulses_per_mm(dev)

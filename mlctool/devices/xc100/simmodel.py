@@ -1,0 +1,149 @@
+"""The XC100 as an `mlc sim` device model: CN-4 wired to PLC outputs and inputs.
+
+    model xc100 in1=Y0 in2=Y1 ... out1=X0 out2=X1 ... [p1=ABS:100.00:50 ...] [r0703=5 ...]
+                [lead=10] [stroke=300] [start=50] [work=MM] [emg=Y20] [mirror=D200]
+
+`inN` wires CN-4 input N (IN1-IN14) to a PLC output; `outN` wires output N (OUT1-OUT10) to a
+PLC input. What each pin means is the XC100's input/output assignment (parameters 0600H-0714H,
+defaults of manual 3.8); `rHHHH=V` sets parameter HHHH (hex) before power-up, e.g. r0703=5
+puts MOVE on OUT5. `pN=MODE:POS[:SPEED[:TORQUE[:ACC[:DEC[:WAIT[:NEXT]]]]]]` stores point N
+(0-127; POS in mm, modes INC ABS ORG +TSL -TSL INC-R ABS-R INC-T ABS-T). `mirror=Dn` writes
+the device's state into Dn..Dn+5 every scan (test instrumentation): Dn:d = position in
+0.01 mm, Dn+2 ActionStatus, Dn+3 AlarmStatus, Dn+4 ErrorStatus, Dn+5 StepNo (1000H-100EH).
+"""
+
+from __future__ import annotations
+
+from mlctool.devices.base import DeviceModel, ModelIO, ParamError
+from mlctool.devices.xc100 import controller as c
+from mlctool.devices.xc100.tables import tables
+from mlctool.sim.state import DeviceView, NameError_, parse_device_name
+from mlctool.targets.model import Target
+
+MODE_CODES = {v: k for k, v in tables().modes.items()}
+
+
+def parse_point(text: str, ppmm: float) -> c.Point:
+    """'ABS:100.00:50:1000:300:300:0:-1' -> Point (position converted from mm to pulses)."""
+    parts = text.split(":")
+    mode = parts[0].upper()
+    if mode not in MODE_CODES:
+        raise ValueError(f"unknown move mode {parts[0]!r}; modes: {', '.join(MODE_CODES)}")
+    if len(parts) > 9:
+        raise ValueError("at most MODE:POS:SPEED:TORQUE:ACC:DEC:WAIT:NEXT")
+    p = c.Point(mode=MODE_CODES[mode])
+    if len(parts) > 1:
+        p.position = round(float(parts[1]) * ppmm)
+    names = ("speed", "torque", "accel", "decel", "wait", "next")
+    for name, raw in zip(names, parts[2:]):
+        f = tables().field(name)
+        v = int(raw)
+        if not f.lo <= v <= f.hi:
+            raise ValueError(f"{name} takes {f.lo}..{f.hi}, not {v}")
+        setattr(p, name, v)
+    return p
+
+
+class XC100Model(DeviceModel):
+    kind = "xc100"
+
+    def __init__(self, params: dict[str, str], target: Target):
+        super().__init__(params, target)
+        self.ins = {n: self._bit(f"in{n}") for n in range(1, 15) if f"in{n}" in params}
+        self.outs = {n: self._bit(f"out{n}") for n in range(1, 11) if f"out{n}" in params}
+        lead = self._number("lead", "10", 0.1, 100)
+        stroke = self._number("stroke", "300", 1, 10000)
+        start = self._number("start", str(stroke / 6), 0, stroke)
+        work = self._number("work", None, 0, stroke) if "work" in params else None
+        self.emg = self._bit("emg") if "emg" in params else None
+        regs = {}
+        for key in sorted(k for k in params if k.startswith("r") and k[1:] and _is_hex(k[1:])):
+            self.used.add(key)
+            regs[int(key[1:], 16)] = self._register(key, params[key])
+        dev = c.new_xc100(lead_mm=lead, stroke_mm=stroke, start_mm=start, work_mm=work, params=regs)
+        points = {}
+        for key in sorted(k for k in params if k.startswith("p") and k[1:].isdigit()):
+            self.used.add(key)
+            n = int(key[1:])
+            if n > 127:
+                raise ParamError(key, "points are p0..p127")
+            try:
+                points[n] = parse_point(params[key], c.pulses_per_mm(dev))
+            except ValueError as e:
+                raise ParamError(key, f"{key}: {e}") from None
+        self.mirror = self._mirror() if "mirror" in params else []
+        self.check_unused()
+        if not self.ins and not self.outs:
+            raise ParamError("in1", "model xc100 needs wiring: inN=Y.. and/or outN=X..")
+        dev.points[:len(dev.points)] = [points.get(n, p) for n, p in enumerate(dev.points)]
+        self.dev = dev
+        self.last_t: int | None = None
+
+    # -- parameters
+    def _bit(self, key: str) -> DeviceView:
+        view = self.device(key)
+        if view.view != "bit":
+            raise ParamError(key, f"{key} must be a bit device such as Y0 or X0")
+        return view
+
+    def _number(self, key: str, default: str | None, lo: float, hi: float) -> float:
+        text = self._param(key, default)
+        try:
+            v = float(text)
+        except ValueError:
+            raise ParamError(key, f"{key} must be a number of mm, not {text!r}") from None
+        if not lo <= v <= hi:
+            raise ParamError(key, f"{key} takes {lo:g}..{hi:g} mm, not {v:g}")
+        return v
+
+    def _register(self, key: str, text: str) -> int:
+        p = tables().by_addr.get(int(key[1:], 16))
+        if p is None:
+            raise ParamError(key, f"{key}: no XC100 parameter at {key[1:].upper()}H (manual ch. 5)")
+        try:
+            v = int(text, 0)
+        except ValueError:
+            raise ParamError(key, f"{key}: {text!r} is not an integer") from None
+        if not p.lo <= v <= p.hi:
+            raise ParamError(key, f"{key} ({p.name}, {p.section}) takes {p.lo}..{p.hi}, not {v}")
+        return v
+
+    def _mirror(self) -> list[DeviceView]:
+        base = self.device("mirror")
+        if base.kind != "D" or base.view != "w":
+            raise ParamError("mirror", "mirror must be a data register such as D200")
+        try:
+            names = [f"D{base.number}:d"] + [f"D{base.number + k}" for k in range(2, 6)]
+            return [parse_device_name(n, self.target) for n in names]
+        except NameError_ as e:
+            raise ParamError("mirror", f"mirror needs D{base.number}..D{base.number + 5}: {e}") from None
+
+    # -- simulation
+    def devices(self) -> list[DeviceView]:
+        return list(self.ins.values()) + list(self.outs.values()) + \
+            ([self.emg] if self.emg else []) + self.mirror
+
+    def step(self, io: ModelIO, t_us: int, period_us: int) -> None:
+        dev = self.dev
+        if self.last_t is not None:
+            c.advance(dev, t_us - self.last_t)
+        self.last_t = t_us
+        if self.emg is not None:
+            c.set_emergency(dev, bool(io.get(self.emg)))
+        c.set_inputs(dev, sum(1 << (n - 1) for n, v in self.ins.items() if io.get(v)))
+        bits = c.output_pins(dev)
+        for n, view in self.outs.items():
+            io.set(view, bits >> (n - 1) & 1)
+        if self.mirror:
+            pos = round(dev.act / c.pulses_per_mm(dev) * 100)
+            values = [pos, 1 if dev.motion else dev.action, dev.alarm, dev.error, dev.step_no]
+            for view, v in zip(self.mirror, values):
+                io.set(view, v)
+
+
+def _is_hex(text: str) -> bool:
+    try:
+        int(text, 16)
+    except ValueError:
+        return False
+    return True

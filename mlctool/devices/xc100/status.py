@@ -1,0 +1,77 @@
+"""The live status view of `mlc device serve xc100`: position, state, signals, last requests.
+
+Drawn with rich on a terminal (a few times a second); elsewhere one line at start, so logs
+and tests stay quiet.
+"""
+
+from __future__ import annotations
+
+import sys
+
+from rich.console import Console, Group
+from rich.live import Live
+from rich.table import Table
+
+from mlctool.devices.xc100 import controller as c
+from mlctool.devices.xc100.tables import tables
+
+REFRESH_TICKS = 10
+STATES = {0: "stopped", 1: "moving", 2: "abnormal stop"}
+
+
+def render(dev: c.Xc100, title: str) -> Group:
+    mm = c.pulses_per_mm(dev)
+    t = tables()
+    state = Table.grid(padding=(0, 2))
+    state.add_column(style="bold")
+    state.add_column()
+    m = dev.motion
+    doing = "idle" if m is None else f"{m.kind}" + (f" P{m.point}" if m.point >= 0 else "")
+    rows = [
+        ("position", f"{dev.act / mm:9.2f} mm  ({round(dev.act)} pulses, command {round(dev.cmd)})"),
+        ("speed", f"{dev.vel / mm:9.2f} mm/s"),
+        ("state", f"{STATES.get(1 if m else dev.action)} ({doing}), step {dev.step_no}"),
+        ("servo", ("ON" if dev.servo else "OFF") + ("   homed" if dev.homed else "   not homed")),
+        ("alarm", f"{dev.alarm} {t.alarms[dev.alarm][0]} (ERR LED {c.led_blinks(dev)} blinks)"
+         if dev.alarm else "none"),
+        ("error", f"{dev.error} {t.errors.get(dev.error, '')}"),
+        ("inputs", " ".join(f"IN{k + 1}" for k in range(14) if c.effective_pins(dev) >> k & 1) or "-"),
+        ("outputs", " ".join(name for name, on in c.output_signals(dev).items() if on) or "-"),
+    ]
+    for k, v in rows:
+        state.add_row(k, v)
+    reqs = Table(title="last requests", show_header=False, box=None)
+    for line in dev.requests[-6:] or ["(none yet)"]:
+        reqs.add_row(line)
+    return Group(f"[bold]{title}[/bold]  (Ctrl-C stops)", state, reqs)
+
+
+class StatusView:
+    def __init__(self, dev: c.Xc100, title: str):
+        self.dev = dev
+        self.title = title
+        self.ticks = 0
+        self.console = Console(stderr=True)
+        self.live: Live | None = None
+
+    def __enter__(self) -> StatusView:
+        if sys.stderr.isatty():
+            self.live = Live(render(self.dev, self.title), console=self.console,
+                             auto_refresh=False, transient=False)
+            self.live.__enter__()
+        else:
+            print(f"serving {self.title}", file=sys.stderr, flush=True)
+        return self
+
+    def tick(self) -> None:
+        self.ticks += 1
+        if self.live is not None and self.ticks % REFRESH_TICKS == 0:
+            self.live.update(render(self.dev, self.title), refresh=True)
+
+    def close(self) -> None:
+        if self.live is not None:
+            self.live.__exit__(None, None, None)
+            self.live = None
+
+    def __exit__(self, *exc) -> None:
+        self.close()
