@@ -16,7 +16,7 @@ from mlctool.cli import main_group
 from mlctool.cli.common import config_option, get_config, get_target, show, target_option
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.fileio import write_atomic
-from mlctool.sim.output import failure_message, json_value, summary, to_json
+from mlctool.sim.output import json_value, run_diagnostics, summary, to_json
 from mlctool.sim.run import DEFAULT_SCAN_US, RunResult, Simulation, build_models, plan_scans
 from mlctool.sim.scan import DEFAULT_WATCHDOG
 from mlctool.sim.state import NameError_, parse_device_name
@@ -104,8 +104,10 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         write_atomic(os.path.splitext(vcd_path)[0] + ".gtkw", to_gtkw(vcd_path, shown))
     if junit_path:
         from mlctool.sim.junit import to_junit
+        from mlctool.sim.suite import Scenario
 
-        write_atomic(junit_path, to_junit(result, st.path, " ".join(program)))
+        scenario = Scenario(st.path, result, run_diagnostics(result, st.path), st.lines)
+        write_atomic(junit_path, to_junit([scenario], " ".join(program)))
     if report_path:
         from mlctool.ladder.report import report_html
 
@@ -141,20 +143,7 @@ def _run(sim: Simulation, n_scans: int) -> RunResult:
 
 
 def _report(r: RunResult, st: Stimulus, lines: dict[str, list[str]], as_json: bool, watch) -> None:
-    diags: list[Diagnostic] = []
-    for f in r.failed:
-        diags.append(diag(st.path, Span.at(f.line, f.col, len(f.text)), "E603", failure_message(f)))
-    for a in r.alarms:
-        if not a.expected:
-            diags.append(diag(a.file, Span.at(a.line), "E604",
-                              f"alarm {a.name} at {a.time_us / 1000:g} ms (scan {a.scan}), step {a.addr}: "
-                              f"{a.message}", "name it in the stimulus with `expect alarm "
-                              f"{a.name}` if it is intended"))
-    if r.fault:
-        f = r.fault
-        diags.append(diag(f.file, Span.at(f.line), "E604",
-                          f"program fault at {f.time_us / 1000:g} ms (scan {f.scan}), step {f.addr}"
-                          f"{' (' + f.source + ')' if f.source else ''}: {f.message}; run stopped"))
+    diags = run_diagnostics(r, st.path)
     all_lines = dict(lines)
     all_lines[st.path] = st.lines
     show(diags, all_lines)
