@@ -25,6 +25,8 @@ demo: $(STAMP)
 	$(BIN)/mlc objdump out/conveyor.mlx
 	$(BIN)/mlc sim out/conveyor.mlx --stimulus samples/nc5/conveyor.stim --vcd out/conveyor.vcd
 	@echo "waveform written to out/conveyor.vcd (open with: gtkwave out/conveyor.vcd out/conveyor.gtkw)"
+	cd samples/project && ../../$(BIN)/mlc build && ../../$(BIN)/mlc test --coverage --coverage-dir ../../out --junit ../../out/project-junit.xml
+	@echo "project built into samples/project/build/; test and coverage reports in out/"
 
 bench: $(STAMP)
 	$(BIN)/python bench/check_speed.py
