@@ -71,6 +71,7 @@ class Xc100:
     step_no: int = -1
     motion: Motion | None = None
     torque_reached: bool = False
+    push_current: int = 0  # after a torque stop the motor keeps pushing with this current
     near_target: float | None = None
     zone: tuple[int, int] = (0, 0)
     pins: int = 0  # CN-4 IN1-IN14 as wired (bit 0 = IN1)
@@ -540,7 +541,7 @@ def _substep(dev: Xc100, h: float) -> None:
     m = dev.motion
     if m is None or not dev.servo:
         dev.vel = 0.0
-        dev.current = IDLE_CURRENT if dev.servo else 0
+        dev.current = (dev.push_current if dev.torque_reached else IDLE_CURRENT) if dev.servo else 0
         _follow(dev)
         return
     if m.arrived:
@@ -598,6 +599,7 @@ def _on_contact(dev: Xc100, m: Motion, h: float) -> None:
     if m.torque_stop or m.kind in ("jog", "stop", "home"):
         dev.cmd, dev.vel = dev.act, 0.0
         dev.torque_reached = m.torque_stop
+        dev.push_current = min(m.torque, 1000)
         if m.kind in ("jog", "stop", "home"):
             _finish(dev, 2 if m.kind != "stop" else m.stop_status)
             return
