@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 import re
 
-from mlctool.ladder.report import record_power
+from mlctool.ladder.report import PowerProbe
 from mlctool.program import Image
 from mlctool.sim.run import Simulation
 from mlctool.sim.scan import run_scan
@@ -33,8 +33,9 @@ def scan_states(text: str, inputs: list[str]) -> list[set[int]]:
     """inputs: per scan, X0 X1 X2 X3 as a string of bits."""
     r = module(text)
     assert not r.errors, r.diagnostics
-    sim = Simulation(Image("nc5", r.modules[0].instrs), NC5, Stimulus("<none>", []), [], 10_000, [], False)
-    trace = record_power(sim)
+    trace = PowerProbe(10_000)
+    sim = Simulation(Image("nc5", r.modules[0].instrs), NC5, Stimulus("<none>", []), [], 10_000, [], False,
+                     probe=trace)
     for k, xs in enumerate(inputs):
         sim.m.now_us = k * 10_000
         for n, v in enumerate(xs):

@@ -1,82 +1,65 @@
 """`mlc sim --report`: the ladder with the contacts and coils that conduct at a chosen scan,
 and waveforms of the watched devices, in one self-contained HTML page.
 
-The hook into the simulator is a wrapper around each decoded step's `run` (no change to
-the simulator): a contact conducts when its own condition holds at execution (LDP/LDF: the
-edge it saw), an output when its driving result is On. Steps a scan does not execute
-(jumped over, subroutine not called) do not conduct in that scan.
+The hook into the simulator is its `probe` (the one coverage uses: it wraps each decoded
+step's contact and routine, and runs on the reference interpreter): a contact conducts when
+its own condition holds at execution (LDP/LDF: the edge it saw), an output when its driving
+result is On. Steps a scan does not execute (jumped over, subroutine not called) do not
+conduct in that scan.
 """
 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from collections.abc import Callable
 
 from mlctool.ladder.document import build_sheet
 from mlctool.ladder.html import _e, page, sheets_body
 from mlctool.sim.run import RunResult, Simulation
-from mlctool.sim.semantics import CONTACTS
 from mlctool.sim.state import DeviceView
 
 MAX_SCANS = 20_000  # scans recorded for the page; longer runs are cut (the page says so)
 MAX_WAVES = 32  # devices plotted when no --watch names them
-EDGE_OPS = {"contact_rise": lambda prev, cur: cur and not prev,
-            "contact_fall": lambda prev, cur: prev and not cur}
 
 
-@dataclass
-class PowerTrace:
-    """Per scan, the instruction indices that conducted."""
+class PowerProbe:
+    """A simulator probe (the `probe` of mlctool/sim/decode.py, as coverage uses): per scan,
+    the instruction indices that conducted."""
 
-    period_us: int
-    on: dict[int, set[int]] = field(default_factory=dict)
+    def __init__(self, period_us: int):
+        self.period_us = period_us
+        self.on: dict[int, set[int]] = {}
 
     def mark(self, now_us: int, index: int) -> None:
         k = now_us // self.period_us
         if k < MAX_SCANS:
             self.on.setdefault(k, set()).add(index)
 
+    def contact(self, contact: Callable) -> Callable:
+        """A contact conducts when its own value is On (LDP/LDF: the edge it saw)."""
+        mark = self.mark
 
-def _recording(step, run, trace: PowerTrace):
-    spec = step.ins.spec
-    i = step.index
-    if spec.op in EDGE_OPS:
-        seen = EDGE_OPS[spec.op]
+        def observed(m, s):
+            v = contact(m, s)
+            if v:
+                mark(m.now_us, s.index)
+            return v
+        return observed
 
-        def rec(m, s):
-            prev = m.edge[i]
-            r = run(m, s)
-            if seen(prev, m.edge[i]):
-                trace.mark(m.now_us, i)
-            return r
-        return rec
-    if spec.op in CONTACTS:
-        contact = CONTACTS[spec.op]  # pure for levels and comparisons: safe to ask again
+    def step(self, run: Callable, cls: str) -> Callable:
+        """An output conducts when its driving result is On."""
+        if cls != "output":
+            return run
+        mark = self.mark
 
-        def rec(m, s):
-            r = run(m, s)
-            if contact(m, s):
-                trace.mark(m.now_us, i)
-            return r
-        return rec
-    if spec.cls == "output":
-        def rec(m, s):
+        def driven(m, s):
             if m.acc:
-                trace.mark(m.now_us, i)
+                mark(m.now_us, s.index)
             return run(m, s)
-        return rec
-    return run
+        return driven
 
 
-def record_power(sim: Simulation) -> PowerTrace:
-    """Wrap the simulation's steps so that running it fills the returned trace."""
-    trace = PowerTrace(sim.period)
-    for s in sim.prog.steps:
-        s.run = _recording(s, s.run, trace)
-    return trace
-
-
-def _deltas(trace: PowerTrace, scans: int) -> list[list[int]]:
+def _deltas(trace: PowerProbe, scans: int) -> list[list[int]]:
     """Per scan, the indices whose state changed from the scan before (keeps the page small)."""
     out, prev = [], set()
     for k in range(min(scans, MAX_SCANS)):
@@ -201,7 +184,7 @@ REPORT_SCRIPT = """
 """.strip()
 
 
-def report_html(sim: Simulation, result: RunResult, trace: PowerTrace, lines: dict[str, list[str]],
+def report_html(sim: Simulation, result: RunResult, trace: PowerProbe, lines: dict[str, list[str]],
                 watch: list[DeviceView], title: str) -> str:
     image = sim.image
     names = [p for p, _, _ in image.modules] or sorted({i.file for i in image.instrs if i.file})
