@@ -88,7 +88,7 @@ async def _serve(dev, station, framing, address, serial, baud, seconds, link) ->
         view = StatusView(dev, f"XC100 station {station}, {framing.upper()}, {link}")
         with view:
             try:
-                await run_device(dev, server, seconds, on_tick=view.tick, stop=stop)
+                await run_device(dev, server, seconds, on_tick=view.tick, stop=stop, on_ready=view.ready)
             except (OSError, RuntimeError) as e:
                 view.close()
                 from mlctool.cli.common import show

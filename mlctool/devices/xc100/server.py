@@ -158,9 +158,11 @@ def make_server(dev: c.Xc100, station: int, framing: str, tcp: tuple[str, int] |
 
 
 async def run_device(dev: c.Xc100, server, duration_s: float | None,
-                     on_tick=None, stop: asyncio.Event | None = None) -> None:
+                     on_tick=None, stop: asyncio.Event | None = None, on_ready=None) -> None:
     """Serve until `duration_s` passes or `stop` is set, advancing the model every tick."""
     await server.serve_forever(background=True)
+    if on_ready:
+        on_ready()
     loop = asyncio.get_running_loop()
     start = last = loop.time()
     stop = stop or asyncio.Event()

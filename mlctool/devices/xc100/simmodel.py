@@ -49,13 +49,13 @@ class XC100Model(DeviceModel):
 
     def __init__(self, params: dict[str, str], target: Target):
         super().__init__(params, target)
-        self.ins = {n: self._bit(f"in{n}") for n in range(1, 15) if f"in{n}" in params}
-        self.outs = {n: self._bit(f"out{n}") for n in range(1, 11) if f"out{n}" in params}
+        self.ins = {n: self._bit(f"in{n}", "Y") for n in range(1, 15) if f"in{n}" in params}
+        self.outs = {n: self._bit(f"out{n}", "X") for n in range(1, 11) if f"out{n}" in params}
         lead = self._number("lead", "10", 0.1, 100)
         stroke = self._number("stroke", "300", 1, 10000)
         start = self._number("start", str(stroke / 6), 0, stroke)
         work = self._number("work", None, 0, stroke) if "work" in params else None
-        self.emg = self._bit("emg") if "emg" in params else None
+        self.emg = self._bit("emg", "Y") if "emg" in params else None
         regs = {}
         for key in sorted(k for k in params if k.startswith("r") and k[1:] and _is_hex(k[1:])):
             self.used.add(key)
@@ -80,10 +80,12 @@ class XC100Model(DeviceModel):
         self.last_t: int | None = None
 
     # -- parameters
-    def _bit(self, key: str) -> DeviceView:
+    def _bit(self, key: str, kind: str) -> DeviceView:
+        """CN-4 inputs are driven by PLC outputs (Y), its outputs drive PLC inputs (X)."""
         view = self.device(key)
-        if view.view != "bit":
-            raise ParamError(key, f"{key} must be a bit device such as Y0 or X0")
+        if view.view != "bit" or view.kind != kind:
+            side = "a PLC output such as Y0" if kind == "Y" else "a PLC input such as X0"
+            raise ParamError(key, f"{key} must be wired to {side}")
         return view
 
     def _number(self, key: str, default: str | None, lo: float, hi: float) -> float:

@@ -55,13 +55,16 @@ class StatusView:
         self.live: Live | None = None
 
     def __enter__(self) -> StatusView:
+        return self
+
+    def ready(self) -> None:
+        """The link is open: start drawing (or say so once)."""
         if sys.stderr.isatty():
             self.live = Live(render(self.dev, self.title), console=self.console,
                              auto_refresh=False, transient=False)
             self.live.__enter__()
         else:
             print(f"serving {self.title}", file=sys.stderr, flush=True)
-        return self
 
     def tick(self) -> None:
         self.ticks += 1
