@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 from mlctool.program import Instr
 from mlctool.syntax.operands import Operand
-from mlctool.targets.model import Target
+from mlctool.targets.model import Target, choose_variant
 
 MAGIC = b"\x7fMLCOBJ\n"
 VERSION = 1
@@ -162,12 +162,16 @@ class _Strings:
 # ------------------------------------------------------------------ encode
 
 def _operand(w: _Writer, s: _Strings, op: Operand) -> None:
-    # flags: 1 index, 2 float value
+    # flags: 1 index, 2 float value, 4 string value, 8 bit of a word (the bit follows)
+    is_str = isinstance(op.value, str)
     w.uint(s(op.kind))
-    w.uint((1 if op.index else 0) | (2 if isinstance(op.value, float) else 0))
+    w.uint((1 if op.index else 0) | (2 if isinstance(op.value, float) else 0) | (4 if is_str else 0)
+           | (8 if op.is_bit_of_word else 0))
     w.uint(op.number)
     if isinstance(op.value, float):
         w.f64(op.value)
+    elif is_str:
+        w.uint(s(op.value))
     else:
         w.sint(op.value)
     w.uint(op.digits)
@@ -175,6 +179,8 @@ def _operand(w: _Writer, s: _Strings, op: Operand) -> None:
     if op.index:
         w.uint(s(op.index[0]))
         w.uint(op.index[1])
+    if op.is_bit_of_word:
+        w.uint(op.bit)
 
 
 def encode(obj: ObjectFile) -> bytes:
@@ -323,11 +329,14 @@ class _Decoder:
         kind = self.str(r)
         flags = r.uint()
         number = r.uint()
-        value = r.f64() if flags & 2 else r.sint()
+        value = r.f64() if flags & 2 else self.str(r) if flags & 4 else r.sint()
         digits = r.uint()
         decimals = r.uint()
         index = (self.str(r), r.uint()) if flags & 1 else None
-        return Operand(kind, number, value, digits, index, decimals)
+        bit = r.uint() if flags & 8 else 0
+        dev = self.target.devices.get(kind[2:] if kind.startswith("Kn") else kind)
+        radix = dev.radix if dev is not None else 10  # how the target writes the number (octal X/Y)
+        return Operand(kind, number, value, digits, index, decimals, bit, radix)
 
 
 def _validate(k: int, spec, operands, texts, table, steps) -> None:
@@ -382,11 +391,15 @@ def _decode(kind: str, sections: dict[bytes, bytes], target: Target) -> ObjectFi
         mnemonic = d.str(r)
         spec = target.instruction(mnemonic)
         if spec is None or spec.mnemonic != mnemonic:
-            raise ObjectError("E503", f"instruction {mnemonic!r} does not exist on target {target.name}")
+            raise ObjectError("E503", f"instruction {mnemonic!r} does not exist on target {target.name}"
+                              + (f" model {target.model}" if target.model else ""))
         if r.uint() & FLAG_INSERTED:
             inserted.add(k)
         steps, addr = r.uint(), r.uint()
         operands = tuple(d.operand(r) for _ in range(r.uint()))
+        variants = target.variants_of(mnemonic)
+        if len(variants) > 1:  # OUT Y0 / OUT T0 K50: the operands tell the variant
+            spec = choose_variant(variants, len(operands), operands[0] if operands else None)
         texts = tuple(d.str(r) for _ in range(r.uint()))
         table = tuple(r.sint() for _ in range(r.uint()))
         _validate(k, spec, operands, texts, table, steps)

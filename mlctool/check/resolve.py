@@ -10,9 +10,16 @@ from dataclasses import dataclass
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module
-from mlctool.syntax.operands import SYMBOL, Operand, OperandSyntaxError, parse_operand
+from mlctool.syntax.operands import (
+    DEFAULT_SYNTAX,
+    SYMBOL,
+    Operand,
+    OperandSyntax,
+    OperandSyntaxError,
+    parse_operand,
+)
 from mlctool.syntax.parser import ParsedFile, Statement, Word
-from mlctool.targets.model import GROUP_KINDS, InstrSpec, OperandSpec, Target
+from mlctool.targets.model import GROUP_KINDS, InstrSpec, OperandSpec, Target, choose_variant
 
 _LABEL = re.compile(r"P([0-9]+)", re.IGNORECASE)
 
@@ -36,6 +43,7 @@ class _Resolver:
         self.label_spec = next(s for s in target.instructions.values() if s.cls == "label")
         self.cache: dict = {}
         self._problems: list = []
+        self.syntax = target.operand_syntax
 
     # -- reporting
     def err(self, line: int, w: Word, code: str, msg: str, *notes: str) -> None:
@@ -57,13 +65,13 @@ class _Resolver:
         ops = st.operands
         if name == ".define" and len(ops) == 2:
             sym, val = ops
-            if not SYMBOL.fullmatch(sym.text) or self._is_operand(sym.text):
+            if not SYMBOL.fullmatch(sym.text) or self._is_operand(sym.text, self.syntax):
                 self.err(st.line, sym, "E106", f"{sym.text!r} cannot be a symbol name: it reads as an operand")
             elif sym.text.upper() in self.module.symbols:
                 self.err(st.line, sym, "E106", f"symbol {sym.text!r} is already defined")
-            elif not self._is_operand(val.text):
+            elif not self._is_operand(val.text, self.syntax):
                 self.err(st.line, val, "E106", f"{val.text!r} is not a valid operand for symbol {sym.text!r}")
-            elif not (op := parse_operand(val.text)).is_const and op.device not in self.t.devices:
+            elif not (op := parse_operand(val.text, self.syntax)).is_const and op.device not in self.t.devices:
                 self.err(st.line, val, "E106", f"{val.text!r}: no device {op.device} on target {self.t.name}")
             else:
                 self.module.symbols[sym.text.upper()] = val.text
@@ -81,9 +89,9 @@ class _Resolver:
                      "directives: .define NAME OPERAND, .export P10, .library")
 
     @staticmethod
-    def _is_operand(text: str) -> bool:
+    def _is_operand(text: str, syntax: OperandSyntax = DEFAULT_SYNTAX) -> bool:
         try:
-            parse_operand(text)
+            parse_operand(text, syntax)
         except OperandSyntaxError:
             return False
         return True
@@ -129,13 +137,20 @@ class _Resolver:
 
     def resolve_line(self, name: str, texts: tuple[str, ...]):
         """-> (spec, operands, table, ok); problems go to self.report."""
-        spec = self.t.instruction(name)
+        variants = self.t.variants_of(name)
         mnemonic = _Arg(-1, name)
-        if spec is None:
+        if not variants:
             if _LABEL.fullmatch(name) and not texts:
                 return None, (), (), True
-            self.report(mnemonic, "E201", f"unknown instruction {name!r} for target {self.t.name}")
+            missing = self.t.unavailable.get(name.upper())
+            if missing is not None:
+                self.report(mnemonic, "E901", f"{missing.mnemonic} is not available on model {self.t.model} "
+                            f"(models: {', '.join(sorted(missing.models))}; {missing.section})",
+                            "choose the model with --model or `model` in mlc.toml")
+            else:
+                self.report(mnemonic, "E201", f"unknown instruction {name!r} for target {self.t.name}")
             return None, (), (), False
+        spec = variants[0] if len(variants) == 1 else self.choose_variant(variants, texts)
         n = len(spec.operands)
         if len(texts) != n and not (spec.table and n < len(texts) <= n + spec.table):
             form = " ".join([spec.mnemonic] + [o.role for o in spec.operands])
@@ -148,9 +163,11 @@ class _Resolver:
         operands: list[Operand] = []
         for a in args:
             try:
-                operands.append(parse_operand(a.text))
+                operands.append(parse_operand(a.text, self.syntax))
             except OperandSyntaxError as e:
-                if SYMBOL.fullmatch(a.text) and len(a.text) > 1 and not re.fullmatch(r"H[0-9A-Fa-f]+", a.text):
+                # a specific message (octal X8, hex H on NC5, ...) beats "undefined symbol"
+                generic = str(e).endswith("is not a device, constant or pointer")
+                if SYMBOL.fullmatch(a.text) and len(a.text) > 1 and generic:
                     self.report(a, "E215", f"undefined symbol {a.text!r}")
                 else:
                     self.report(a, "E203", str(e))
@@ -170,6 +187,13 @@ class _Resolver:
         ok = self.check_constraints(spec, operands, args) and ok
         table = tuple(int(o.value) for o in operands[n:]) + (0,) * (spec.table - len(operands[n:])) if spec.table else ()
         return spec, tuple(operands[:n]), table, ok
+
+    def choose_variant(self, variants: tuple[InstrSpec, ...], texts: tuple[str, ...]) -> InstrSpec:
+        try:
+            first = parse_operand(texts[0], self.syntax) if texts else None
+        except OperandSyntaxError:
+            first = None
+        return choose_variant(variants, len(texts), first)
 
     def emit_invalid(self, st: Statement, spec: InstrSpec) -> None:
         """Keep a line with operand errors for the rung checks, without operands."""
@@ -195,8 +219,8 @@ class _Resolver:
             self.report(w, "E204", f"{spec.mnemonic} operand {o.role} cannot be {_kind_name(op)}",
                      f"allowed: {allowed} ({spec.section})")
             return False
-        if op.kind == "F" and width != 32:
-            self.report(w, "E204", f"an F constant needs a 32-bit instruction; {spec.mnemonic} is 16-bit")
+        if op.is_float and width != 32:
+            self.report(w, "E204", f"an {op.kind} constant needs a 32-bit instruction; {spec.mnemonic} is 16-bit")
             return False
         # index modification
         if op.index:
@@ -215,16 +239,20 @@ class _Resolver:
             return self.check_const(w, spec, o, op, all_ops)
         # device number ranges
         if not dev.lo <= op.number <= dev.hi:
-            self.report(w, "E205", f"{op.device}{op.number} out of range {op.device}{dev.lo}-{op.device}{dev.hi}")
+            self.report(w, "E205", f"{dev.name_of(op.number)} out of range {dev.name_of(dev.lo)}-{dev.name_of(dev.hi)}"
+                        + (f" on model {t.model}" if t.model else ""))
+            return False
+        if op.is_bit_of_word and not dev.bit_of_word:
+            self.report(w, "E203", f"{w.text!r}: {op.device} words have no bit operands on target {t.name}")
             return False
         allowed = o.allowed(op.kind)
         if allowed and not any(lo <= op.number <= hi for lo, hi in allowed):
-            spans = ", ".join(f"{op.kind}{lo}-{op.kind}{hi}" for lo, hi in allowed)
+            spans = ", ".join(f"{dev.name_of(lo)}-{dev.name_of(hi)}" for lo, hi in allowed)
             self.report(w, "E205", f"{spec.mnemonic} operand {o.role} takes {spans}, not {w.text}")
             return False
         narrow = o.devices32 if width == 32 else o.devices16
         if narrow and not narrow[0] <= op.number <= narrow[1]:
-            self.report(w, "E211", f"{spec.mnemonic} takes {op.kind}{narrow[0]}-{op.kind}{narrow[1]}, not {w.text}")
+            self.report(w, "E211", f"{spec.mnemonic} takes {dev.name_of(narrow[0])}-{dev.name_of(narrow[1])}, not {w.text}")
             return False
         if dev.width16_only and width == 32:
             self.report(w, "E211", f"{op.kind} devices may be operands of 16-bit instructions only; "
@@ -255,14 +283,14 @@ class _Resolver:
             last = op.number + self.extent(spec, o, op) - 1
         if last > dev.hi:
             self.report(w, "E208" if not op.is_group else "E207",
-                     f"{w.text} would occupy {op.device}{first}-{op.device}{last}, past {op.device}{dev.hi}")
+                     f"{w.text} would occupy {dev.name_of(first)}-{dev.name_of(last)}, past {dev.name_of(dev.hi)}")
             return False
         self.check_areas(w, o, dev, first, last)
         return True
 
     def extent(self, spec: InstrSpec, o: OperandSpec, op: Operand) -> int:
         dev = self.t.devices[op.device]
-        if dev.kind in ("bit",) or spec.cls in ("load", "and", "or") and dev.kind in ("timer", "counter") \
+        if dev.kind in ("bit",) or op.is_bit_of_word or spec.cls in ("load", "and", "or") and dev.kind in ("timer", "counter") \
                 and spec.api is None:
             return o.bits
         if dev.kind == "pointer" or (dev.kind == "counter" and self.t.is_counter32(op.number)):
@@ -272,16 +300,23 @@ class _Resolver:
         return o.words[1] if spec.width == 32 else o.words[0]
 
     def check_const(self, w, spec, o: OperandSpec, op: Operand, all_ops) -> bool:
-        if op.kind == "F":
-            fmax = self.t.settings["f_max"]
-            dec = self.t.settings["f_decimals"]
+        if op.is_float:
+            fmax = self.t.settings.get("f_max", 3.4028234e38)  # default: IEEE-754 single precision
+            dec = self.t.settings.get("f_decimals", 99)
             if abs(op.value) > fmax or op.decimals > dec:
-                self.report(w, "E206", f"F constant {w.text} outside +-{fmax} with at most {dec} decimals")
+                self.report(w, "E206", f"{op.kind} constant {w.text} outside +-{fmax}"
+                            + (f" with at most {dec} decimals" if dec < 99 else ""))
                 return False
             return True
-        rng = (o.range32 if spec.width == 32 else o.range16) or self.t.krange(spec.width)
+        if op.kind == "$":
+            return True
+        rng = (o.range32 if spec.width == 32 else o.range16)
+        if rng is None and op.kind == "H":  # hex constants are the width's bit patterns
+            rng = (0, 0xFFFFFFFF if spec.width == 32 else 0xFFFF)
+        rng = rng or self.t.krange(spec.width)
         if not rng[0] <= op.value <= rng[1]:
-            self.report(w, "E206", f"{spec.mnemonic} operand {o.role}: {w.text} outside K{rng[0]}..K{rng[1]}")
+            self.report(w, "E206", f"{spec.mnemonic} operand {o.role}: {w.text} outside K{rng[0]}..K{rng[1]}"
+                        + (f" ({spec.section})" if o.range16 or o.range32 else ""))
             return False
         if o.word_range and o.word_range_of:
             k = next(i for i, s in enumerate(spec.operands) if s.role == o.word_range_of)
@@ -327,10 +362,14 @@ class _Resolver:
 
 
 def _kind_name(op: Operand) -> str:
-    if op.kind == "K":
-        return "a K constant"
-    if op.kind == "F":
-        return "an F constant"
+    if op.kind in ("K", "H"):
+        return f"a {op.kind} constant"
+    if op.is_float:
+        return f"an {op.kind} constant"
+    if op.kind == "$":
+        return "a string constant"
+    if op.is_bit_of_word:
+        return f"a bit of a {op.device} word"
     if op.kind in GROUP_KINDS:
         return f"a bit group {op.kind}"
     return f"{op.kind} device"

@@ -12,6 +12,7 @@ from mlctool.config import Config, load_config
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
 from mlctool.report import render_text
 from mlctool.targets import Target, available_targets, load_target
+from mlctool.targets.model import UnknownModel
 
 
 def run_guarded(group: click.Group, argv: list[str] | None) -> int:
@@ -51,20 +52,39 @@ def get_config(explicit: str | None = None) -> Config:
     return load_config(explicit=explicit)
 
 
-def get_target(name: str | None, config: Config) -> Target:
+def get_target(name: str | None, config: Config, model: str | None = None) -> Target:
+    """The target of `--target` (else mlc.toml, else nc5), cut to `--model` (else mlc.toml
+    `model`, else the target's default model)."""
     name = name or config.target or "nc5"
+    ctx = click.get_current_context(silent=True)
+    model = model or (ctx.meta.get(_MODEL_KEY) if ctx else None) or config.data.get("model")
     try:
-        return load_target(name)
+        return load_target(name, str(model).upper() if model else None)
     except KeyError:
         raise MlcError(diag("<command line>", Span.at(1), "E100",
                             f"unknown target {name!r}; available: {', '.join(available_targets())}")) from None
+    except UnknownModel as e:
+        raise MlcError(diag("<command line>", Span.at(1), "E100", str(e))) from None
 
 
 def show(diags: list[Diagnostic], lines: dict[str, list[str]]) -> None:
     render_text(diags, lines, sys.stderr)
 
 
-target_option = click.option("--target", "target_name", default=None, metavar="NAME",
-                             help="target PLC (default: from mlc.toml, else nc5)")
+_MODEL_KEY = "mlc.model"
+
+
+def _remember_model(ctx: click.Context, _param, value: str | None) -> None:
+    if value:
+        ctx.meta[_MODEL_KEY] = value
+
+
+def target_option(fn):
+    """`--target NAME` (passed as `target_name`) and `--model NAME` (read by get_target, so
+    every command that takes a target takes a model without a parameter of its own)."""
+    fn = click.option("--model", default=None, metavar="NAME", expose_value=False, callback=_remember_model,
+                      help="model of the target family (e.g. VS1; default: from mlc.toml, else the target's default)")(fn)
+    return click.option("--target", "target_name", default=None, metavar="NAME",
+                        help="target PLC (default: from mlc.toml, else nc5)")(fn)
 config_option = click.option("--config", "config_path", default=None, type=click.Path(dir_okay=False),
                              help="configuration file (default: mlc.toml or pyproject.toml found upward)")

@@ -11,28 +11,64 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from functools import lru_cache
 
+CONSTANT_KINDS = frozenset({"K", "H", "F", "E", "$"})  # decimal, hex, float (NC5 F / VS E), string
+FLOAT_KINDS = frozenset({"F", "E"})
+BIT_OF_WORD = ".b"  # kind suffix of a bit-of-word operand: D0.5 has kind "D.b"
+
+
+@dataclass(frozen=True, slots=True)
+class OperandSyntax:
+    """What a target's operands may look like beyond the common core (from its manual).
+
+    The core is: devices `X0`, bit groups `K2M0`, decimal constants `K10`, index suffixes
+    `D0V1`, and `F1.5` float constants when `float_prefix` is "F".
+    """
+
+    octal: frozenset[str] = frozenset()  # device kinds numbered in octal (X0-X7, X10 ...)
+    hex_constants: bool = False  # H1F
+    float_prefix: str = "F"  # letter of float constants: F12.3 (NC5), E1.5 (VS)
+    float_exponent: bool = False  # E1.0235+2 (mantissa, signed decimal exponent)
+    strings: bool = False  # "ABC" string constants
+    bit_of_word: frozenset[str] = frozenset()  # word kinds with bit operands D0.F
+
+
+DEFAULT_SYNTAX = OperandSyntax()
+
 
 @dataclass(frozen=True, slots=True)
 class Operand:
-    kind: str  # a device letter (X Y M A T C D V Z P ...), "K", "F", or "KnX"/"KnY"/...
-    number: int = 0  # device number; for Kn groups the first bit device's number
-    value: int | float = 0  # K/F constants
+    kind: str  # a device letter (X Y M A T C D V Z P ...), a constant kind (K H F E $),
+    #            "KnX"/"KnY"/... for bit groups, "D.b"/"R.b" for a bit of a word
+    number: int = 0  # device number (ordinal: X10 in octal is 8); for Kn groups the first bit device's
+    value: int | float | str = 0  # K/H/F/E/$ constants
     digits: int = 0  # n of a Kn group
     index: tuple[str, int] | None = None  # ("V", 0) for a D5V0 style suffix
     decimals: int = 0  # digits after the point of an F constant as written
+    bit: int = 0  # bit number of a bit-of-word operand (D0.F: 15)
+    radix: int = 10  # how the device number is written (8 for octal X/Y)
 
     @property
     def is_const(self) -> bool:
-        return self.kind in ("K", "F")
+        return self.kind in CONSTANT_KINDS
+
+    @property
+    def is_float(self) -> bool:
+        return self.kind in FLOAT_KINDS
 
     @property
     def is_group(self) -> bool:
         return self.kind.startswith("Kn")
 
     @property
+    def is_bit_of_word(self) -> bool:
+        return self.kind.endswith(BIT_OF_WORD)
+
+    @property
     def device(self) -> str:
-        """The device kind a group or device lives in (X for K2X0)."""
-        return self.kind[2:] if self.is_group else self.kind
+        """The device kind a group or device lives in (X for K2X0, D for D0.5)."""
+        if self.is_group:
+            return self.kind[2:]
+        return self.kind[:-len(BIT_OF_WORD)] if self.is_bit_of_word else self.kind
 
     def __str__(self) -> str:
         return format_operand(self)
@@ -46,50 +82,103 @@ _INDEX_REGS = "VZ"  # index registers: never the device of a Kn bit group
 _INDEX = r"(?:(?P<ix>[VZ])(?P<ixn>[0-9]+))?"
 _GROUP = re.compile(r"K(?P<n>[0-9]+)(?P<dev>[A-Z])(?P<num>[0-9]+)" + _INDEX)
 _K = re.compile(r"K(?P<val>[+-]?[0-9]+)" + _INDEX)
-_F = re.compile(r"F(?P<val>[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))")
+_H = re.compile(r"H(?P<val>[0-9A-F]+)" + _INDEX)
+_FLOAT = r"(?P<val>[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))"
+_EXPONENT = r"(?:(?P<exp>[+-][0-9]+))?"
 _DEV = re.compile(r"(?P<dev>[A-Z])(?P<num>[0-9]+)" + _INDEX)
+_BIT_OF_WORD = re.compile(r"(?P<dev>[A-Z])(?P<num>[0-9]+)\.(?P<bit>[0-9A-F])")
+_STRING = re.compile(r'"(?P<val>[^"]*)"')
+MAX_STRING = 32  # longest string constant any target takes (VS $+: 32 characters)
 
 
 def _index(m) -> tuple[str, int] | None:
     return (m["ix"], int(m["ixn"])) if m["ix"] else None
 
 
+def _number(digits: str, kind: str, syntax: OperandSyntax, text: str) -> tuple[int, int]:
+    """(ordinal, radix) of a device number as written."""
+    if kind in syntax.octal:
+        if "8" in digits or "9" in digits:
+            raise OperandSyntaxError(f"{text!r}: {kind} devices are numbered in octal "
+                                     f"({kind}0-{kind}7, {kind}10 ...); digits 8 and 9 do not occur")
+        return int(digits, 8), 8
+    return int(digits), 10
+
+
 @lru_cache(maxsize=65536)
-def parse_operand(text: str) -> Operand:
+def parse_operand(text: str, syntax: OperandSyntax = DEFAULT_SYNTAX) -> Operand:
     """Parse one operand as written (case-insensitive). Raises OperandSyntaxError."""
+    if syntax.strings and (m := _STRING.fullmatch(text)):
+        if len(m["val"]) > MAX_STRING:
+            raise OperandSyntaxError(f"string constant longer than {MAX_STRING} characters")
+        return Operand("$", value=m["val"])
     t = text.upper()
     if len(t) > 40:
         raise OperandSyntaxError("operand is too long")
     # K20V0 is the constant K20 modified by V0 (3.4's example), not a bit group of "V"
     if (m := _GROUP.fullmatch(t)) and m["dev"] not in _INDEX_REGS:
-        return Operand("Kn" + m["dev"], number=int(m["num"]), digits=int(m["n"]), index=_index(m))
+        number, radix = _number(m["num"], m["dev"], syntax, text)
+        return Operand("Kn" + m["dev"], number=number, digits=int(m["n"]), index=_index(m), radix=radix)
     if m := _K.fullmatch(t):
         return Operand("K", value=int(m["val"]), index=_index(m))
-    if m := _F.fullmatch(t):
+    if syntax.hex_constants and (m := _H.fullmatch(t)):
+        if len(m["val"]) > 8:
+            raise OperandSyntaxError(f"{text!r}: a hexadecimal constant has at most 8 digits")
+        return Operand("H", value=int(m["val"], 16), index=_index(m))
+    prefix = syntax.float_prefix
+    if t.startswith(prefix) and (m := re.fullmatch(prefix + _FLOAT + (_EXPONENT if syntax.float_exponent else ""), t)):
         try:
             d = Decimal(m["val"])
         except InvalidOperation as e:  # pragma: no cover - the regex admits only decimals
             raise OperandSyntaxError(f"bad float constant {text!r}") from e
         decimals = max(0, -d.as_tuple().exponent) if "." in m["val"] else 0
-        return Operand("F", value=float(d), decimals=decimals)
-    if m := _DEV.fullmatch(t):
-        return Operand(m["dev"], number=int(m["num"]), index=_index(m))
-    if re.fullmatch(r"H[0-9A-F]+", t):
+        exp = int(m["exp"]) if syntax.float_exponent and m["exp"] else 0
+        if exp:
+            if abs(exp) > 60:
+                raise OperandSyntaxError(f"{text!r}: exponent out of range")
+            d = d.scaleb(exp)
+        # decimals as written matter only where a target limits them (NC5 F: 3); the exponent form has none
+        return Operand(prefix, value=float(d), decimals=0 if syntax.float_exponent else decimals)
+    if not syntax.hex_constants and re.fullmatch(r"H[0-9A-F]+", t):  # H10 is no device either
         raise OperandSyntaxError(f"{text!r}: this target has no hexadecimal H constants; write K{int(t[1:], 16)}")
+    if m := _DEV.fullmatch(t):
+        number, radix = _number(m["num"], m["dev"], syntax, text)
+        return Operand(m["dev"], number=number, index=_index(m), radix=radix)
+    if syntax.bit_of_word and (m := _BIT_OF_WORD.fullmatch(t)):
+        if m["dev"] not in syntax.bit_of_word:
+            raise OperandSyntaxError(f"{text!r}: only {'/'.join(sorted(syntax.bit_of_word))} words have bit operands")
+        return Operand(m["dev"] + BIT_OF_WORD, number=int(m["num"]), bit=int(m["bit"], 16))
     if re.fullmatch(r"[+-]?[0-9]+", t):
         raise OperandSyntaxError(f"{text!r}: a constant needs the K prefix (K{t})")
     raise OperandSyntaxError(f"{text!r} is not a device, constant or pointer")
+
+
+def device_number(number: int, radix: int) -> str:
+    """A device number as the manual writes it (octal X/Y on FX-family targets)."""
+    return format(number, "o") if radix == 8 else str(number)
 
 
 def format_operand(op: Operand) -> str:
     ix = f"{op.index[0]}{op.index[1]}" if op.index else ""
     if op.kind == "K":
         return f"K{op.value}{ix}"
+    if op.kind == "H":
+        return f"H{op.value:X}{ix}"
+    if op.kind == "$":
+        return f'"{op.value}"'
     if op.kind == "F":
         return "F" + (f"{op.value:.{op.decimals}f}" if op.decimals else f"{op.value:.0f}")
+    if op.kind == "E":  # shortest text that reads back to the same value
+        r = repr(float(op.value))
+        if "e" in r:
+            mantissa, exp = r.split("e")
+            return f"E{mantissa}{int(exp):+d}"
+        return "E" + (r[:-2] if r.endswith(".0") else r)
     if op.is_group:
-        return f"K{op.digits}{op.device}{op.number}{ix}"
-    return f"{op.kind}{op.number}{ix}"
+        return f"K{op.digits}{op.device}{device_number(op.number, op.radix)}{ix}"
+    if op.is_bit_of_word:
+        return f"{op.device}{op.number}.{op.bit:X}"
+    return f"{op.kind}{device_number(op.number, op.radix)}{ix}"
 
 
 SYMBOL = re.compile(r"[A-Za-z_][A-Za-z0-9_.]*")

@@ -6,9 +6,11 @@ Generic code asks the Target; nothing outside a target folder names a target's d
 from __future__ import annotations
 
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
+
+from mlctool.syntax.operands import OperandSyntax, device_number
 
 TARGETS_DIR = Path(__file__).resolve().parent
 
@@ -36,6 +38,12 @@ class DeviceKind:
     section: str
     input: bool = False
     width16_only: bool = False
+    radix: int = 10  # 8: numbered in octal (X0-X7, X10 ...); index offsets still count ordinals
+    bit_of_word: bool = False  # D0.5 bit operands exist (the manual's D.b column)
+
+    def name_of(self, number: int) -> str:
+        """A device as the manual writes it: X10 for ordinal 8 of an octal kind."""
+        return f"{self.name}{device_number(number, self.radix)}"
 
     def area(self, number: int) -> Area | None:
         for a in self.areas:
@@ -88,6 +96,8 @@ class InstrSpec:
     section: str
     notes: tuple[str, ...]
     inputs: tuple[str, ...] = ()  # a multi-input instruction: its inputs, one block each
+    pulse: bool = False  # the P-suffix form: executes once per Off->On of its condition
+    models: frozenset[str] = frozenset()  # models that have it; empty: every model
 
 
 @dataclass(frozen=True, slots=True)
@@ -99,9 +109,33 @@ class Target:
     devices: dict[str, DeviceKind]
     instructions: dict[str, InstrSpec]
     settings: dict  # the rest of target.toml (timer bases, limits, decisions)
+    model: str | None = None  # the model the tables were cut to (`--model`)
+    # mnemonics with several operand shapes (OUT Y0 / OUT T0 K50): every variant, in table order
+    variants: dict[str, tuple[InstrSpec, ...]] = field(default_factory=dict)
+    # instructions of the family that the chosen model lacks: mnemonic -> spec (for E901)
+    unavailable: dict[str, InstrSpec] = field(default_factory=dict)
 
     def instruction(self, mnemonic: str) -> InstrSpec | None:
         return self.instructions.get(mnemonic.upper())
+
+    def variants_of(self, mnemonic: str) -> tuple[InstrSpec, ...]:
+        m = mnemonic.upper()
+        if m in self.variants:
+            return self.variants[m]
+        spec = self.instructions.get(m)
+        return (spec,) if spec else ()
+
+    @property
+    def models(self) -> tuple[str, ...]:
+        return tuple(self.settings.get("models", ()))
+
+    @property
+    def operand_syntax(self) -> OperandSyntax:
+        return _syntax_of(self.name, self.model)
+
+    def device_name(self, kind: str, number: int) -> str:
+        dev = self.devices.get(kind)
+        return dev.name_of(number) if dev else f"{kind}{number}"
 
     def timer_base_ms(self, number: int) -> int:
         for b in self.settings["timer_bases"]:
@@ -126,6 +160,26 @@ class Target:
         return lo, hi
 
 
+def choose_variant(variants: tuple[InstrSpec, ...], count: int, first) -> InstrSpec:
+    """Of a mnemonic's variants, the one whose operand count and first operand (an Operand or
+    None: its kind and the numbers the variant allows) fit what is written (OUT Y0 /
+    OUT T0 K50 / OUT C200 K5); else the first whose first operand kind fits, else the first
+    with the count, else the first (its diagnostics then explain the problem)."""
+    counted = [v for v in variants if len(v.operands) == count]
+    if first is not None:
+        for v in counted:
+            o = v.operands[0] if v.operands else None
+            if o is None or first.kind not in o.kinds:
+                continue
+            allowed = o.allowed(first.kind)
+            narrow = o.devices32 if v.width == 32 else o.devices16
+            if (not allowed or any(lo <= first.number <= hi for lo, hi in allowed)) \
+                    and (not narrow or narrow[0] <= first.number <= narrow[1]):
+                return v
+    kind_fits = [v for v in variants if v.operands and first is not None and first.kind in v.operands[0].kinds]
+    return (kind_fits or counted or list(variants))[0]
+
+
 def _pair(v) -> tuple[int, int] | None:
     return (int(v[0]), int(v[1])) if v is not None else None
 
@@ -148,47 +202,113 @@ def _operand(o: dict) -> OperandSpec:
     )
 
 
-def _instructions(entries: list[dict]) -> dict[str, InstrSpec]:
-    out: dict[str, InstrSpec] = {}
+def _steps(e: dict, convention: dict | None) -> list[int]:
+    """Steps per form: as the table gives them, else by the target's step convention
+    (target.toml [step_convention]: base + per-operand steps of the form's width)."""
+    if "steps" in e:
+        return list(e["steps"])
+    if convention is None:
+        raise KeyError(f"{e['names']}: no steps and the target has no [step_convention]")
+    n = len(e.get("operands", ())) + e.get("table", 0)
+    return [convention["base"] + n * convention["operand16"], convention["base"] + n * convention["operand32"]]
+
+
+def _instructions(entries: list[dict], convention: dict | None = None
+                  ) -> tuple[dict[str, InstrSpec], dict[str, tuple[InstrSpec, ...]]]:
+    """-> (mnemonic -> first spec, mnemonic -> every variant where there are several).
+
+    `pulse = true` adds the P-suffix form of each width (MOVP, DMOVP); several entries may
+    share a mnemonic (variants, told apart by their first operand's kind: OUT Y0 / OUT T0 K50)."""
+    all_specs: dict[str, list[InstrSpec]] = {}
     for e in entries:
         operands = tuple(_operand(o) for o in e.get("operands", ()))
         notes = tuple(x for x in (e.get("note"), e.get("decision")) if x)
         is_float = bool(e.get("float", False))
-        for width, name, steps in zip((16, 32), e["names"], e["steps"], strict=True):
+        models = frozenset(e.get("models", ()))
+        for width, name, steps in zip((16, 32), e["names"], _steps(e, convention), strict=True):
             if not name:
                 continue
-            spec = InstrSpec(
-                mnemonic=name, api=e.get("api"), width=width, is_float=is_float, steps=steps,
-                cls=e["class"], op=e["op"], operands=operands,
-                index=bool(e.get("index", e.get("api") is not None and e["class"] != "free")),
-                short_steps=e.get("steps_rule") == "short", table=e.get("table", 0),
-                constraints=tuple(e.get("constraints", ())),
-                section=e["section"], notes=notes, inputs=tuple(e.get("inputs", ())),
-            )
-            # aliases name the 16-bit form too (FBs: HSPSO is also written FUN140)
-            for alias in [name] + (e.get("aliases", []) if width == 16 else []):
-                out[alias] = spec
-    return out
+            for pulse in (False, True) if e.get("pulse") else (False,):
+                spec = InstrSpec(
+                    mnemonic=name + ("P" if pulse else ""), api=e.get("api"), width=width, is_float=is_float,
+                    steps=steps, cls=e["class"], op=e["op"], operands=operands,
+                    index=bool(e.get("index", e.get("api") is not None and e["class"] != "free")),
+                    short_steps=e.get("steps_rule") == "short", table=e.get("table", 0),
+                    constraints=tuple(e.get("constraints", ())),
+                    section=e["section"], notes=notes, inputs=tuple(e.get("inputs", ())),
+                    pulse=pulse, models=models,
+                )
+                # aliases name the 16-bit form too (FBs: HSPSO is also written FUN140)
+                aliases = e.get("aliases", []) if width == 16 and not pulse else []
+                for alias in [spec.mnemonic] + aliases:
+                    all_specs.setdefault(alias, []).append(spec)
+    first = {k: v[0] for k, v in all_specs.items()}
+    variants = {k: tuple(v) for k, v in all_specs.items() if len(v) > 1}
+    return first, variants
+
+
+def _device_range(name: str, v: dict, model: str | None) -> tuple[int, int]:
+    rng = v.get("model_range", {}).get(model, v["range"]) if model else v["range"]
+    return int(rng[0]), int(rng[1])
+
+
+class UnknownModel(ValueError):
+    """`--model` names no model of the target."""
+
+
+def _area(a: dict) -> Area:
+    return Area(**{k: v for k, v in a.items() if k != "models"})
 
 
 @cache
-def load_target(name: str) -> Target:
+def load_target(name: str, model: str | None = None) -> Target:
+    """The target's tables; with models (target.toml `models`), cut to `model` (default:
+    `default_model`): device ranges by `model_range`, instructions by their `models`."""
     folder = TARGETS_DIR / name
     if not (folder / "target.toml").is_file():
         raise KeyError(name)
     settings = tomllib.loads((folder / "target.toml").read_text("utf-8"))
+    models = settings.get("models", [])
+    if model is not None or models:
+        model = (model or settings.get("default_model") or models[0]).upper()
+        if model not in models:
+            raise UnknownModel(f"target {name} has no model {model!r}"
+                               + (f"; models: {', '.join(models)}" if models else ""))
     devices_raw = tomllib.loads((folder / "devices.toml").read_text("utf-8"))
-    devices = {
-        k: DeviceKind(
-            name=k, kind=v["kind"], lo=v["range"][0], hi=v["range"][1],
-            areas=tuple(Area(**a) for a in v.get("areas", ())), section=v["section"],
-            input=v.get("input", False), width16_only=v.get("width16_only", False),
+    devices = {}
+    for k, v in devices_raw.items():
+        if model and "models" in v and model not in v["models"]:
+            continue  # the device does not exist on this model (UnG on VS1)
+        lo, hi = _device_range(k, v, model)
+        devices[k] = DeviceKind(
+            name=k, kind=v["kind"], lo=lo, hi=hi,
+            areas=tuple(_area(a) for a in v.get("areas", ()) if not model or model in a.get("models", [model])),
+            section=v["section"], input=v.get("input", False), width16_only=v.get("width16_only", False),
+            radix=v.get("radix", 10), bit_of_word=v.get("bit_of_word", False),
         )
-        for k, v in devices_raw.items()
-    }
-    instrs = _instructions(tomllib.loads((folder / "instructions.toml").read_text("utf-8"))["instr"])
+    entries = tomllib.loads((folder / "instructions.toml").read_text("utf-8"))["instr"]
+    instrs, variants = _instructions(entries, settings.get("step_convention"))
+    unavailable = {}
+    if model:
+        unavailable = {k: s for k, s in instrs.items() if s.models and model not in s.models}
+        instrs = {k: s for k, s in instrs.items() if k not in unavailable}
+        variants = {k: v for k, v in variants.items() if k not in unavailable}
     return Target(settings["name"], settings["title"], settings["manual"], settings["capacity"],
-                  devices, instrs, settings)
+                  devices, instrs, settings, model, variants, unavailable)
+
+
+@cache
+def _syntax_of(name: str, model: str | None) -> OperandSyntax:
+    t = load_target(name, model)
+    o = t.settings.get("operands", {})
+    return OperandSyntax(
+        octal=frozenset(k for k, d in t.devices.items() if d.radix == 8),
+        hex_constants=bool(o.get("hex_constants", False)),
+        float_prefix=o.get("float_prefix", "F"),
+        float_exponent=bool(o.get("float_exponent", False)),
+        strings=bool(o.get("strings", False)),
+        bit_of_word=frozenset(k for k, d in t.devices.items() if d.bit_of_word),
+    )
 
 
 def available_targets() -> list[str]:
