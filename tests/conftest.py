@@ -50,5 +50,37 @@ def _no_color(monkeypatch):
     monkeypatch.delenv("FORCE_COLOR", raising=False)
 
 
+SIM_ENGINES = ("compiled", "interp")
+
+
+def pytest_generate_tests(metafunc):
+    """Every simulator test module (test_sim_*) runs on both engines (mlctool/sim/compile.py)."""
+    if "sim_engine" in metafunc.fixturenames and metafunc.module.__name__.startswith("test_sim"):
+        metafunc.parametrize("sim_engine", SIM_ENGINES, indirect=True, scope="module")
+
+
+@pytest.fixture(autouse=True, scope="module")
+def sim_engine(request):
+    """The engine of this module's simulations: simkit.ENGINE and MLC_SIM_ENGINE (for mlc sim)."""
+    engine = getattr(request, "param", None)
+    if engine is None:
+        yield None
+        return
+    import simkit
+
+    from mlctool.sim.compile import ENGINE_ENV
+
+    old_env, old = os.environ.get(ENGINE_ENV), simkit.ENGINE
+    os.environ[ENGINE_ENV] = simkit.ENGINE = engine
+    try:
+        yield engine
+    finally:
+        simkit.ENGINE = old
+        if old_env is None:
+            os.environ.pop(ENGINE_ENV, None)
+        else:
+            os.environ[ENGINE_ENV] = old_env
+
+
 def pytest_report_header(config):
     return f"python {sys.version.split()[0]}"

@@ -6,13 +6,18 @@ import os
 import tempfile
 
 from mlctool.asm import program_from_paths
+from mlctool.sim.compile import scanner
 from mlctool.sim.run import RunResult, Simulation, build_models, plan_scans
-from mlctool.sim.scan import load_program, run_scan
+from mlctool.sim.scan import load_program
 from mlctool.sim.state import Machine, parse_device_name
 from mlctool.sim.stimulus import parse_stimulus_text
 from mlctool.targets import load_target
 
 NC5 = load_target("nc5")
+
+# The engine simulate() and Bench use: set per test module by the `sim_engine` fixture of
+# conftest.py, which runs every test_sim_* module on each engine (None: the default).
+ENGINE: str | None = None
 
 
 def image_of(il: str, name: str = "t.il"):
@@ -35,7 +40,7 @@ def simulate(il: str, stim: str = "", scans: int | None = None, period_us: int =
     period = st.scan_us or period_us
     n = plan_scans(st, period, None, scans)
     views = [parse_device_name(w, NC5) for w in watch]
-    return Simulation(image_of(il), NC5, st, models, period, views, trace).run(n)
+    return Simulation(image_of(il), NC5, st, models, period, views, trace, engine=ENGINE).run(n)
 
 
 def passed(r: RunResult) -> bool:
@@ -52,6 +57,14 @@ class Bench:
         self.prog = load_program(image_of(il), NC5)
         self.m = Machine(NC5, len(self.prog.steps))
         self.scan_no = 0
+        self.scanners = {}  # engine -> Scanner on the one machine (benches live across modules)
+
+    @property
+    def engine(self) -> str:
+        sc = self.scanners.get(ENGINE)
+        if sc is None:
+            sc = self.scanners[ENGINE] = scanner(self.prog, self.m, ENGINE)
+        return sc.engine
 
     def set(self, name: str, value) -> None:
         parse_device_name(name, NC5).write(self.m, value)
@@ -62,5 +75,8 @@ class Bench:
     def scan(self, n: int = 1, period_us: int = 10_000) -> None:
         for _ in range(n):
             self.m.now_us = self.scan_no * period_us
-            run_scan(self.prog, self.m)
+            sc = self.scanners.get(ENGINE)
+            if sc is None:
+                sc = self.scanners[ENGINE] = scanner(self.prog, self.m, ENGINE)
+            sc()
             self.scan_no += 1

@@ -16,6 +16,7 @@ from mlctool.cli import main_group
 from mlctool.cli.common import config_option, get_config, get_target, show, target_option
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.fileio import write_atomic
+from mlctool.sim.compile import ENGINE_ENV, ENGINES
 from mlctool.sim.output import json_value, run_diagnostics, summary, to_json
 from mlctool.sim.run import DEFAULT_SCAN_US, RunResult, Simulation, build_models, plan_scans
 from mlctool.sim.scan import DEFAULT_WATCHDOG
@@ -59,9 +60,11 @@ def _errors(diags: list[Diagnostic]) -> bool:
               help="steps one scan may execute before it is stopped as a runaway")
 @click.option("--report", "report_path", default=None, type=click.Path(dir_okay=False),
               help="write an HTML page: the ladder lit by scan, and waveforms (docs/ladder.md)")
+@click.option("--engine", type=click.Choice(ENGINES), default=None, envvar=ENGINE_ENV,
+              help="compiled (default) or interp, the reference interpreter (docs/simulator.md)")
 @click.argument("program", nargs=-1, required=True, type=click.Path())
 def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_path, watch,
-            as_json, junit_path, watchdog, report_path, program):
+            as_json, junit_path, watchdog, report_path, engine, program):
     """Simulate PROGRAM (sources, objects or a linked image) on virtual time."""
     if until is not None and scans is not None:
         raise click.UsageError("give --until or --scans, not both")

@@ -14,8 +14,9 @@ from dataclasses import dataclass, field
 from mlctool.devices import MODELS, DeviceModel, ModelIO, ParamError
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image
+from mlctool.sim.compile import scanner
 from mlctool.sim.decode import Program, program_devices
-from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, load_program, run_scan
+from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, load_program
 from mlctool.sim.state import DeviceView, Machine
 from mlctool.sim.stimulus import Check, Event, Stimulus
 from mlctool.targets.model import Target
@@ -129,7 +130,7 @@ def plan_scans(st: Stimulus, period_us: int, until_us: int | None, scans: int | 
 class Simulation:
     def __init__(self, image: Image, target: Target, st: Stimulus, models: list[DeviceModel],
                  period_us: int, watch: list[DeviceView], trace: bool,
-                 watchdog: int = DEFAULT_WATCHDOG, probe=None):
+                 watchdog: int = DEFAULT_WATCHDOG, probe=None, engine: str | None = None):
         self.image = image
         self.target = target
         self.prog: Program = load_program(image, target, probe)
@@ -139,6 +140,9 @@ class Simulation:
         self.io = ModelIO(self.m)
         self.period = period_us
         self.watchdog = watchdog
+        # the compiled engine (compile.py) unless asked otherwise; coverage probes need the
+        # reference interpreter
+        self.scan = scanner(self.prog, self.m, "interp" if probe is not None else engine)
         names = program_devices(self.prog) | st.devices() | set(watch)
         for model in models:
             names.update(model.devices())
@@ -222,7 +226,7 @@ class Simulation:
                     self.apply(e)
             self.apply_forces()
             try:
-                run_scan(self.prog, m, self.watchdog)
+                self.scan(self.watchdog)
             except Fault as f:
                 fault = self._fault(f, k)
             self.apply_forces()
