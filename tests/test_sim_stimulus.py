@@ -95,3 +95,13 @@ def test_float_and_range_expectations():
     r = simulate("LD X0\nFDIV F1 F3 D0\nEND", "0ms X0=1\n0ms expect D0:f=0.33333334 "
                  "D0:f=0.333..0.334 D0:f!=0.5")
     assert passed(r)
+
+
+def test_decimal_times_are_exact():
+    from mlctool.sim.stimulus import StimError, parse_time
+
+    assert parse_time("4.07s") == 4_070_000  # float arithmetic would give 4069999.9999...
+    assert parse_time("0.29s") == 290_000
+    assert parse_time("1.001ms") == 1001
+    with pytest.raises(StimError):
+        parse_time("1.0000001s")

@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
+from fractions import Fraction
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name, to_f32
@@ -34,8 +35,8 @@ def parse_time(text: str) -> int:
     m = _TIME.fullmatch(text.strip())
     if not m:
         raise StimError(f"{text!r} is not a time (e.g. 150ms, 1.5s, 500us, 2min)")
-    us = float(m["num"]) * _UNITS[m["unit"].lower()]
-    if us != int(us):
+    us = Fraction(m["num"]) * _UNITS[m["unit"].lower()]  # exact: 4.07s is 4070000 us
+    if us.denominator != 1:
         raise StimError(f"{text!r} is not a whole number of microseconds")
     if us > MAX_TIME_US:
         raise StimError(f"{text!r} is too far in the future")
