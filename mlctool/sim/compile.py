@@ -31,6 +31,7 @@ from collections import OrderedDict
 from collections.abc import Callable
 from types import CodeType
 
+from mlctool.sim import scan as _scan
 from mlctool.sim.decode import Program, Step
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, WordRef
 from mlctool.sim.scan import DEFAULT_WATCHDOG, END_SCAN, Fault, end_of_scan, run_scan
@@ -50,6 +51,10 @@ _CMP = {"cmp_eq": "==", "cmp_ne": "!=", "cmp_gt": ">", "cmp_lt": "<", "cmp_ge": 
 _ARITH = {"add": "+", "sub": "-", "wand": "&", "wor": "|", "wxor": "^"}
 
 
+# what run_scan does before the first step, where the target defines it (system relays)
+_before_scan = getattr(_scan, "system_relays", None)
+
+
 class Unsupported(Exception):
     """The program needs the reference interpreter."""
 
@@ -58,14 +63,13 @@ class Code:
     """A program compiled to Python: the code object and what the driver needs to run it."""
 
     def __init__(self, key: str, code: CodeType, filename: str, starts: list[int],
-                 block_steps: list[int], linemap: list[int], timers: list[int] | None, source: str):
+                 block_steps: list[int], linemap: list[int], source: str):
         self.key = key
         self.code = code
         self.filename = filename
         self.starts = starts  # first step index of each block
         self.block_steps = block_steps  # steps executed by each block (for the watchdog)
         self.linemap = linemap  # generated line (0-based) -> step index
-        self.timers = timers  # timers TMR can address (None: any, some TMR is indexed)
         self.source = source
 
 
@@ -138,22 +142,13 @@ class _Gen:
         block_of = {st: j for j, st in enumerate(starts)}
         self.block_of = block_of
         block_steps = []
-        timers: set[int] | None = set()
-        for s in steps:
-            if s.ins.spec.op == "tmr":
-                ref = s.ops[0]
-                if ref.ix is not None or timers is None:
-                    timers = None
-                else:
-                    timers.add(ref.num)
         for j in range(len(starts)):
             block = steps[bounds[j]:bounds[j + 1]]
             block_steps.append(sum(s.steps for s in block))
             self.block(j, block, len(starts))
         source = "\n".join(self.lines) + "\n"
         code = compile(source, self.filename, "exec")
-        return Code(self.key, code, self.filename, starts, block_steps, self.linemap,
-                    sorted(timers) if timers is not None else None, source)
+        return Code(self.key, code, self.filename, starts, block_steps, self.linemap, source)
 
     # -- one block
     def block(self, j: int, block: list[Step], nblocks: int) -> None:
@@ -165,6 +160,8 @@ class _Gen:
         self.blocks: list[str] = []  # symbolic ANB/ORB block stack: names of locals
         self.stack: list[str] = []  # symbolic MPS stack
         self.tmp = 0
+        self.acc: str | None = None  # the rung result when not (yet) in `a`
+        self.depth = 0
         self.emit("a = m.acc", first)
         ended = False
         for s in block:
@@ -175,6 +172,7 @@ class _Gen:
                 break
             self.instr(s)
         if not ended:
+            self.settle(block[-1].index)
             self.exit_checks(block[-1])
             self.flush(block[-1].index)
             self.emit("m.acc = a", block[-1].index)
@@ -293,23 +291,52 @@ class _Gen:
         self.emit("a = m.acc", i)
 
     def contact(self, s: Step) -> str | None:
+        """The contact's value as an expression without side effects; reads that can fault and
+        edge memories are done first, on lines of their own (faults name this step)."""
         i = s.index
         op = s.ins.spec.op
         ref = s.ops[0]
         if op in _CMP:
-            return f"({self.value(ref, i, 0)} {_CMP[op]} {self.value(s.ops[1], i, 1)})"
+            x, y = self.value(s.ops[0], i, 0), self.value(s.ops[1], i, 1)
+            expr = f"({x} {_CMP[op]} {y})"
+            if "(m)" in expr:
+                t = self.new_tmp("c")
+                self.emit(f"{t} = {expr}", i)
+                return t
+            return expr
         if op not in ("contact", "contact_not", "contact_rise", "contact_fall"):
             return None
-        b = self.bit(ref) if _bit_simple(ref) else f"O{i}_0.bit(m)"
+        if _bit_simple(ref):
+            b = self.bit(ref)
+        else:
+            b = self.new_tmp("c")
+            self.emit(f"{b} = O{i}_0.bit(m)", i)
         if op == "contact":
             return b
         if op == "contact_not":
             return f"({b} ^ 1)"
         e = self.use("bE")
-        self.emit(f"c = {b}; e = {e}[{i}]; {e}[{i}] = c", i)
-        return "(c & (e ^ 1))" if op == "contact_rise" else "(e & (c ^ 1))"
+        c, p = self.new_tmp("c"), self.new_tmp("e")
+        self.emit(f"{c} = {b}; {p} = {e}[{i}]; {e}[{i}] = {c}", i)
+        return f"({c} & ({p} ^ 1))" if op == "contact_rise" else f"({p} & ({c} ^ 1))"
 
-    def instr(self, s: Step) -> None:
+    # -- the rung result: an expression (`self.acc`) until something needs it in `a`
+    def cur(self) -> str:
+        return self.acc if self.acc is not None else "a"
+
+    def set_acc(self, expr: str, i: int) -> None:
+        self.acc = expr
+        self.depth += 1
+        if self.depth > 24:  # keep expressions shallow
+            self.settle(i)
+
+    def settle(self, i: int) -> None:
+        if self.acc is not None:
+            self.emit(f"a = {self.acc}", i)
+            self.acc = None
+        self.depth = 0
+
+    def rung(self, s: Step) -> None:
         spec = s.ins.spec
         op, cls, i = spec.op, spec.cls, s.index
         if cls in ("load", "and", "or"):
@@ -320,37 +347,64 @@ class _Gen:
                 if s.new_rung:
                     self.blocks.clear()
                     self.stack.clear()
-                    self.emit(f"a = {c}", i)
+                    self.acc, self.depth = None, 0
                 else:
                     k = self.new_tmp("k")
-                    self.emit(f"{k} = a; a = {c}", i)
+                    self.emit(f"{k} = {self.cur()}", i)
                     self.blocks.append(k)
+                    self.depth = 0
+                self.set_acc(c, i)
             elif cls == "and":
-                self.emit(f"a &= {c}", i)
+                self.set_acc(f"({self.cur()} & {c})", i)
             else:
-                self.emit(f"a |= {c}", i)
-            return
-        if op == "anb":
+                self.set_acc(f"({self.cur()} | {c})", i)
+        elif op == "anb":
             if self.blocks:
-                self.emit(f"a = {self.blocks.pop()} & a", i)
+                self.set_acc(f"({self.blocks.pop()} & {self.cur()})", i)
         elif op == "orb":
             if self.blocks:
-                self.emit(f"a = {self.blocks.pop()} | a", i)
+                self.set_acc(f"({self.blocks.pop()} | {self.cur()})", i)
         elif op == "mps":
             k = self.new_tmp("p")
-            self.emit(f"{k} = a", i)
+            self.emit(f"{k} = {self.cur()}", i)
             self.stack.append(k)
+            self.acc, self.depth = k, 0
         elif op == "mrd":
             if self.stack:
-                self.emit(f"a = {self.stack[-1]}", i)
+                self.acc, self.depth = self.stack[-1], 0
         elif op == "mpp":
             if self.stack:
-                self.emit(f"a = {self.stack.pop()}", i)
-        elif op == "inv":
-            self.emit("a = not a", i)
-        elif op in ("nop", "label"):
-            pass
-        elif op in ("out", "set", "rst", "pls", "plf") and _bit_simple(s.ops[0]) \
+                self.acc, self.depth = self.stack.pop(), 0
+        else:  # inv
+            self.set_acc(f"({self.cur()} ^ 1)", i)
+
+    def instr(self, s: Step) -> None:
+        spec = s.ins.spec
+        op, i = spec.op, s.index
+        if getattr(spec, "pulse", False):  # pulse (P) forms: the decoder's wrapper decides
+            if spec.cls in RUNG_CLASSES:
+                raise Unsupported(f"no compiled form for {s.ins.mnemonic}")
+            self.settle(i)
+            self.reference(s)
+            return
+        if spec.cls in RUNG_CLASSES:
+            if op not in ("anb", "orb", "mps", "mrd", "mpp", "inv") and spec.cls not in ("load", "and", "or"):
+                raise Unsupported(f"no compiled form for {s.ins.mnemonic}")
+            self.rung(s)
+            return
+        if op in ("nop", "label"):
+            return
+        if op == "out" and _bit_simple(s.ops[0]) and s.ops[0].kind in ("Y", "M", "A"):
+            dst = self.bit(s.ops[0])
+            if self.acc is not None:
+                self.emit(f"{dst} = a = {self.acc}", i)
+                self.acc, self.depth = None, 0
+            else:
+                self.emit(f"{dst} = a", i)
+            self.defer_writer((s.ops[0].kind, s.ops[0].num), i)
+            return
+        self.settle(i)
+        if op in ("set", "rst", "pls", "plf") and _bit_simple(s.ops[0]) \
                 and s.ops[0].kind in ("Y", "M", "A"):
             self.coil(s)
         elif op == "tmr":
@@ -364,10 +418,7 @@ class _Gen:
         op, i, ref = s.ins.spec.op, s.index, s.ops[0]
         key = (ref.kind, ref.num)
         dst = self.bit(ref)
-        if op == "out":
-            self.emit(f"{dst} = 1 if a else 0", i)
-            self.defer_writer(key, i)
-        elif op in ("set", "rst"):
+        if op in ("set", "rst"):
             self.prepare([key], i)
             self.emit("if a:", i)
             self.emit(f"{dst} = {1 if op == 'set' else 0}", i, 2)
@@ -417,6 +468,7 @@ class _Gen:
 
     def flow(self, s: Step, j: int) -> None:
         i = s.index
+        self.settle(i)
         self.exit_checks(s)
         self.flush(i)
         self.emit(f"m.acc = a; m.pc = {i}", i)
@@ -495,6 +547,8 @@ class Scanner:
         m.stack.clear()
         m.calls = []
         m.fors = []
+        if _before_scan is not None:
+            _before_scan(m)
         fns = self.fns
         bsteps = self.code.block_steps
         nb = len(fns)
@@ -515,7 +569,7 @@ class Scanner:
                                 self.prog.steps[-1])
         except SimFault as e:
             raise Fault(e.message, self._fault_step(e)) from None
-        self._end_of_scan(m)
+        end_of_scan(m)
 
     def _check_instrumented(self) -> None:
         """Steps whose routine was wrapped after decoding (coverage, the ladder report's power
@@ -562,25 +616,6 @@ class Scanner:
                 raise SimFault("execution ran past the last instruction without END")
         except SimFault as e:
             raise Fault(e.message, s) from None
-
-    def _end_of_scan(self, m: Machine) -> None:
-        """scan.end_of_scan, visiting only the timers a TMR can have started."""
-        timers = self.code.timers
-        if timers is None:
-            end_of_scan(m)
-            return
-        if m.c_pending:
-            bits = m.bits["C"]
-            for n in sorted(m.c_pending):
-                bits[n] = 1
-            m.c_pending.clear()
-        running = m.t_running
-        if timers and 1 in running:
-            seen = m.t_seen
-            for n in timers:
-                if running[n] and not seen[n]:
-                    advance_timer(m, n, m.t_preset[n])
-
 
 def default_engine() -> str:
     """MLC_SIM_ENGINE if it names an engine (the tests run everything on both), else compiled."""

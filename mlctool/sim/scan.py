@@ -142,6 +142,6 @@ def end_of_scan(m: Machine) -> None:
     m.c_pending.clear()
     # running timers whose TMR was not executed (CJ-skipped, subroutine not called) keep
     # timing and turn On when they reach the preset (4.1 API-00 item 3, example 2)
-    for n, running in enumerate(m.t_running):
+    for n, running in enumerate(m.t_running if 1 in m.t_running else ()):  # memchr first
         if running and not m.t_seen[n]:
             advance_timer(m, n, m.t_preset[n])

@@ -1,0 +1,216 @@
+"""The compiled engine against the reference interpreter: generated programs and stimuli
+must give identical traces, final devices, expectations, alarms, faults and writers."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+from simkit import NC5, image_of
+
+from mlctool.asm import program_from_paths
+from mlctool.sim.compile import Scanner, compile_program
+from mlctool.sim.run import Simulation, plan_scans
+from mlctool.sim.scan import Fault, load_program
+from mlctool.sim.state import Machine
+from mlctool.sim.stimulus import parse_stimulus_text
+
+BIT_IN = [f"X{k}" for k in range(6)] + [f"M{k}" for k in range(8)] + ["T0", "T1", "C0", "C1", "Y0"]
+COILS = [f"Y{k}" for k in range(4)] + [f"M{k}" for k in range(8)]
+WORDS = [f"D{k}" for k in range(8)]
+dev_in = st.sampled_from(BIT_IN)
+coil = st.sampled_from(COILS)
+word = st.sampled_from(WORDS)
+const = st.integers(-40000, 40000).map(lambda v: f"K{max(-32768, min(32767, v))}")
+
+
+@st.composite
+def contact(draw, cls: str) -> str:
+    kind = draw(st.sampled_from(["", "I", "P", "F", "cmp"]))
+    if kind == "cmp":
+        op = draw(st.sampled_from(["=", "<>", ">", "<", ">=", "<="]))
+        d = "D" if draw(st.booleans()) and cls == "LD" else ""
+        a = draw(word) if not d else draw(st.sampled_from(["D0", "D2", "D4"]))
+        return f"{d}{cls}{op} {a} {draw(const) if draw(st.booleans()) else draw(word)}"
+    if kind == "I":
+        name = {"LD": "LDI", "AND": "ANI", "OR": "ORI"}[cls]
+    else:
+        name = cls + kind
+    return f"{name} {draw(dev_in)}"
+
+
+@st.composite
+def condition(draw) -> list[str]:
+    out = [draw(contact("LD"))]
+    for _ in range(draw(st.integers(0, 3))):
+        out.append(draw(contact(draw(st.sampled_from(["AND", "OR"])))))
+    if draw(st.integers(0, 3)) == 0:
+        out += [draw(contact("LD")), draw(contact("OR")), draw(st.sampled_from(["ANB", "ORB"]))]
+    if draw(st.integers(0, 5)) == 0:
+        out.append("INV")
+    return out
+
+
+@st.composite
+def action(draw) -> list[str]:
+    k = draw(st.integers(0, 15))
+    if k <= 3:
+        return [f"{draw(st.sampled_from(['OUT', 'SET', 'RST', 'PLS', 'PLF']))} {draw(coil)}"]
+    if k == 4:
+        return [f"TMR T{draw(st.integers(0, 1))} K{draw(st.integers(0, 4))}"]
+    if k == 5:
+        return [f"CNT C{draw(st.integers(0, 1))} K{draw(st.integers(0, 3))}"]
+    if k == 6:
+        return [f"MOV {draw(const)} {draw(word)}"]
+    if k == 7:
+        return [f"{draw(st.sampled_from(['ADD', 'SUB', 'WAND', 'WOR', 'WXOR']))} {draw(word)} "
+                f"{draw(st.one_of(word, const))} {draw(word)}"]
+    if k == 8:
+        return [f"{draw(st.sampled_from(['INC', 'DEC']))} {draw(word)}"]
+    if k == 9:
+        return [f"{draw(st.sampled_from(['DADD', 'DSUB']))} D0 K{draw(st.integers(-99999, 99999))} "
+                f"D{draw(st.sampled_from([2, 4, 6]))}"]
+    if k == 10:
+        return [f"MOV D{draw(st.integers(0, 4))}V0 D{draw(st.integers(5, 7))}"]
+    if k == 11:
+        return [f"RST {draw(st.sampled_from(['T0', 'C0', 'C1', 'D1', 'Y1']))}"]
+    if k == 12:
+        return [f"DIV {draw(word)} {draw(word)} D{draw(st.sampled_from([0, 2, 4, 6]))}"]
+    if k == 13:
+        return [f"MUL {draw(word)} {draw(const)} D{draw(st.sampled_from([0, 2, 4, 6]))}"]
+    if k == 14:
+        return [f"CML {draw(word)} {draw(word)}", ]
+    return [f"MOV K{draw(st.integers(0, 3))} V0"]
+
+
+@st.composite
+def rung(draw) -> list[str]:
+    lines = draw(condition())
+    if draw(st.integers(0, 4)) == 0:  # branch outputs
+        lines += ["MPS", draw(contact("AND"))] + draw(action()) + ["MPP"] + draw(action())
+    else:
+        lines += draw(action())
+    return lines
+
+
+@st.composite
+def program(draw) -> str:
+    main: list[str] = []
+    for _ in range(draw(st.integers(1, 6))):
+        main += draw(rung())
+        shape = draw(st.integers(0, 9))
+        if shape == 0:  # a conditional jump over the next rungs
+            body = [x for _ in range(draw(st.integers(1, 2))) for x in draw(rung())]
+            main += [draw(contact("LD")), "CJ P1"] + body + ["P1:"]
+        elif shape == 1:  # a loop
+            body = [x for _ in range(draw(st.integers(1, 2))) for x in draw(rung())]
+            main += [f"FOR K{draw(st.integers(0, 3))}"] + body + ["NEXT"]
+        elif shape == 2:
+            main += [draw(contact("LD")), "CALL P2"]
+    sub = [x for _ in range(draw(st.integers(1, 2))) for x in draw(rung())]
+    text = main + ["FEND", "P2:"] + sub + ["SRET", "END"]
+    # labels must be unique: renumber the CJ targets
+    out, n = [], 10
+    for line in text:
+        if line == "CJ P1":
+            out.append(f"CJ P{n}")
+        elif line == "P1:":
+            out.append(f"P{n}:")
+            n += 1
+        else:
+            out.append(line)
+    return "\n".join(out)
+
+
+@st.composite
+def stimulus(draw) -> str:
+    lines = []
+    for _ in range(draw(st.integers(0, 12))):
+        scan = draw(st.integers(0, 30))
+        dev = draw(st.sampled_from([f"X{i}" for i in range(6)] + ["V0", "D0", "M3"]))
+        if dev == "V0":
+            value = draw(st.integers(-1, 4))
+        elif dev == "D0":
+            value = draw(st.integers(-5, 5))
+        else:
+            value = draw(st.integers(0, 1))
+        lines.append(f"#{scan} {dev}={value}")
+    if draw(st.integers(0, 5)) == 0:
+        lines.append(f"#{draw(st.integers(0, 30))} power-cycle")
+    for _ in range(draw(st.integers(0, 3))):
+        lines.append(f"#{draw(st.integers(0, 30))} expect {draw(st.sampled_from(COILS + WORDS))}=1")
+    lines.append(f"run #{draw(st.integers(1, 32))}")
+    return "\n".join(lines) + "\n"
+
+
+def _image(il: str):
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "g.il")
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(il + "\n")
+        image, diags, _ = program_from_paths([path], NC5)
+    return image if image is not None and not any(d.severity == "error" for d in diags) else None
+
+
+def _run(image, stim: str, engine: str):
+    st_, diags = parse_stimulus_text("g.stim", stim, NC5)
+    assert not diags
+    sim = Simulation(image, NC5, st_, [], 10_000, [], True, watchdog=400, engine=engine)
+    r = sim.run(plan_scans(st_, 10_000, None, None))
+    return r, sim
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(program(), stimulus())
+def test_compiled_engine_matches_the_interpreter(il, stim):
+    image = _image(il)
+    assume(image is not None)
+    a, sim_a = _run(image, stim, "compiled")
+    b, sim_b = _run(image, stim, "interp")
+    assert sim_a.scan.engine == "compiled" and sim_b.scan.engine == "interp"
+    assert a.trace == b.trace
+    assert a.devices == b.devices
+    assert a.scans == b.scans and a.fault == b.fault and a.alarms == b.alarms
+    assert a.expectations == b.expectations  # failures include the last writer
+    if a.fault is None:
+        assert sim_a.m.writer == sim_b.m.writer
+    assert sim_a.m.edge == sim_b.m.edge and sim_a.m.t_frac == sim_b.m.t_frac
+
+
+def test_faults_and_watchdog_name_the_same_step():
+    il = "LD X0\nMOV K1 D65535V0\nP0:\nLD X1\nCJ P0\nEND"
+    image = image_of(il)
+    for setup, text in (({"X0": 1, "V0": 1}, "D65536"), ({"X1": 1}, "watchdog")):
+        found = []
+        for engine in ("compiled", "interp"):
+            prog = load_program(image, NC5)
+            m = Machine(NC5, len(prog.steps))
+            sc = Scanner(prog, m, engine)
+            for name, v in setup.items():
+                (m.bits["X"] if name[0] == "X" else m.words["V"])[int(name[1:])] = v
+            try:
+                sc(1000)
+            except Fault as f:
+                found.append((f.message, f.step.index, m.words["D"][:4], bytes(m.edge)))
+        assert len(found) == 2 and found[0] == found[1] and text in found[0][0]
+
+
+def test_compiled_code_is_cached_by_content():
+    il = "LD X0\nOUT Y0\nEND"
+    a = compile_program(load_program(image_of(il), NC5))
+    b = compile_program(load_program(image_of(il), NC5))
+    c = compile_program(load_program(image_of("LD X1\nOUT Y0\nEND"), NC5))
+    assert a is b and a is not c and a.key != c.key
+
+
+def test_a_wrapped_step_routine_runs_the_interpreter():
+    prog = load_program(image_of("LD X0\nOUT Y0\nEND"), NC5)
+    m = Machine(NC5, len(prog.steps))
+    sc = Scanner(prog, m)
+    seen = []
+    run = prog.steps[1].run
+    prog.steps[1].run = lambda m_, s: (seen.append(s.index), run(m_, s))[1]
+    sc()
+    assert sc.engine == "interp" and seen == [1]
