@@ -148,7 +148,8 @@ class _Resolver:
                             f"(models: {', '.join(sorted(missing.models))}; {missing.section})",
                             "choose the model with --model or `model` in mlc.toml")
             else:
-                self.report(mnemonic, "E201", f"unknown instruction {name!r} for target {self.t.name}")
+                self.report(mnemonic, "E201", f"unknown instruction {name!r} for target {self.t.name}",
+                            *_spelling_hint(self.t, name.upper()))
             return None, (), (), False
         spec = variants[0] if len(variants) == 1 else self.choose_variant(variants, texts)
         n = len(spec.operands)
@@ -228,8 +229,9 @@ class _Resolver:
             if not spec.index or op.kind not in t.indexable:
                 self.report(w, "E209", f"{w.text}: {spec.mnemonic} operand {o.role} cannot be index-modified")
                 return False
-            if width == 32 and ix != "V":
-                self.report(w, "E209", f"{w.text}: 32-bit instructions index with V only (1.8.2)")
+            ix32 = t.settings.get("index32", {}).get("register", "V")  # NC5: V (1.8.2); VS: Z (2-9)
+            if width == 32 and ix != ix32:
+                self.report(w, "E209", f"{w.text}: 32-bit instructions index with {ix32} only")
                 return False
             ixdev = t.devices[ix]
             if not ixdev.lo <= ixn <= ixdev.hi:
@@ -332,7 +334,11 @@ class _Resolver:
         for a in dev.areas:  # areas do not overlap
             if a.hi < first or a.lo > last or a.write == "ok":
                 continue
-            if a.write == "reserved":
+            if a.write == "absent":
+                self.report(w, "E205", f"{w.text}: {dev.name_of(a.lo)}-{dev.name_of(a.hi)} do not exist ({a.name})")
+            elif a.write == "system" and o.writes:
+                self.report(w, "W212", f"{w.text} is read-only: the system writes it ({a.name})")
+            elif a.write == "reserved":
                 self.report(w, "W213", f"{w.text} lies in the {a.name} area {dev.name}{a.lo}-{dev.name}{a.hi}")
             elif a.write == "nc" and o.writes:
                 self.report(w, "W212", f"{w.text} is written by the NC ({a.name} {dev.name}{a.lo}-{dev.name}{a.hi})")
@@ -359,6 +365,20 @@ class _Resolver:
         col = st.name.col
         self.module.instrs.append(Instr(spec, ops, texts, steps, self.addr, self.path, st.line, col, table))
         self.addr += steps
+
+
+def _spelling_hint(t: Target, name: str) -> tuple[str, ...]:
+    """DLD>= on a target that writes the 32-bit form LDD>= (FX family): name the right one."""
+    if not name.startswith("D"):
+        return ()
+    short = t.instructions.get(name[1:])
+    if short is None or short.api is None:
+        return ()
+    for s in t.instructions.values():
+        if s.api == short.api and s.width == 32 and s.cls == short.cls and s.pulse == short.pulse \
+                and s.mnemonic != name:
+            return (f"the 32-bit form of {short.mnemonic} is written {s.mnemonic} on target {t.name}",)
+    return ()
 
 
 def _kind_name(op: Operand) -> str:

@@ -99,6 +99,9 @@ def check_rungs(module: Module, target: Target, broken: frozenset[int] = frozens
             acc = True
         elif cls in ("free", "label"):
             close(ins)
+        elif cls == "bus":  # STL: a new rail whose result exists; a load after it starts a rung
+            close(ins)
+            acc = driven = True
         last = ins
     hit = bool(gaps) and gaps[-1] > prev_line
     tainted = tainted or hit

@@ -17,6 +17,7 @@ from mlctool.cli.common import config_option, get_config, get_target, show, targ
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.fileio import write_atomic
 from mlctool.sim.compile import ENGINE_ENV, ENGINES
+from mlctool.sim.decode import unsimulated
 from mlctool.sim.output import json_value, run_diagnostics, summary, to_json
 from mlctool.sim.run import DEFAULT_SCAN_US, RunResult, Simulation, build_models, plan_scans
 from mlctool.sim.scan import DEFAULT_WATCHDOG
@@ -76,6 +77,10 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     image, diags, lines = program_from_paths(list(program), target, config)
     if image is None:
         show([d for d in diags if d.severity == "error"], lines)
+        sys.exit(2)
+    refused = unsimulated(image)  # E905: never run an instruction as a silent no-op
+    if refused:
+        show(refused, lines)
         sys.exit(2)
 
     st, stim_diags = (load_stimulus(stim_path, target) if stim_path

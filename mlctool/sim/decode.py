@@ -7,6 +7,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image, Instr
 from mlctool.sim import semantics
 from mlctool.sim.operands import Ref, decode_operand
@@ -40,7 +41,7 @@ def _combine(cls: str, contact: Callable) -> Callable:
     evaluated, even when the result is already decided, so edge memories stay current."""
     if cls == "load":
         def run(m, s):
-            v = contact(m, s)
+            v = contact(m, s) and m.bus  # the rail is Off in an inactive MC block or STL step
             if s.new_rung:
                 m.blocks.clear()
                 m.stack.clear()
@@ -56,6 +57,42 @@ def _combine(cls: str, contact: Callable) -> Callable:
             v = contact(m, s)
             m.acc = m.acc or v
     return run
+
+
+class NotSimulated(Exception):
+    """The program holds an instruction the simulator does not model (E905)."""
+
+    def __init__(self, ins: Instr):
+        super().__init__(f"{ins.mnemonic} at {ins.file}:{ins.line} is not simulated")
+        self.ins = ins
+
+
+def simulated_ops() -> frozenset[str]:
+    from mlctool.sim.scan import FLOW_OPS  # scan.py builds on this module
+
+    return frozenset(semantics.CONTACTS) | frozenset(semantics.ACTIONS) | FLOW_OPS
+
+
+def unsimulated(image: Image) -> list[Diagnostic]:
+    """E905 for every instruction of the image whose op has no routine: `mlc sim` refuses
+    the program up front instead of skipping them."""
+    known = simulated_ops()
+    return [diag(ins.file, Span(ins.line, ins.col, ins.line, ins.col + len(ins.mnemonic)), "E905",
+                 f"{ins.mnemonic} (line {ins.line}) is not simulated ({ins.spec.section})",
+                 "the target's docs list the simulated instructions (docs/vs.md)")
+            for ins in image.instrs if ins.spec.op not in known]
+
+
+def _pulsed(run: Callable) -> Callable:
+    """P-suffix form: the routine runs only in the scan its condition goes Off->On; its edge
+    memory is the step's own (pulse forms never have another use for it)."""
+    def pulse(m, s):
+        prev = m.edge[s.index]
+        m.edge[s.index] = m.acc
+        if m.acc and not prev:
+            return run(m, s)
+        return None
+    return pulse
 
 
 def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) -> Program:
@@ -75,15 +112,19 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
                 continue
             ops.append(decode_operand(op, spec.width, target, text, as_bits))
         step = Step(ins, k, tuple(ops), spec.width, ins.steps, ins.table,
-                    new_rung=spec.cls == "load" and prev_cls in ("output", "free", "label"))
+                    new_rung=spec.cls == "load" and prev_cls in ("output", "free", "label", "bus"))
         op = spec.op
         if op in semantics.CONTACTS:
             contact = semantics.CONTACTS[op]
             step.run = _combine(spec.cls, probe.contact(contact) if probe else contact)
         elif op in semantics.ACTIONS:
             step.run = semantics.ACTIONS[op]
-        else:
+        elif op in flow:
             step.run = flow[op]
+        else:  # refused up front by unsimulated(); never a silent no-op
+            raise NotSimulated(ins)
+        if spec.pulse:
+            step.run = _pulsed(step.run)
         if probe:
             step.run = probe.step(step.run, spec.cls)
         steps.append(step)
@@ -92,6 +133,12 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
     for s in steps:
         if s.ins.spec.op in ("cj", "call") and not s.ins.operands[0].index:
             s.target = labels.get(s.ins.operands[0].number, -1)
+    following = -1  # STL: the next STL or RET, where an inactive step's block ends (4-6-1)
+    for s in reversed(steps):
+        if s.ins.spec.op == "stl":
+            s.target, following = following, s.index
+        elif s.ins.spec.op == "ret":
+            following = s.index
     open_fors: list[Step] = []
     for s in steps:  # FOR/NEXT pair by nesting in program order (4.1 API-07/08)
         if s.ins.spec.op == "for":
@@ -120,14 +167,18 @@ def _views(target: Target, spec, o_spec, op, all_ops) -> list[DeviceView]:
     if op.is_const or op.kind == "P":
         return []
     dev = target.devices[op.device]
+    if dev.kind == "pointer":  # N (MC levels), Q (tables)
+        return []
     if op.is_group:
-        return [DeviceView("K", op.number, "group", op.digits, op.device)]
+        return [DeviceView("K", op.number, "group", op.digits, op.device, dev.radix)]
+    if op.is_bit_of_word:
+        return [DeviceView(op.device, op.number, "w")]
     if dev.kind == "bit":
         count = o_spec.bits
         if spec.op in ("deco", "enco", "vrt"):
             n_op = next(o for o, so in zip(all_ops, spec.operands, strict=False) if so.role == "n")
             count = n_op.value if spec.op == "vrt" else 1 << n_op.value
-        return [DeviceView(op.kind, op.number + k, "bit") for k in range(count)
+        return [DeviceView(op.kind, op.number + k, "bit", radix=dev.radix) for k in range(count)
                 if op.number + k <= dev.hi]
     if dev.kind in ("timer", "counter"):
         value = "w" if dev.kind == "timer" or not target.is_counter32(op.number) else "d"

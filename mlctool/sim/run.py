@@ -142,7 +142,10 @@ class Simulation:
         self.watchdog = watchdog
         # the compiled engine (compile.py) unless asked otherwise; coverage probes need the
         # reference interpreter
-        self.scan = scanner(self.prog, self.m, "interp" if probe is not None else engine)
+        # a target may pin the reference interpreter (target.toml `engine`: VS's step-ladder,
+        # MC and flag semantics live in the interpreter's routines only)
+        pinned = target.settings.get("engine")
+        self.scan = scanner(self.prog, self.m, "interp" if probe is not None else pinned or engine)
         names = program_devices(self.prog) | st.devices() | set(watch)
         for model in models:
             names.update(model.devices())

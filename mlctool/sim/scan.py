@@ -93,6 +93,9 @@ def flow_routines(prog_ref: list[Program]) -> dict:
             "for": for_, "next": next_}
 
 
+FLOW_OPS = frozenset({"cj", "call", "sret", "fend", "end", "for", "next"})  # flow_routines' keys
+
+
 def load_program(image: Image, target, probe=None) -> Program:
     ref: list[Program] = []
     prog = decode(image, target, flow_routines(ref), probe)
@@ -110,6 +113,7 @@ def run_scan(prog: Program, m: Machine, watchdog: int = DEFAULT_WATCHDOG) -> Non
     m.stack.clear()
     m.calls = []
     m.fors = []
+    system_relays(m)
     pc = 0
     executed = 0
     s = None
@@ -135,13 +139,53 @@ def run_scan(prog: Program, m: Machine, watchdog: int = DEFAULT_WATCHDOG) -> Non
     end_of_scan(m)
 
 
+def system_relays(m: Machine) -> None:
+    """Special relays the system drives before each scan (target.toml [system_relays]):
+    always On/Off, On/Off in the first scan only, clocks with a period in ms (half On)."""
+    table = m.target.settings.get("system_relays")
+    if not table:
+        return
+    bits = m.bits["M"]
+    first = m.scans_done == 0
+    for n in table.get("always_on", ()):
+        bits[n] = 1
+    for n in table.get("always_off", ()):
+        bits[n] = 0
+    for n in table.get("first_scan_on", ()):
+        bits[n] = 1 if first else 0
+    for n in table.get("first_scan_off", ()):
+        bits[n] = 0 if first else 1
+    for n, period_ms in table.get("clocks", {}).items():
+        period = int(period_ms) * 1000
+        bits[int(n)] = 1 if m.now_us % period < period // 2 else 0
+
+
 def end_of_scan(m: Machine) -> None:
     # counter contacts act at the end of the scan (1.7 table)
     for n in sorted(m.c_pending):
         m.bits["C"][n] = 1
     m.c_pending.clear()
-    # running timers whose TMR was not executed (CJ-skipped, subroutine not called) keep
-    # timing and turn On when they reach the preset (4.1 API-00 item 3, example 2)
+    # running timers whose TMR was not executed (CJ-skipped, subroutine not called): by the
+    # target's `skipped` rule of their base; default (NC5) they keep timing and turn On at
+    # the preset (4.1 API-00 item 3, example 2). VS (6-2 CJ): 10/100 ms timers pause, 1 ms
+    # timers keep timing with their contact frozen until their OUT runs again.
+    target = m.target
     for n, running in enumerate(m.t_running if 1 in m.t_running else ()):  # memchr first
         if running and not m.t_seen[n]:
-            advance_timer(m, n, m.t_preset[n])
+            rule = target.timer_base(n).get("skipped", "run")
+            if rule == "pause":
+                m.t_running[n] = 0  # its next OUT restarts timing from the value it holds
+            elif rule == "run_frozen":
+                contact = m.bits["T"][n]
+                advance_timer(m, n, m.t_preset[n])
+                m.bits["T"][n] = contact
+            else:
+                advance_timer(m, n, m.t_preset[n])
+    # step ladder: steps that transferred go Off now (4-1-3); the rail is whole again
+    for n in m.stl_leaving:
+        m.bits["S"][n] = 0
+    m.stl_leaving.clear()
+    m.scans_done += 1
+    m.stl_step = None
+    m.bus = True
+    m.mc_stack.clear()

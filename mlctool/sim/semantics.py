@@ -157,11 +157,19 @@ def tmr(m: Machine, s) -> None:
     """
     n = s.ops[0].addr(m)
     m.t_seen[n] = 1
+    base = m.target.timer_base(n)
     if not m.acc:
-        m.reset_timer(n)
+        if base.get("retentive"):  # retentive timers hold their value; only RST clears them
+            m.t_running[n] = 0
+        else:
+            m.reset_timer(n)
         return
     m.writer[("T", n)] = m.pc
-    advance_timer(m, n, s.ops[1].get(m) & 0xFFFF)
+    preset = s.ops[1].get(m)
+    rng = m.target.settings.get("timer_preset_range")
+    if rng is not None and not rng[0] <= preset <= rng[1]:
+        preset = 0  # VS 3-9: a preset outside 0-32767 is taken as 0
+    advance_timer(m, n, preset & 0xFFFF)
 
 
 def advance_timer(m: Machine, n: int, preset: int) -> None:
@@ -189,6 +197,14 @@ def cnt(m: Machine, s) -> None:
     prev = m.edge[s.index]
     m.edge[s.index] = m.acc
     n = s.ops[0].addr(m)
+    if m.is_c32(n) and m.target.settings.get("counter32_mode") == "fx":
+        # VS 2-6-2: counts past the preset both ways; contact On at value >= preset
+        if m.acc and not prev:
+            down = m.bits["M"][m.target.settings["counter_direction_base"] + n - m.c32_lo]
+            m.cval[n] = s32(m.cval[n] + (-1 if down else 1))
+            m.writer[("C", n)] = m.pc
+            m.bits["C"][n] = 1 if m.cval[n] >= s.ops[1].get(m) else 0
+        return
     if m.is_c32(n):
         preset = s.ops[1].get(m)
         reached = m.bits["C"][n] or n in m.c_pending
@@ -203,6 +219,9 @@ def cnt(m: Machine, s) -> None:
             m.c_pending[n] = 1
         return
     preset = max(s.ops[1].get(m) & 0xFFFF, 1)
+    rng = m.target.settings.get("counter16_preset_range")
+    if rng is not None and not rng[0] <= s.ops[1].get(m) <= rng[1]:
+        preset = 1  # VS 3-9: a preset outside 1-32767 is taken as 1
     v = m.cval[n]
     if m.acc and not prev and v < preset:
         v += 1
@@ -464,3 +483,9 @@ ACTIONS = {
     "frad": _fconv(math.pi / 180), "fdeg": _fconv(180 / math.pi),
     "wrtl": wrtl, "rdtl": rdtl,
 }
+
+# FX-family ops (Vigor VS): mlctool/sim/semantics_fx.py. ADD/SUB there set the flags of
+# target.toml [flags] and are the same as above on targets without flags.
+from mlctool.sim.semantics_fx import FX_ACTIONS  # noqa: E402
+
+ACTIONS.update(FX_ACTIONS)

@@ -11,6 +11,7 @@ import re
 import struct
 from dataclasses import dataclass
 
+from mlctool.syntax.operands import device_number
 from mlctool.targets.model import Target
 
 
@@ -57,10 +58,11 @@ class Machine:
     def __init__(self, target: Target, n_instrs: int):
         self.target = target
         d = target.devices
-        self.bits = {k: bytearray(d[k].hi + 1) for k in ("X", "Y", "M", "A")}
+        # every bit and word kind of the target (NC5: X Y M A / D V Z; VS: X Y M S / D R V Z)
+        self.bits = {k: bytearray(v.hi + 1) for k, v in d.items() if v.kind == "bit"}
         self.bits["T"] = bytearray(d["T"].hi + 1)  # timer contacts
         self.bits["C"] = bytearray(d["C"].hi + 1)  # counter contacts
-        self.words = {k: [0] * (d[k].hi + 1) for k in ("D", "V", "Z")}
+        self.words = {k: [0] * (v.hi + 1) for k, v in d.items() if v.kind == "word"}
         self.words["T"] = [0] * (d["T"].hi + 1)  # timer present values (unsigned)
         self.cval = [0] * (d["C"].hi + 1)  # C0-C63 unsigned 16-bit, C64-C79 signed 32-bit
         self.c32_lo, _ = target.settings["counters32"]
@@ -85,6 +87,13 @@ class Machine:
         self.alarms: list[tuple[int, int, str, str]] = []  # (time us, instr index, alarm, message)
         self.servo_limit: dict[int, int] = {}  # WRTL: station -> torque limit
         self.servo_at_limit: dict[int, int] = {}  # RDTL input, driven by stimulus/models
+        # power rail of the rung being evaluated: Off inside an MC block whose condition is
+        # Off or an STL step that is not active (loads are ANDed with it)
+        self.bus = True
+        self.mc_stack: list[bool] = []  # MC: the bus of each open level
+        self.stl_step: int | None = None  # the step relay of the STL block being executed
+        self.stl_leaving: set[int] = set()  # steps that transferred: reset at the end of the scan
+        self.scans_done = 0  # scans completed since power-on (first-scan relays)  # 1 ms timers skipped by CJ: contact held until OUT runs
 
     # -- timers and counters
     def is_c32(self, n: int) -> bool:
@@ -110,18 +119,35 @@ class Machine:
 
         Inputs X are the hardware's and stay as the stimulus set them.
         """
-        latched = {k: [a for a in self.target.devices[k].areas if a.latched] for k in ("M", "D")}
-        keep_m = [(a.lo, bytes(self.bits["M"][a.lo:a.hi + 1])) for a in latched["M"]]
-        keep_d = [(a.lo, self.words["D"][a.lo:a.hi + 1]) for a in latched["D"]]
-        for k in ("Y", "M", "A", "T", "C"):
-            self.bits[k][:] = bytes(len(self.bits[k]))
+        devs = self.target.devices
+        latched = {k: [a for a in devs[k].areas if a.latched] for k in devs}
+        keep_bits = [(k, a.lo, bytes(self.bits[k][a.lo:a.hi + 1])) for k in self.bits if k not in "TC"
+                     for a in latched.get(k, ())]
+        keep_words = [(k, a.lo, self.words[k][a.lo:a.hi + 1]) for k in self.words if k != "T"
+                      for a in latched.get(k, ())]
+        # latched timers and counters (VS T246-T255, C100-C199 ...): value and contact kept
+        keep_t = [(a.lo, self.words["T"][a.lo:a.hi + 1], bytes(self.bits["T"][a.lo:a.hi + 1]))
+                  for a in latched.get("T", ())]
+        keep_c = [(a.lo, self.cval[a.lo:a.hi + 1], bytes(self.bits["C"][a.lo:a.hi + 1]))
+                  for a in latched.get("C", ())]
+        for k in self.bits:
+            if not devs.get(k) or not devs[k].input:
+                self.bits[k][:] = bytes(len(self.bits[k]))
         for k in self.words:
             self.words[k] = [0] * len(self.words[k])
         self.cval = [0] * len(self.cval)
-        for lo, data in keep_m:
-            self.bits["M"][lo:lo + len(data)] = data
-        for lo, data in keep_d:
-            self.words["D"][lo:lo + len(data)] = data
+        for k, lo, data in keep_bits:
+            self.bits[k][lo:lo + len(data)] = data
+        for k, lo, data in keep_words:
+            self.words[k][lo:lo + len(data)] = data
+        for lo, values, contacts in keep_t:
+            self.words["T"][lo:lo + len(values)] = values
+            self.bits["T"][lo:lo + len(contacts)] = contacts
+        for lo, values, contacts in keep_c:
+            self.cval[lo:lo + len(values)] = values
+            self.bits["C"][lo:lo + len(contacts)] = contacts
+        self.stl_leaving.clear()
+        self.scans_done = 0
         n = len(self.t_running)
         self.t_running = bytearray(n)
         self.t_frac = [0] * n
@@ -132,9 +158,9 @@ class Machine:
 
 # ---------------------------------------------------------------- device names
 
-_NAME = re.compile(r"(?:K(?P<n>[0-9]+)(?P<gdev>[XYMA])(?P<gnum>[0-9]+)|(?P<dev>[A-Z])(?P<num>[0-9]+))"
+_NAME = re.compile(r"(?:K(?P<n>[0-9]+)(?P<gdev>[A-Z])(?P<gnum>[0-9]+)|(?P<dev>[A-Z])(?P<num>[0-9]+))"
                    r"(?::(?P<view>[A-Za-z]+))?")
-_KIND_ORDER = "XYMATCDVZK"
+_KIND_ORDER = "XYMSATCDRVZK"
 
 
 class NameError_(ValueError):
@@ -150,14 +176,16 @@ class DeviceView:
     view: str  # bit | w | d | f | h | group
     digits: int = 0  # bit group size n (K1-K8)
     gdev: str = ""  # bit group device
+    radix: int = 10  # how the number is written (8: octal X/Y of FX-family targets)
 
     @property
     def name(self) -> str:
+        num = device_number(self.number, self.radix)
         if self.view == "group":
-            return f"K{self.digits}{self.gdev}{self.number}"
-        if self.view in ("bit",) or (self.view == "w" and self.kind in "DVZ"):
-            return f"{self.kind}{self.number}"
-        return f"{self.kind}{self.number}:{self.view}"
+            return f"K{self.digits}{self.gdev}{num}"
+        if self.view in ("bit",) or (self.view == "w" and self.kind in "DRVZ"):
+            return f"{self.kind}{num}"
+        return f"{self.kind}{num}:{self.view}"
 
     @property
     def width(self) -> int:
@@ -174,7 +202,7 @@ class DeviceView:
 
     def sort_key(self):
         kind = self.gdev if self.view == "group" else self.kind
-        return (_KIND_ORDER.index(kind), self.number, self.view != "bit", self.view, self.digits)
+        return (_KIND_ORDER.find(kind) % (len(_KIND_ORDER) + 1), self.number, self.view != "bit", self.view, self.digits)
 
     # -- access
     def read(self, m: Machine) -> int | float:
@@ -231,6 +259,12 @@ def _set_pair_raw(m: Machine, kind: str, n: int, raw: int) -> None:
     w[n + 1] = (raw >> 16) & 0xFFFF
 
 
+def _number(digits: str, dev, text: str) -> int:
+    if dev.radix == 8 and ("8" in digits or "9" in digits):
+        raise NameError_(f"{text!r}: {dev.name} is numbered in octal")
+    return int(digits, dev.radix)
+
+
 def parse_device_name(text: str, target: Target) -> DeviceView:
     """`D0:f` -> DeviceView. Raises NameError_ with a message for E602."""
     m = _NAME.fullmatch(text.strip().upper())
@@ -239,25 +273,29 @@ def parse_device_name(text: str, target: Target) -> DeviceView:
     view = (m["view"] or "").lower()
     devs = target.devices
     if m["n"]:
-        digits, gdev, num = int(m["n"]), m["gdev"], int(m["gnum"])
+        digits, gdev = int(m["n"]), m["gdev"]
         dev = devs.get(gdev)
-        if view or dev is None:
+        if dev is None or dev.kind != "bit":
+            raise NameError_(f"{text!r}: no bit device {gdev} on target {target.name}")
+        num = _number(m["gnum"], dev, text)
+        if view:
             raise NameError_(f"{text!r}: a bit group takes no view suffix")
         if not 1 <= digits <= 8:
             raise NameError_(f"{text!r}: bit groups are K1-K8")
         if num + 4 * digits - 1 > dev.hi:
             raise NameError_(f"{text!r} runs past {gdev}{dev.hi}")
-        return DeviceView("K", num, "group", digits, gdev)
-    kind, num = m["dev"], int(m["num"])
+        return DeviceView("K", num, "group", digits, gdev, dev.radix)
+    kind = m["dev"]
     dev = devs.get(kind)
     if dev is None or dev.kind == "pointer":
         raise NameError_(f"{text!r}: no device {kind} on target {target.name}")
+    num = _number(m["num"], dev, text)
     if not dev.lo <= num <= dev.hi:
         raise NameError_(f"{text!r}: {kind} ranges {kind}{dev.lo}-{kind}{dev.hi}")
     if dev.kind == "bit":
         if view:
             raise NameError_(f"{text!r}: bit devices take no view suffix")
-        return DeviceView(kind, num, "bit")
+        return DeviceView(kind, num, "bit", radix=dev.radix)
     if kind == "T":
         if view not in ("", "w"):
             raise NameError_(f"{text!r}: timers are T{num} (contact) or T{num}:w (present value)")

@@ -137,6 +137,13 @@ class Target:
         dev = self.devices.get(kind)
         return dev.name_of(number) if dev else f"{kind}{number}"
 
+    def timer_base(self, number: int) -> dict:
+        """The timer_bases entry of a timer: ms, and optionally retentive, skipped."""
+        for b in self.settings["timer_bases"]:
+            if b["lo"] <= number <= b["hi"]:
+                return b
+        raise KeyError(number)
+
     def timer_base_ms(self, number: int) -> int:
         for b in self.settings["timer_bases"]:
             if b["lo"] <= number <= b["hi"]:

@@ -1,0 +1,273 @@
+"""Generate mlctool/targets/vs/instructions.toml from the structured reading of the Vigor VS
+manual (../shared/notes/vs_instructions.json) plus the rules below, each marked with its source.
+
+Run once by hand when the rules change; the generated TOML is the reviewed artefact.
+    python3 tools/gen_vs_instructions.py > mlctool/targets/vs/instructions.toml
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+NOTES = Path(__file__).resolve().parents[2] / "shared" / "notes" / "vs_instructions.json"
+
+# Operand device kinds by role. SOURCE: general operand rules of 5-1/5-2 (the per-page
+# device matrices were lost in the text extraction): K/H are sources only; T/C mean present
+# values; D.b R.b V Z are not indexable; float instructions convert K/H to float.
+WS = "K H KnX KnY KnM KnS T C D R V Z"  # word source
+WD = "KnY KnM KnS T C D R V Z"  # word destination
+CNT = "K H D R"  # counts and modes ("m, n: constants that may also be registers")
+BS = "X Y M S"  # bit source
+BD = "Y M S"  # bit destination
+FS = "K H E D R"  # float source
+FD = "D R"  # float destination
+STRS = "$ D R"  # string source
+STRD = "D R"
+
+GENERAL = "rule 5-1/5-2 (matrix lost)"
+
+
+def op(role, kinds, access="r", **extra):
+    d = {"role": role, "kinds": kinds}
+    if access != "r":
+        d["access"] = access
+    d.update(extra)
+    return d
+
+
+# Per-instruction operands where the role default (S* source, D* destination, m*/n* count)
+# does not say enough; ranges are the notes printed under each page's matrix.
+def n(role="n", lo=None, hi=None, lo32=None, hi32=None, kinds=CNT):
+    e = {}
+    if lo is not None:
+        e["range"] = [lo, hi]
+    if lo32 is not None:
+        e["range32"] = [lo32, hi32]
+    return op(role, kinds, **e)
+
+
+Y03 = {"Y": [[0, 3]]}
+HSC = {"C": [[235, 255]]}
+POS = [op("S1", WS), op("S2", WS), op("D1", "Y", "w", ranges=Y03), op("D2", BD, "w", ranges={"Y": [[0, 7]]})]
+ROT = [op("D", WD, "rw"), n(lo=0, hi=16, lo32=0, hi32=32, kinds="K H")]
+CMP3 = [op("S1", WS), op("S2", WS), op("D", BD, "w", bits=3)]
+
+OPERANDS = {
+    "CJ": [op("S", "P")], "CALL": [op("S", "P")],
+    "FOR": [op("S", WS)],
+    "CMP": CMP3, "ZCP": [op("S1", WS), op("S2", WS), op("S", WS), op("D", BD, "w", bits=3)],
+    "SMOV": [op("S", WS), n("m1", 1, 4, kinds="K H"), n("m2", 1, 4, kinds="K H"), op("D", WD, "w"),
+             n("n", 1, 4, kinds="K H")],
+    "BMOV": [op("S", WS), op("D", WD, "w"), n(lo=1, hi=512)],
+    "FMOV": [op("S", WS), op("D", WD, "w"), n(lo=1, hi=512)],
+    "XCH": [op("D1", WD, "rw"), op("D2", WD, "rw")],
+    "INC": [op("D", WD, "rw")], "DEC": [op("D", WD, "rw")], "NEG": [op("D", WD, "rw")],
+    "ROR": ROT, "ROL": ROT, "RCR": ROT, "RCL": ROT,
+    "SFTR": [op("S", BS), op("D", BD, "w"), n("n1", 1, 1024), n("n2", 1, 1024)],
+    "SFTL": [op("S", BS), op("D", BD, "w"), n("n1", 1, 1024), n("n2", 1, 1024)],
+    "WSFR": [op("S", WS), op("D", WD, "w"), n("n1", 1, 512), n("n2", 1, 512)],
+    "WSFL": [op("S", WS), op("D", WD, "w"), n("n1", 1, 512), n("n2", 1, 512)],
+    "SFWR": [op("S", WS), op("D", WD, "rw"), n(lo=2, hi=512)],
+    "SFRD": [op("S", WD, "rw"), op("D", WD, "w"), n(lo=2, hi=512)],
+    "ZRST": [op("D1", "Y M S T C D R", "w"), op("D2", "Y M S T C D R", "w")],
+    "DECO": [op("S", "X Y M S K H T C D R V Z"), op("D", "Y M S T C D R", "w"),
+             op("n", "K H", range=[1, 8], word_range=[1, 4], word_range_of="D")],
+    "ENCO": [op("S", "X Y M S T C D R V Z"), op("D", "T C D R V Z", "w"),
+             op("n", "K H", range=[1, 8], word_range=[1, 4], word_range_of="S")],
+    "BON": [op("S", WS), op("D", BD, "w"), n(lo=0, hi=15, lo32=0, hi32=31)],
+    "MEAN": [op("S", "KnX KnY KnM KnS T C D R"), op("D", WD, "w"), n(lo=1, hi=64)],
+    "ANS": [op("S", "T", ranges={"T": [[0, 199]]}), n("m", 1, 32767, kinds="K H"),
+            op("D", "S", "w", ranges={"S": [[900, 999]]})],
+    "REF": [op("D", "X Y", ranges={"X": [[0, 0], [8, 8]], "Y": [[0, 0]]}), n(lo=8, hi=16, kinds="K H")],
+    "REFF": [n(lo=0, hi=60)],
+    "MTR": [op("S", "X"), op("D1", "Y", "w"), op("D2", BD, "w"), n(lo=2, hi=8, kinds="K H")],
+    "DHSCS": [op("S1", WS), op("S2", "C", ranges=HSC), op("D", "Y", "w", ranges={"Y": [[0, 7]]})],
+    "DHSCR": [op("S1", WS), op("S2", "C", ranges=HSC), op("D", "Y C", "w", ranges={"Y": [[0, 7]], **HSC})],
+    "DHSZ": [op("S1", WS), op("S2", WS), op("S", "C", ranges=HSC), op("D", BD, "w", bits=3)],
+    "SPD": [op("S1", "X", ranges={"X": [[0, 7]]}), op("S2", WS), op("D", "T C D R V Z", "w", words=[3, 6])],
+    "PLSY": [op("S1", WS), op("S2", WS), op("D", "Y", "w", ranges=Y03)],
+    "PWM": [op("S1", WS), op("S2", WS), op("D", "Y", "w", ranges=Y03)],
+    "PLSR": [op("S1", WS), op("S2", WS), op("S3", WS), op("D", "Y", "w", ranges=Y03)],
+    "SER": [op("S1", "KnX KnY KnM KnS T C D R"), op("S2", WS), op("D", WD, "w", words=[5, 10]),
+            n(lo=1, hi=256, lo32=1, hi32=128)],
+    "ABSD": [op("S1", "KnX KnY KnM KnS T C D R"), op("S2", "C", devices16=[0, 199], devices32=[200, 255]),
+             op("D", BD, "w"), n(lo=1, hi=64)],
+    "INCD": [op("S1", "KnX KnY KnM KnS T C D R"), op("S2", "C", ranges={"C": [[0, 198]]}),
+             op("D", BD, "w"), n(lo=1, hi=64)],
+    "TTMR": [op("D", "D R", "rw", words=[2, 4]), n(lo=0, hi=2, kinds="K H")],
+    "STMR": [op("S", "T", ranges={"T": [[0, 199]]}), n("m", 1, 32767, kinds="K H"), op("D", BD, "w", bits=4)],
+    "ALT": [op("D", BD, "rw")],
+    "RAMP": [op("S1", "D R"), op("S2", "D R"), op("D", "D R", "rw", words=[2, 4]), n(lo=1, hi=32767)],
+    "SORT": [op("S", "D R"), n("m1", 1, 32, kinds="K H"), n("m2", 1, 6, kinds="K H"), op("D", "D R", "w"),
+             n("n", 1, 6)],
+    "TKY": [op("S", BS), op("D1", WD, "w"), op("D2", BD, "w", bits=11)],
+    "HKY": [op("S", "X"), op("D1", "Y", "w"), op("D2", WD, "w"), op("D3", BD, "w")],
+    "DSW": [op("S", "X"), op("D1", "Y", "w"), op("D2", WD, "w"), n(lo=1, hi=2, kinds="K H")],
+    "SEGL": [op("S", WS), op("D", "Y", "w"), n(lo=0, hi=7, kinds="K H")],
+    "ASC": [op("S", "$"), op("D", "T C D R", "w")],
+    "PR": [op("S", "T C D R"), op("D", "Y", "w", bits=10)],
+    "FROM": [n("m1", 1, 16), n("m2", 0, 32767), op("D", WD, "w"), n(lo=1, hi=32767)],
+    "TO": [n("m1", 1, 16), n("m2", 0, 32767), op("S", WS), n(lo=1, hi=32767)],
+    "RS": [op("S", "D R"), n("m", 0, 4096), op("D", "D R", "w"), n(lo=0, hi=4096), n("n1", 1, 5, kinds="K H")],
+    "PRUN": [op("S", "KnX KnM"), op("D", "KnY KnM", "w")],
+    "ASCI": [op("S", WS), op("D", WD, "w"), n(lo=1, hi=256)],
+    "HEX": [op("S", WS), op("D", WD, "w"), n(lo=1, hi=256)],
+    "CCD": [op("S", "KnX KnY KnM KnS T C D R"), op("D", "T C D R", "w", words=[2, 4]), n(lo=1, hi=256)],
+    "CPUL": [op("S1", "Q"), op("S2", "D R", "rw"), n(kinds="K H")],
+    "PID": [op("S1", "D R"), op("S2", "D R"), op("S3", "D R", "rw"), op("D", "D R", "w")],
+    "LINK": [op("S1", "Q"), op("S2", "D R", "rw"), n(lo=1, hi=5, kinds="K H")],
+    "MBUS": [op("S1", "Q"), op("S2", "D R", "rw"), n(lo=1, hi=5, kinds="K H")],
+    "DBRD": [op("S", WS), op("D", "D R", "w"), n(lo=1, hi=32767)],
+    "DBWR": [op("S", "D R"), op("D", WS), n(lo=1, hi=32767)],
+    "TPID": [op("S1", "D R"), op("S2", "D R"), op("S3", "D R"), op("S4", "D R", "rw"), n(lo=1, hi=16, kinds="K H")],
+    "DTRD": [op("S1", "Q"), op("S2", WS), op("D", WD, "w"), n()],
+    "ZPUSH": [op("D", "D R", "rw")], "ZPOP": [op("D", "D R", "rw")],
+    "UNI": [op("S", "KnX KnY KnM KnS T C D R"), op("D", WD, "w"), n(lo=0, hi=4)],
+    "DIS": [op("S", WS), op("D", "KnY KnM KnS T C D R", "w"), n(lo=0, hi=4)],
+    "SWAP": [op("S", WD, "rw")],
+    "TCMP": [op("S1", WS), op("S2", WS), op("S3", WS), op("S", "T C D R", words=[3, 6]), op("D", BD, "w", bits=3)],
+    "TZCP": [op("S1", "T C D R", words=[3, 6]), op("S2", "T C D R", words=[3, 6]), op("S", "T C D R", words=[3, 6]),
+             op("D", BD, "w", bits=3)],
+    "TADD": [op("S1", "T C D R", words=[3, 6]), op("S2", "T C D R", words=[3, 6]), op("D", "T C D R", "w", words=[3, 6])],
+    "TSUB": [op("S1", "T C D R", words=[3, 6]), op("S2", "T C D R", words=[3, 6]), op("D", "T C D R", "w", words=[3, 6])],
+    "TRD": [op("D", "T C D R", "w", words=[7, 14])], "TWR": [op("S", "T C D R", words=[7, 14])],
+    "HOUR": [op("S", WS), op("D1", "D R", "rw", words=[2, 3]), op("D2", BD, "w")],
+    "TFT": [op("D1", "D R", "rw"), op("S", WS), op("D2", BD, "w")],
+    "TFH": [op("D1", "D R", "rw"), op("S", WS), op("D2", BD, "w")],
+    "TFK": [op("D1", "D R", "rw"), op("S", WS), op("D2", BD, "w")],
+    "RND": [op("D", WD, "w")],
+    "DUTY": [op("n1", WS), op("n2", WS), op("D", "M", "w", ranges={"M": [[9330, 9334]]})],
+    "CRC": [op("S", "KnX KnY KnM KnS T C D R"), op("D", WD, "w"), n(lo=1, hi=256)],
+    "DHSCT": [op("S1", "D R"), n("m", 1, 16, kinds="K H"), op("S2", "C", ranges=HSC), op("D", BD, "w"),
+              n(lo=1, hi=16, kinds="K H")],
+    "DTBL": [op("S1", "Q"), op("S2", "D R", "rw"), op("D1", "Y", "w", ranges=Y03), op("D2", BD, "w")],
+    "DABS": [op("S", BS), op("D1", BD, "w"), op("D2", "D R", "w")],
+    "MPG": [n("S1", 0, 3), op("S2", "D R", "rw", words=[3, 6]), op("D1", "Y", "w", ranges=Y03), op("D2", BD, "w")],
+    "LIR": [op("S", "D R", words=[9, 18]), op("D", "K H", range=[0, 1])],
+    "LIA": [op("S", "D R", words=[9, 18]), op("D", "K H", range=[0, 1])],
+    "SCL": [op("S1", WS), op("S2", "D R"), op("D", WD, "w")],
+    "SCL2": [op("S1", WS), op("S2", "D R"), op("D", WD, "w")],
+    "SFR": [op("D", WD, "rw"), n(lo=0, hi=15, kinds="K H")],
+    "SFL": [op("D", WD, "rw"), n(lo=0, hi=15, kinds="K H")],
+    "WTOB": [op("S", WS), op("D", WD, "w"), n()], "BTOW": [op("S", WS), op("D", WD, "w"), n()],
+    "POP": [op("S", WS), op("D", WD, "w"), n(lo=2, hi=512)],
+    "FDEL": [op("S", WD, "rw"), op("D", WD, "w"), n()], "FINS": [op("S", WS), op("D", WD, "rw"), n()],
+}
+OPERANDS["DECMP"] = [op("S1", FS), op("S2", FS), op("D", BD, "w", bits=3)]
+OPERANDS["DEZCP"] = [op("S1", FS), op("S2", FS), op("S", FS), op("D", BD, "w", bits=3)]
+for m in ("BKCMP=", "BKCMP>", "BKCMP<", "BKCMP<>", "BKCMP<=", "BKCMP>="):
+    OPERANDS[m] = [op("S1", WS), op("S2", WS), op("D", BD, "w"), n()]
+for m in ("ZRN", "JOGF", "JOGR", "DRVR", "DRVA", "DV2R", "DV2A", "DVIT", "DV2I", "DVSR", "DVSA"):
+    OPERANDS[m] = POS
+OPERANDS["PLSV"] = [op("S", WS), op("D1", "Y", "w", ranges=Y03), op("D2", BD, "w", ranges={"Y": [[0, 7]]})]
+
+# Ops of the simulator (mlctool/sim/semantics.py), where they share a routine with another
+# target or with each other; everything else is its own op (lower-case mnemonic).
+OPS = {
+    "CJ": "cj", "CALL": "call", "SRET": "sret", "IRET": "iret", "FEND": "fend", "FOR": "for", "NEXT": "next",
+    "MOV": "mov", "CML": "cml", "BCD": "bcd", "BIN": "bin", "ADD": "add", "SUB": "sub", "MUL": "mul",
+    "DIV": "div", "INC": "inc", "DEC": "dec", "WAND": "wand", "WOR": "wor", "WXOR": "wxor", "NEG": "neg",
+    "ROR": "ror", "ROL": "rol", "ZRST": "zrst", "DECO": "deco", "ENCO": "enco", "BON": "bon", "ALT": "alt",
+    "FMOV": "fill", "DEMOV": "fmov", "DEADD": "fadd", "DESUB": "fsub", "DEMUL": "fmul", "DEDIV": "fdiv",
+    "DECMP": "fcmp3", "FLT": "flt", "INT": "int", "DRAD": "frad", "DDEG": "fdeg",
+    "BK+": "bk_add", "BK-": "bk_sub", "$+": "str_concat", "$MOV": "str_mov",
+    "BKCMP=": "bkcmp_eq", "BKCMP>": "bkcmp_gt", "BKCMP<": "bkcmp_lt", "BKCMP<>": "bkcmp_ne",
+    "BKCMP<=": "bkcmp_le", "BKCMP>=": "bkcmp_ge",
+}
+CMP_OPS = {"=": "cmp_eq", ">": "cmp_gt", "<": "cmp_lt", "<>": "cmp_ne", "<=": "cmp_le", ">=": "cmp_ge"}
+ONCE = {"MTR", "HKY", "DSW", "SEGL", "PR", "SORT", "DHSCT", "DABS"}  # "只能使用一次" (vs_reading.md 3)
+FREE = {"SRET", "IRET", "EI", "DI", "FEND", "FOR", "NEXT", "WDT"}
+
+
+def default_operands(names: list[str], floaty: bool, stringy: bool) -> list[dict]:
+    out = []
+    for r in names:
+        role = r.split("(")[0]
+        if role.startswith("S"):
+            out.append(op(role, STRS if stringy else FS if floaty else WS))
+        elif role.startswith("D"):
+            out.append(op(role, STRD if stringy else FD if floaty else WD, "w"))
+        else:
+            out.append(n(role))
+    return out
+
+
+def q(s: str) -> str:
+    return json.dumps(s, ensure_ascii=False)
+
+
+def toml_value(v) -> str:
+    if isinstance(v, str):
+        return q(v)
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, list):
+        return "[" + ", ".join(toml_value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{ " + ", ".join(f"{k if k.isidentifier() else q(k)} = {toml_value(x)}" for k, x in v.items()) + " }"
+    return str(v)
+
+
+def entry(x: dict) -> list[str]:
+    name = x["written_as"]
+    bits = x["bits"]
+    models = x["series"]
+    floaty = 110 <= x["fnc"] <= 137
+    stringy = 200 <= x["fnc"] <= 209
+    cls = "free" if name in FREE else "output"
+    opname = OPS.get(name, name.lower())
+    if name[:2] in ("LD", "AN", "OR") and x["fnc"] >= 224 and x["fnc"] <= 246:
+        stem = "LD" if name.startswith("LD") else "AND" if name.startswith("AND") else "OR"
+        rel = name[len(stem):]
+        cls = {"LD": "load", "AND": "and", "OR": "or"}[stem]
+        opname = CMP_OPS[rel]
+        names = [name, f"{stem}D{rel}"]  # 32-bit spelling LDD>= (FX); DLD>= gets a hint
+    elif bits == "32 only" or name == "DTBL":
+        names = ["", name]
+    elif bits in ("16/32", "16/32?"):
+        names = [name, "D" + name]
+    else:
+        names = [name, ""]
+    ops = OPERANDS.get(name) or OPERANDS.get(name.lstrip("D") if bits == "32 only" else name)
+    source = "page note" if ops else GENERAL
+    if ops is None:
+        ops = default_operands(x["operands"], floaty, stringy)
+    lines = ["[[instr]]", f"names = {toml_value(names)}", f"api = {x['fnc']}", f"class = {q(cls)}",
+             f"op = {q(opname)}"]
+    if x["pulse"]:
+        lines.append("pulse = true")
+    if floaty:
+        lines.append("float = true")
+    if len(models) < 4:
+        lines.append(f"models = {toml_value(models)}")
+    if name in ONCE:
+        lines.append("once = true")
+    if name == "ZRST":
+        lines.append('constraints = ["same-kind", "no-counter-width-mix"]')
+    if cls == "free" and not ops:
+        lines.append("index = false")
+    if ops:
+        lines.append("operands = [")
+        lines += [f"  {toml_value(o)}," for o in ops]
+        lines.append("]")
+    lines.append(f"section = {q(x['section'] + ' FNC ' + str(x['fnc']) + ' ' + x['mnem'])}")
+    lines.append(f"source = {q('operands: ' + source + '; steps: FX convention (target.toml)')}")
+    if x["note"]:
+        lines.append(f"note = {q(x['note'])}")
+    return lines
+
+
+def main() -> None:
+    data = json.loads(NOTES.read_text("utf-8"))["instructions"]
+    head = Path(__file__).with_name("vs_basic.toml").read_text("utf-8")
+    out = [head.rstrip(), "", "# " + "-" * 60 + " application instructions (ch. 6, 8-3), generated",
+           "# by tools/gen_vs_instructions.py from ../shared/notes/vs_instructions.json", ""]
+    for x in data:
+        out += entry(x) + [""]
+    sys.stdout.write("\n".join(out))
+
+
+if __name__ == "__main__":
+    main()
