@@ -14,8 +14,10 @@ import click
 from mlctool.asm import program_from_paths
 from mlctool.cli import main_group
 from mlctool.cli.common import config_option, get_config, get_target, show, target_option
+from mlctool.cli.sim_batch import batch_cmd, is_batch
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.fileio import write_atomic
+from mlctool.sim.batch import Options
 from mlctool.sim.compile import ENGINE_ENV, ENGINES
 from mlctool.sim.decode import unsimulated
 from mlctool.sim.output import json_value, run_diagnostics, summary, to_json
@@ -63,9 +65,11 @@ def _errors(diags: list[Diagnostic]) -> bool:
               help="write an HTML page: the ladder lit by scan, and waveforms (docs/ladder.md)")
 @click.option("--engine", type=click.Choice(ENGINES), default=None, envvar=ENGINE_ENV,
               help="compiled (default) or interp, the reference interpreter (docs/simulator.md)")
+@click.option("--jobs", "-j", type=click.IntRange(1, 64), default=1, show_default=True,
+              help="worker processes for a batch (--stimulus 'tests/*.stim')")
 @click.argument("program", nargs=-1, required=True, type=click.Path())
 def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_path, watch,
-            as_json, junit_path, watchdog, report_path, engine, program):
+            as_json, junit_path, watchdog, report_path, engine, jobs, program):
     """Simulate PROGRAM (sources, objects or a linked image) on virtual time."""
     if until is not None and scans is not None:
         raise click.UsageError("give --until or --scans, not both")
@@ -82,6 +86,16 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     if refused:
         show(refused, lines)
         sys.exit(2)
+
+    if is_batch(stim_path):  # many scenarios: mlctool/cli/sim_batch.py
+        if vcd_path or report_path:
+            raise click.UsageError("--vcd and --report take one stimulus file, not a pattern")
+        watch_views, watch_diags = _watch(watch, target)
+        if watch_diags:
+            show(watch_diags, {})
+            sys.exit(2)
+        opts = Options(scan_us, until_us, scans, watch_views, watchdog, engine)
+        sys.exit(batch_cmd(image, target, stim_path, opts, jobs, as_json, junit_path, program, lines))
 
     st, stim_diags = (load_stimulus(stim_path, target) if stim_path
                       else (Stimulus("<none>", []), []))

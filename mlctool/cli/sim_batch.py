@@ -1,0 +1,68 @@
+"""`mlc sim PROGRAM --stimulus 'tests/*.stim'`: many scenarios against one program.
+
+Per scenario, the diagnostics, JSON document and JUnit test suite are those of
+`mlc sim PROGRAM --stimulus FILE` (mlctool/sim/batch.py runs them, as lanes or in processes).
+"""
+
+from __future__ import annotations
+
+import glob
+import json
+import sys
+
+import click
+
+from mlctool.cli.common import show
+from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.fileio import write_atomic
+from mlctool.sim.batch import Options, run_batch
+from mlctool.sim.output import summary, to_json
+
+GLOB_CHARS = "*?["
+
+
+def is_batch(stim_path: str | None) -> bool:
+    return bool(stim_path) and any(c in stim_path for c in GLOB_CHARS)
+
+
+def expand(pattern: str) -> tuple[list[str], list[Diagnostic]]:
+    paths = sorted(glob.glob(pattern, recursive=True))
+    if not paths:
+        return [], [diag("<--stimulus>", Span.at(1), "E100", f"no stimulus file matches {pattern!r}")]
+    return paths, []
+
+
+def batch_cmd(image, target, pattern: str, opts: Options, jobs: int, as_json: bool,
+              junit_path: str | None, program: tuple[str, ...], lines: dict[str, list[str]]) -> int:
+    """Run, report and return the exit status (0 all passed, 1 a scenario failed, 2 bad input)."""
+    paths, problems = expand(pattern)
+    if problems:
+        show(problems, {})
+        return 2
+    scenarios, stats = run_batch(image, target, paths, opts, jobs)
+    bad_input = False
+    docs = {}
+    for sc in scenarios:
+        all_lines = dict(lines)
+        all_lines[sc.stim] = sc.stim_lines
+        show(sc.diagnostics, all_lines)
+        if sc.result is None:
+            bad_input = True
+            docs[sc.stim] = None
+            continue
+        docs[sc.stim] = json.loads(to_json(sc.result))
+        if not as_json:
+            click.echo(f"{sc.stim}: {summary(sc.result)}")
+    passed = sum(sc.ok for sc in scenarios)
+    if as_json:
+        sys.stdout.write(json.dumps({"scenarios": docs}, indent=2, ensure_ascii=False) + "\n")
+    else:
+        click.echo(f"batch: {len(scenarios)} scenarios, {passed} passed, {len(scenarios) - passed} "
+                   f"failed ({stats.lanes} run as lanes, {stats.single + stats.reruns} one by one)")
+    if junit_path:
+        from mlctool.sim.junit import to_junit
+
+        write_atomic(junit_path, to_junit(scenarios, " ".join(program)))
+    if bad_input:
+        return 2
+    return 0 if passed == len(scenarios) else 1

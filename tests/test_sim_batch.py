@@ -1,0 +1,129 @@
+"""Batch runs (`mlc sim PROGRAM --stimulus 'dir/*.stim'`): per scenario, the same JSON and
+JUnit as `mlc sim PROGRAM --stimulus FILE`, whether run as lanes, one by one or in processes."""
+
+from __future__ import annotations
+
+import json
+import xml.etree.ElementTree as ET
+
+import pytest
+from conftest import run_mlc
+from simkit import NC5, image_of
+
+from mlctool.sim.batch import Options, run_batch
+
+PROGRAM = """
+LD X0
+ANI X1
+OR M0
+AND X2
+OUT M0
+LDP X3
+SET Y1
+LDF X3
+RST Y1
+LD M0
+MPS
+AND X4
+OUT Y2
+MPP
+INV
+PLS M5
+LD M0
+LD X5
+ORI X1
+ORB
+OUT Y3
+END
+"""
+
+STIMULI = {
+    "a_pass.stim": "0ms X0=1 X2=1\n10ms expect M0=1 Y3=1\n20ms X0=0\n30ms expect M0=1\n",
+    "b_fail.stim": "0ms X0=1\n10ms expect M0=1 Y2=1\n",  # X2 is 0: M0 stays Off
+    "c_edges.stim": "0ms X3=1\n10ms expect Y1=1\n20ms X3=0\n20ms expect Y1=0 M5=1\nrun 100ms\n",
+    "d_force.stim": "0ms force X2=1\n0ms X0=1\n10ms expect M0=1\n20ms release X2\n20ms X2=0\n"
+                    "30ms expect M0=0\n",
+    "e_words.stim": "0ms X0=1 X2=1 D5=7\n10ms expect D5=7 M0=1\n",  # a word: not a lane
+    "f_scan.stim": "scan 5ms\n0ms X5=1\n5ms expect Y3=1\n",
+    "g_late.stim": "0ms X0=1\n10ms expect M0=0\nrun 5ms\n",  # expectation after the run
+}
+
+
+@pytest.fixture()
+def project(tmp_path):
+    (tmp_path / "p.il").write_text(PROGRAM.strip() + "\n")
+    d = tmp_path / "tests"
+    d.mkdir()
+    for name, text in STIMULI.items():
+        (d / name).write_text(text)
+    return tmp_path
+
+
+def _xml(suite) -> bytes:
+    suite.tail = None
+    return ET.tostring(suite)
+
+
+def _single(project, name, *extra):
+    return run_mlc("sim", "p.il", "--stimulus", f"tests/{name}", *extra, cwd=project)
+
+
+def test_batch_json_and_junit_equal_one_by_one_runs(project, sim_engine):
+    batch = run_mlc("sim", "p.il", "--stimulus", "tests/*.stim", "--json", "--junit", "all.xml",
+                    cwd=project)
+    assert batch.code == 1  # b_fail and g_late fail
+    docs = json.loads(batch.out)["scenarios"]
+    assert list(docs) == [f"tests/{n}" for n in sorted(STIMULI)]
+    suites = {s.get("name"): _xml(s) for s in ET.parse(project / "all.xml").getroot()}
+    codes = {}
+    for name in STIMULI:
+        one = _single(project, name, "--json", "--junit", "one.xml")
+        assert docs[f"tests/{name}"] == json.loads(one.out), name
+        [suite] = ET.parse(project / "one.xml").getroot()
+        assert suites[f"tests/{name}"] == _xml(suite), name
+        codes[name] = one.code
+    assert codes["b_fail.stim"] == codes["g_late.stim"] == 1 and codes["a_pass.stim"] == 0
+    assert "last_write" in batch.out and "t" in batch.err  # the failure names its writer
+
+
+def test_lanes_processes_and_one_by_one_agree(project, monkeypatch):
+    monkeypatch.chdir(project)
+    image = image_of(PROGRAM)
+    paths = [f"tests/{n}" for n in sorted(STIMULI)]
+    lanes, stats = run_batch(image, NC5, paths, Options(), jobs=1)
+    assert stats.lanes + stats.reruns == 5 and stats.reruns >= 1 and stats.single == 2
+    single, _ = run_batch(image, NC5, paths, Options(), jobs=1, lanes=False)
+    procs, _ = run_batch(image, NC5, paths, Options(), jobs=2, lanes=False)
+    for a, b, c in zip(lanes, single, procs):
+        assert a.stim == b.stim == c.stim
+        assert a.result == b.result == c.result, a.stim
+        assert [d.message for d in a.diagnostics] == [d.message for d in b.diagnostics]
+
+
+def test_many_lanes_match_single_runs(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    import random
+
+    rnd = random.Random(5)
+    paths = []
+    for k in range(70):
+        lines = [f"{rnd.randrange(0, 200, 10)}ms X{rnd.randrange(6)}={rnd.randrange(2)}" for _ in range(8)]
+        lines.append(f"{rnd.randrange(0, 200, 10)}ms expect M0={rnd.randrange(2)} Y3={rnd.randrange(2)}")
+        (tmp_path / f"s{k:02}.stim").write_text("\n".join(lines) + "\nrun 200ms\n")
+        paths.append(f"s{k:02}.stim")
+    image = image_of(PROGRAM)
+    lanes, stats = run_batch(image, NC5, paths, Options())
+    single, _ = run_batch(image, NC5, paths, Options(), lanes=False)
+    assert stats.lanes > 10 and stats.reruns > 10
+    assert [s.result for s in lanes] == [s.result for s in single]
+
+
+def test_batch_errors(project):
+    r = run_mlc("sim", "p.il", "--stimulus", "nothing/*.stim", cwd=project)
+    assert r.code == 2 and "E100" in r.err
+    r = run_mlc("sim", "p.il", "--stimulus", "tests/*.stim", "--vcd", "x.vcd", cwd=project)
+    assert r.code == 2 and "--vcd" in r.err
+    (project / "tests" / "z_bad.stim").write_text("0ms X0=7\n")
+    r = run_mlc("sim", "p.il", "--stimulus", "tests/*.stim", cwd=project)
+    assert r.code == 2 and "z_bad.stim:1:5: error[E601]" in r.err and "Traceback" not in r.err
+    assert "batch: 8 scenarios" in r.out
