@@ -17,13 +17,13 @@ def main_group() -> None:
     """mlctool: check, build and simulate PLC instruction-list programs."""
 
 
-from mlctool.cli import check as _check  # noqa: E402,F401  (registers commands)
-from mlctool.cli import sim as _sim  # noqa: E402,F401
-from mlctool.cli import fmt as _fmt  # noqa: E402,F401
 from mlctool.cli import asm as _asm  # noqa: E402,F401
-from mlctool.cli import ladder as _ladder  # noqa: E402,F401
-from mlctool.cli import test as _test  # noqa: E402,F401
+from mlctool.cli import check as _check  # noqa: E402,F401  (registers commands)
 from mlctool.cli import device as _device  # noqa: E402,F401
+from mlctool.cli import fmt as _fmt  # noqa: E402,F401
+from mlctool.cli import ladder as _ladder  # noqa: E402,F401
+from mlctool.cli import sim as _sim  # noqa: E402,F401
+from mlctool.cli import test as _test  # noqa: E402,F401
 
 
 def main(argv: list[str] | None = None) -> None:
