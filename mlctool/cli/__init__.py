@@ -1,8 +1,14 @@
-"""The `mlc` command: click wiring only; every command calls plain functions of a stage."""
+"""The `mlc` command: click wiring only; every command calls plain functions of a stage.
+
+Commands live in mlctool/cli/<area>.py and register themselves on `main_group` with
+`@main_group.command(...)`. The modules are imported only when their command runs (or for
+`mlc --help`), so `mlc check` does not pay for the simulator's or Modbus's imports. A new
+command module is added to COMMAND_MODULES.
+"""
 
 from __future__ import annotations
 
-import os
+import importlib
 import sys
 
 import click
@@ -10,20 +16,39 @@ import click
 from mlctool import __version__
 from mlctool.cli.common import run_guarded
 
+COMMAND_MODULES = {
+    "build": "mlctool.cli.asm", "link": "mlctool.cli.asm", "objdump": "mlctool.cli.asm",
+    "check": "mlctool.cli.check", "explain": "mlctool.cli.check", "targets": "mlctool.cli.check",
+    "device": "mlctool.cli.device",
+    "fmt": "mlctool.cli.fmt",
+    "ladder": "mlctool.cli.ladder",
+    "sim": "mlctool.cli.sim",
+    "test": "mlctool.cli.test",
+}
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+
+class LazyGroup(click.Group):
+    """A group whose commands are imported on first use."""
+
+    def list_commands(self, ctx):
+        return sorted(set(super().list_commands(ctx)) | set(COMMAND_MODULES))
+
+    def get_command(self, ctx, name):
+        if name not in self.commands and name in COMMAND_MODULES:
+            importlib.import_module(COMMAND_MODULES[name])
+        return self.commands.get(name)
+
+
+@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="mlc")
 def main_group() -> None:
     """mlctool: check, build and simulate PLC instruction-list programs."""
 
 
-from mlctool.cli import asm as _asm  # noqa: E402,F401
-from mlctool.cli import check as _check  # noqa: E402,F401  (registers commands)
-from mlctool.cli import device as _device  # noqa: E402,F401
-from mlctool.cli import fmt as _fmt  # noqa: E402,F401
-from mlctool.cli import ladder as _ladder  # noqa: E402,F401
-from mlctool.cli import sim as _sim  # noqa: E402,F401
-from mlctool.cli import test as _test  # noqa: E402,F401
+def all_commands() -> dict[str, click.Command]:
+    """Every command, imported (for tests and documentation)."""
+    ctx = click.Context(main_group)
+    return {name: main_group.get_command(ctx, name) for name in main_group.list_commands(ctx)}
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -33,4 +58,4 @@ def main(argv: list[str] | None = None) -> None:
 if __name__ == "__main__":  # pragma: no cover
     main()
 
-__all__ = ["main", "main_group", "os"]
+__all__ = ["all_commands", "main", "main_group"]
