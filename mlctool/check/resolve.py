@@ -41,7 +41,8 @@ class _Resolver:
         self.module = Module(parsed.path, target.name, [])
         self.addr = 0
         self.label_spec = next(s for s in target.instructions.values() if s.cls == "label")
-        self.cache: dict = {}
+        self.cache: dict = {}  # (mnemonic, operand texts) -> resolution of the line
+        self.operand_cache: dict = {}  # (instruction form, position, text) -> (ok, problems)
         self._problems: list = []
         self.syntax = target.operand_syntax
 
@@ -175,8 +176,20 @@ class _Resolver:
         if len(operands) != len(args):
             return spec, (), (), False
         ok = True
-        for spec_o, op, a in zip(spec.operands, operands, args, strict=False):
-            ok = self.check_operand(spec, spec_o, op, a, operands) and ok
+        for k, (spec_o, op, a) in enumerate(zip(spec.operands, operands, args, strict=False)):
+            if spec_o.word_range_of:  # its rule reads another operand: not cacheable alone
+                ok = self.check_operand(spec, spec_o, op, a, operands) and ok
+                continue
+            # one operand's verdict depends only on the instruction form, position and text
+            key = (id(spec), k, a.text)
+            hit = self.operand_cache.get(key)
+            if hit is None:
+                mark = len(self._problems)
+                good = self.check_operand(spec, spec_o, op, a, operands)
+                hit = self.operand_cache[key] = (good, tuple(self._problems[mark:]))
+            else:
+                self._problems.extend(hit[1])
+            ok = hit[0] and ok
         lo, hi = self.t.krange(spec.width)
         for o, a in zip(operands[n:], args[n:], strict=True):
             if o.kind != "K" or o.index:
