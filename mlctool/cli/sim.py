@@ -82,7 +82,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     if image is None:
         show([d for d in diags if d.severity == "error"], lines)
         sys.exit(2)
-    refused = unsimulated(image)  # E905: never run an instruction as a silent no-op
+    refused = unsimulated(image, target)  # E905: never run an instruction as a silent no-op
     if refused:
         show(refused, lines)
         sys.exit(2)

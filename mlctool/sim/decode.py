@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image, Instr
 from mlctool.sim import semantics
+from mlctool.sim.extension import actions
 from mlctool.sim.operands import Ref, decode_operand
 from mlctool.sim.state import DeviceView
 from mlctool.targets.model import Target
@@ -67,16 +68,17 @@ class NotSimulated(Exception):
         self.ins = ins
 
 
-def simulated_ops() -> frozenset[str]:
+def simulated_ops(target: Target | None = None) -> frozenset[str]:
     from mlctool.sim.scan import FLOW_OPS  # scan.py builds on this module
 
-    return frozenset(semantics.CONTACTS) | frozenset(semantics.ACTIONS) | FLOW_OPS
+    return frozenset(semantics.CONTACTS) | frozenset(actions(target)) | FLOW_OPS
 
 
-def unsimulated(image: Image) -> list[Diagnostic]:
+def unsimulated(image: Image, target: Target | None = None) -> list[Diagnostic]:
     """E905 for every instruction of the image whose op has no routine: `mlc sim` refuses
-    the program up front instead of skipping them."""
-    known = simulated_ops()
+    the program up front instead of skipping them. `target`: its own instructions count
+    (mlctool/sim/extension.py)."""
+    known = simulated_ops(target)
     return [diag(ins.file, Span(ins.line, ins.col, ins.line, ins.col + len(ins.mnemonic)), "E905",
                  f"{ins.mnemonic} (line {ins.line}) is not simulated ({ins.spec.section})",
                  "the target's docs list the simulated instructions (docs/vs.md)")
@@ -100,6 +102,7 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
     `probe`: a coverage recorder (mlctool/sim/coverage.py) whose wrappers every step runs through."""
     steps: list[Step] = []
     prev_cls = "free"
+    routines = actions(target)  # generic ops and the target's own (sim/extension.py)
     for k, ins in enumerate(image.instrs):
         spec = ins.spec
         contact_like = spec.cls in ("load", "and", "or") and spec.api is None
@@ -117,8 +120,8 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
         if op in semantics.CONTACTS:
             contact = semantics.CONTACTS[op]
             step.run = _combine(spec.cls, probe.contact(contact) if probe else contact)
-        elif op in semantics.ACTIONS:
-            step.run = semantics.ACTIONS[op]
+        elif op in routines:
+            step.run = routines[op]
         elif op in flow:
             step.run = flow[op]
         else:  # refused up front by unsimulated(); never a silent no-op

@@ -16,6 +16,7 @@ from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image
 from mlctool.sim.compile import scanner
 from mlctool.sim.decode import Program, program_devices
+from mlctool.sim.extension import extension
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, load_program
 from mlctool.sim.state import DeviceView, Machine
 from mlctool.sim.stimulus import Check, Event, Stimulus
@@ -130,11 +131,14 @@ def plan_scans(st: Stimulus, period_us: int, until_us: int | None, scans: int | 
 class Simulation:
     def __init__(self, image: Image, target: Target, st: Stimulus, models: list[DeviceModel],
                  period_us: int, watch: list[DeviceView], trace: bool,
-                 watchdog: int = DEFAULT_WATCHDOG, probe=None, engine: str | None = None):
+                 watchdog: int = DEFAULT_WATCHDOG, probe=None, engine: str | None = None,
+                 preload: list[tuple[str, int, list[int]]] = ()):
         self.image = image
         self.target = target
         self.prog: Program = load_program(image, target, probe)
         self.m = Machine(target, len(self.prog.steps))
+        for kind, first, words in preload:  # register tables loaded with the program (--table)
+            self.m.words[kind][first:first + len(words)] = [w & 0xFFFF for w in words]
         self.st = st
         self.models = models
         self.io = ModelIO(self.m)
@@ -147,6 +151,11 @@ class Simulation:
         pinned = target.settings.get("engine")
         self.scan = scanner(self.prog, self.m, "interp" if probe is not None else pinned or engine)
         names = program_devices(self.prog) | st.devices() | set(watch)
+        # the target's own hardware (sim/extension.py): runs between scans, adds its registers
+        ext = extension(target)
+        self.before_scan = getattr(ext, "before_scan", None)
+        if hasattr(ext, "views"):
+            names.update(ext.views(target, self.prog))
         for model in models:
             names.update(model.devices())
         self.views = sorted(names, key=DeviceView.sort_key)
@@ -221,6 +230,8 @@ class Simulation:
         scans_done = 0
         for k in range(n_scans):
             m.now_us = k * self.period
+            if self.before_scan:  # target hardware catches up to now, before the new inputs
+                self.before_scan(m)
             for model in self.models:
                 model.step(self.io, m.now_us, self.period)
             events = self.by_scan.get(k, ())
