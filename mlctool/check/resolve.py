@@ -8,6 +8,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from mlctool.check.tables import parse_row, table_kinds
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module
 from mlctool.syntax.operands import (
@@ -85,6 +86,9 @@ class _Resolver:
                     self.err(st.line, w, "E105", f".export takes P labels, not {w.text!r}")
         elif name == ".library" and not ops:
             self.module.library = True
+        elif name == ".table" and table_kinds(self.t):  # a communication-table row (check/tables.py)
+            for p in parse_row(self.t, [w.text for w in ops], self.module.symbols)[1]:
+                self.err(st.line, st.name if p.index < 0 else ops[p.index], p.code, p.message)
         else:
             self.err(st.line, st.name, "E105", f"unknown or malformed directive {st.name.text!r}",
                      "directives: .define NAME OPERAND, .export P10, .library")
