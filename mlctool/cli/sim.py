@@ -67,9 +67,12 @@ def _errors(diags: list[Diagnostic]) -> bool:
               help="compiled (default) or interp, the reference interpreter (docs/simulator.md)")
 @click.option("--jobs", "-j", type=click.IntRange(1, 64), default=1, show_default=True,
               help="worker processes for a batch (--stimulus 'tests/*.stim')")
+@click.option("--table", "tables", multiple=True, metavar="[SR=]FILE",
+              help="load a register table with the program (target's own format; FBs: "
+                   "R5000=home.pos or an image from mlc build)")
 @click.argument("program", nargs=-1, required=True, type=click.Path())
 def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_path, watch,
-            as_json, junit_path, watchdog, report_path, engine, jobs, program):
+            as_json, junit_path, watchdog, report_path, engine, jobs, tables, program):
     """Simulate PROGRAM (sources, objects or a linked image) on virtual time."""
     if until is not None and scans is not None:
         raise click.UsageError("give --until or --scans, not both")
@@ -87,7 +90,10 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         show(refused, lines)
         sys.exit(2)
 
+    preload = _tables(tables, target)
     if is_batch(stim_path):  # many scenarios: mlctool/cli/sim_batch.py
+        if preload:
+            raise click.UsageError("--table takes one stimulus file, not a pattern")
         if vcd_path or report_path:
             raise click.UsageError("--vcd and --report take one stimulus file, not a pattern")
         watch_views, watch_diags = _watch(watch, target)
@@ -115,7 +121,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         power = PowerProbe(period)
     sim = Simulation(image, target, st, models, period, watch_views,
                      trace=vcd_path is not None or report_path is not None, watchdog=watchdog,
-                     probe=power)
+                     probe=power, preload=preload)
     result = _run(sim, n_scans)
 
     _report(result, st, lines, as_json, watch_views)
@@ -136,6 +142,28 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
 
         write_atomic(report_path, report_html(sim, result, power, lines, watch_views, ""))
     sys.exit(0 if result.ok else 1)
+
+
+def _tables(specs: tuple[str, ...], target) -> list:
+    """--table: register tables the target's extension can load (mlctool/sim/extension.py)."""
+    if not specs:
+        return []
+    from mlctool.sim.extension import extension
+
+    load = getattr(extension(target), "load_table", None)
+    if load is None:
+        raise click.BadParameter(f"target {target.name} has no register tables", param_hint="--table")
+    out = []
+    for spec in specs:
+        try:
+            table, problems = load(spec)
+        except ValueError as e:
+            raise click.BadParameter(str(e), param_hint="--table") from None
+        if table is None:
+            show(problems, {})
+            sys.exit(2)
+        out.append(table)
+    return out
 
 
 def _watch(items: tuple[str, ...], target):

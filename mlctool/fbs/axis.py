@@ -39,7 +39,8 @@ class Params:
     p10_fwd: int = 0  # forward compensation
     p11_rev: int = 0  # reverse compensation
     p12_decel_ms: int = 0  # 0 -> P8
-    ut_pulses: int = 10  # one Ut in pulses: 10**(3-P3), P3 = 2 (notes A5, decision)
+    ut_pulses: float = 10  # one Ut in pulses: 10**(3-P3), P3 = 2 (notes A5, decision)
+    speed_scale: float = 1.0  # SPD unit in Ps/s (P0 = 0: 1000 A / (6 B), notes A5)
     dog: int | None = None  # P15-0: X number (None = FFH)
     dog_nc: bool = False
     pg0: int | None = None  # P15-2
@@ -86,6 +87,9 @@ class Axis:
     t_out: int = 0  # us since the step's output started
     t_wait: int = 0  # us since its pulses completed
     chain: bool = False  # DRVC: continue into the next segment at speed
+    spd: int = 0  # the step's SPD value when it started (R4056 = 5AH: read live instead)
+    soft_stop: bool = False  # M1991: stop and pause decelerate (set by the scan, per call)
+    braking: bool = False  # EN went 0 with M1991: decelerating to a stop
     home: str = ""  # homing phase: fast | creep | count | back
     home_seen: int = 0
     prev_dog: bool = False
@@ -98,21 +102,44 @@ class Axis:
             self.stop()
             self.wr0 = 0  # next EN starts at step 1 (FUN140 note 6)
         elif not en:
-            if self.state != "idle":
-                self.stop()
+            if self.state != "idle" and not self.braking:
+                if self.soft_stop and self.freq > 0 and self.state == "run":
+                    self.braking = True  # M1991: decelerate, then stop
+                else:
+                    self.stop()
         elif not self.last_en and self.state == "idle":
             self.start(env)
         self.last_en = en and not abt
         t = 0
         while t < dt_us:
             tick = min(TICK_US, dt_us - t)
-            if not pau:
+            if self.braking or (pau and self.soft_stop and self.freq > 0 and self.state == "run"):
+                self.brake(tick)
+            elif not pau:
                 self.tick(env, tick)
             t += tick
 
     def stop(self) -> None:
-        """EN = 0 / ABT: output stops at once (DECISION: M1991 deceleration not modelled)."""
+        """EN = 0 without M1991, ABT, PSOFF: output stops at once."""
         self.state, self.act, self.ready, self.freq, self.home = "idle", False, True, 0.0, ""
+        self.braking = False
+
+    def brake(self, dt_us: int) -> None:
+        """M1991 On: a stop (EN = 0) or pause decelerates at the P12/P8 slope down to P5,
+        then output stops; the pulses are exact (never more than the step's travel)."""
+        p = self.params
+        f = self.freq - (p.decel * dt_us / 1e6 if p.decel != INF else self.freq)
+        if f <= p.p5_start or self.to_go <= 0:
+            self.freq, self.acc = 0.0, 0.0
+            if self.braking:
+                self.stop()
+            return
+        self.freq = f
+        self.acc += f * dt_us / 1e6
+        n = int(self.acc) if self.to_go == INF else min(int(self.acc), int(self.to_go))
+        self.acc -= n
+        if n:
+            self.emit(n)
 
     def start(self, env: Env) -> None:
         n = len(self.program.steps)
@@ -135,6 +162,7 @@ class Axis:
         self.state, self.ready, self.act = "run", False, True
         self.t_out = self.t_wait = 0
         self.chain = s.motion.op == "DRVC"
+        self.spd = self.value(env, s.speed)
         if s.motion.op == "DRVZ":
             self.begin_home()
             return
@@ -151,12 +179,12 @@ class Axis:
         if m.coord == "ABS":
             delta = raw * scale - self.position
             direction = 1 if delta >= 0 else -1
-            n = abs(delta)
+            n = round(abs(delta))
             if self.chain_follow:
                 direction = self.dir
         else:
             direction = {"+": 1, "-": -1}.get(m.sign, 1 if raw >= 0 else -1)
-            n = abs(raw) * scale
+            n = round(abs(raw) * scale)
             if m.op == "DRV" and raw == 0:
                 n = INF  # ADR travel 0: continuous run (WR+1 b10)
         if self.chain_follow:
@@ -169,6 +197,7 @@ class Axis:
         if n != INF and n + comp < 0:
             return self.fail(39)
         self.dir = direction
+        self.spd = self.value(env, s.speed)
         self.counted = n
         self.to_go = n + comp if n != INF else INF
         self.remaining = int(self.to_go) if n != INF else 0
@@ -179,8 +208,9 @@ class Axis:
         s = self.step
         if self.home in ("creep", "count", "back"):
             return self.params.p6_creep
-        f = self.value(env, s.speed)
-        return float(f)
+        dynamic = env.word("R", 4056) & 0xFF == 0x5A  # R4056 low byte 5AH: SPD read live
+        f = self.value(env, s.speed) if dynamic or self.spd <= 0 else self.spd
+        return float(f) * self.params.speed_scale
 
     # ------------------------------------------------------------ time
     def tick(self, env: Env, dt_us: int) -> None:

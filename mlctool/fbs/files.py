@@ -95,3 +95,33 @@ def dump_json(program: PosProgram, sr: str) -> str:
     doc = {"instruction": d.instruction, "sr": sr, "steps": len(program.steps),
            "registers": d.table_words(len(program.steps)), "program": program_text(program)}
     return json.dumps(doc, indent=1, ensure_ascii=False) + "\n"
+
+
+def table_preload(spec: str) -> tuple[tuple[str, int, list[int]] | None, list[Diagnostic]]:
+    """`mlc sim --table [SR=]FILE`: a positioning source (.pos/.mpos, SR required) or a
+    register image (.json/.csv, SR from the image unless given) -> (kind, first, words).
+    File problems are diagnostics; a malformed SPEC raises ValueError (a usage error)."""
+    sr_text, _, path = spec.rpartition("=")
+    if is_image(path):
+        try:
+            with open(path, encoding="utf-8-sig") as f:
+                words, sr_image = read_image(f.read(16 * 1024 * 1024))
+        except (OSError, UnicodeDecodeError) as e:
+            return None, [diag(path, Span.at(1), "E100", f"cannot read: {getattr(e, 'strerror', None) or e}")]
+        except ImageError as e:
+            return None, [diag(path, Span.at(1), "F034", f"not a positioning register image: {e}")]
+        sr_text = sr_text or sr_image
+    elif tables().dialect_for(path) is not None:
+        checked = check_positioning([path])
+        if checked.errors or path not in checked.programs:
+            return None, checked.diagnostics
+        words = encode(checked.programs[path])
+        if not sr_text:
+            raise ValueError(f"{spec}: give the table's first register, e.g. R5000={path}")
+    else:
+        raise ValueError(f"{spec}: a .pos/.mpos source or a .json/.csv register image")
+    try:
+        sr = parse_sr(sr_text, len(words))
+    except ImageError as e:
+        raise ValueError(str(e).replace("--sr ", "")) from None
+    return (sr.kind, sr.number, words), []

@@ -1,0 +1,311 @@
+"""FBs NC instructions in `mlc sim` (target.toml `sim_extension`, mlctool/sim/extension.py).
+
+FUN140 HSPSO drives one `Axis` (axis.py) per Ps on the simulator's virtual clock: the axes
+run between scans (`before_scan` advances them to the scan's start time with the inputs
+their instruction last saw, so a stimulus input changed at t is seen from the scan at or
+after t), and each HSPSO execution applies its EN/PAU/ABT at once. Axis registers and flags
+are mirrored into PLC memory after every advance (manual 001 ch. 11, "介面處理信號"):
+
+  DR4072+2Ps remaining pulses, DR4080+2Ps frequency, DR4088+2Ps position,
+  R4060+Ps error (kept until the program writes 0), R4064+Ps step at the end of a step,
+  M1992+Ps ready, M1996+Ps last step done, WR+0 step, WR+1 flags (DN b14 and ERR b13 stay
+  until the program clears WR+1), pulse pins Y(2Ps), Y(2Ps+1) by the axis' output mode.
+
+Decisions (docs/fbs.md): a table is read from SR when its HSPSO starts (EN rising edge or
+taking over a free axis); pins show one level per scan, not the pulse train.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from mlctool.fbs.axis import Axis, Params
+from mlctool.fbs.files import table_preload as load_table  # noqa: F401  (mlc sim --table)
+from mlctool.fbs.model import PosProgram, tables
+from mlctool.fbs.table import TableError, decode
+from mlctool.sim.state import DeviceView, Machine, s16, s32
+
+AXES = 4
+REMAINING, FREQ, POSITION = 4072, 4080, 4088  # DR registers, + 2 Ps
+ERROR, END_STEP = 4060, 4064  # R registers, + Ps
+READY, LAST_DONE, DECEL_STOP = 1992, 1996, 1991  # M relays
+DYNAMIC = 4056  # R4056 low byte 5AH: SPD changes take effect at once
+# WR+1 flag bits (FUN140 WR table)
+PAUSED, WAITING, CONTINUOUS, ACT, ERR, DN = 1 << 8, 1 << 9, 1 << 10, 1 << 12, 1 << 13, 1 << 14
+LIVE = ((REMAINING, lambda a: a.remaining), (FREQ, lambda a: int(a.freq)),
+        (POSITION, lambda a: a.position))
+PIN_MODES = ("UD", "PR", "AB", "")  # "" = no pulse mode: Y pins stay ordinary outputs
+
+
+@dataclass
+class Slot:
+    """One pulse output Ps: its axis, the HSPSO owning it and the inputs it last gave."""
+
+    axis: Axis
+    owner: int = -1  # step index of the owning HSPSO
+    wr: tuple[str, int] | None = None  # owner's WR register
+    inputs: tuple[bool, bool, bool] = (False, False, False)  # EN, PAU, ABT
+    t_us: int = 0  # virtual time the axis has run to
+    pin_mode: str = "UD"
+    err_latched: bool = False
+
+
+@dataclass
+class State:
+    slots: list[Slot] = field(default_factory=list)
+
+
+def _state(m: Machine) -> State:
+    st = m.ext.get("fbs")
+    if st is None:
+        modes = list(m.target.settings.get("pulse_modes", ["UD"] * AXES))
+        st = State([Slot(Axis(PosProgram("hspso", ())), pin_mode=modes[p] if p < len(modes) else "UD")
+                    for p in range(AXES)])
+        m.ext["fbs"] = st
+    return st
+
+
+class MemEnv:
+    """What a running axis reads: PLC memory, and its own live registers (a step of the
+    chapter's example reads DR4072 as the pulses the previous step left)."""
+
+    def __init__(self, m: Machine, st: State):
+        self.m, self.st = m, st
+
+    def word(self, kind: str, n: int) -> int:
+        return self.m.words[kind][n]
+
+    def dword(self, kind: str, n: int) -> int:
+        if kind == "R":
+            for base, live in LIVE:
+                if base <= n < base + 2 * AXES and (n - base) % 2 == 0:
+                    return live(self.st.slots[(n - base) // 2].axis)
+        w = self.m.words[kind]
+        return s32(w[n] | w[n + 1] << 16)
+
+    def bit(self, kind: str, n: int) -> bool:
+        return bool(self.m.bits[kind][n])
+
+
+# ------------------------------------------------------------------ time and memory
+
+def _advance(m: Machine, st: State, slot: Slot) -> None:
+    dt = m.now_us - slot.t_us
+    slot.t_us = m.now_us
+    a = slot.axis
+    a.soft_stop = bool(m.bits["M"][DECEL_STOP])
+    if dt > 0 and (a.state != "idle" or a.clr):
+        en, pau, abt = slot.inputs
+        a.run(MemEnv(m, st), en, pau, abt, dt)
+
+
+def _put32(m: Machine, n: int, v: int) -> None:
+    w = m.words["R"]
+    w[n], w[n + 1] = v & 0xFFFF, (v >> 16) & 0xFFFF
+
+
+def _mirror(m: Machine, p: int, slot: Slot) -> None:
+    a = slot.axis
+    _put32(m, REMAINING + 2 * p, a.remaining)
+    _put32(m, FREQ + 2 * p, int(a.freq))
+    _put32(m, POSITION + 2 * p, a.position)
+    if a.error:  # an event: R4060 keeps it until the program writes 0
+        m.words["R"][ERROR + p] = a.error
+        slot.err_latched = True
+        a.error = 0
+    m.words["R"][END_STEP + p] = a.end_step
+    busy = a.state != "idle" or a.braking
+    m.bits["M"][READY + p] = 0 if busy else 1
+    m.bits["M"][LAST_DONE + p] = 1 if a.done_last else 0
+    if slot.wr is not None:
+        kind, n = slot.wr
+        w = m.words[kind]
+        kept = w[n + 1] & (ERR | DN)
+        if a.dn:
+            kept |= DN
+            a.dn = False
+        if slot.err_latched:
+            kept |= ERR
+            slot.err_latched = False
+        en, pau, _ = slot.inputs
+        flags = len(a.program.steps) & 0xFF | kept
+        flags |= PAUSED if pau and en and a.state != "idle" else 0
+        flags |= WAITING if a.state == "wait" else 0
+        flags |= CONTINUOUS if a.to_go == float("inf") and a.state == "run" and not a.home else 0
+        flags |= ACT if a.act and a.state == "run" else 0
+        w[n], w[n + 1] = a.wr0 & 0xFFFF, flags
+    _pins(m, p, slot)
+
+
+def _pins(m: Machine, p: int, slot: Slot) -> None:
+    """Y(2Ps), Y(2Ps+1): one level per scan (the pulse train is not traced; docs/fbs.md).
+    U/D: the even pin is On while forward pulses are output, the odd one for reverse;
+    P/R: even On while pulsing, odd = direction (On = up-count); A/B: both On while pulsing."""
+    if not slot.pin_mode:
+        return
+    a = slot.axis
+    pulsing = a.freq > 0 and a.state == "run" or a.braking
+    up = a.dir > 0
+    y = m.bits["Y"]
+    if slot.pin_mode == "UD":
+        y[2 * p], y[2 * p + 1] = int(pulsing and up), int(pulsing and not up)
+    elif slot.pin_mode == "PR":
+        y[2 * p], y[2 * p + 1] = int(pulsing), int(up)
+    else:
+        y[2 * p] = y[2 * p + 1] = int(pulsing)
+    clr = a.params.clr
+    if clr is not None and 0 <= clr < len(y):
+        y[clr] = int(a.clr)
+
+
+def before_scan(m: Machine) -> None:
+    """Every axis runs to the scan's start time (hardware keeps going between scans)."""
+    st = _state(m)
+    for p, slot in enumerate(st.slots):
+        _advance(m, st, slot)
+        if slot.owner >= 0 or slot.axis.state != "idle":
+            _mirror(m, p, slot)
+
+
+# ------------------------------------------------------------------ instructions
+
+def _inputs(m: Machine, count: int) -> list[bool]:
+    """A multi-input instruction's inputs: the blocks before it and the current result
+    (docs/fbs.md: one load block per input, in order)."""
+    got = [m.acc]
+    for _ in range(count - 1):
+        got.insert(0, m.blocks.pop() if m.blocks else False)
+    return got
+
+
+def _load_table(m: Machine, kind: str, n: int) -> PosProgram | None:
+    """The program in the registers from SR (header, step count, steps), or None."""
+    w = m.words[kind]
+    d = tables().by_header(w[n])
+    size = d.table_words(w[n + 1]) if d else 0
+    if not d or n + size > len(w):
+        return None
+    try:
+        return decode(list(w[n:n + size]))
+    except TableError:
+        return None
+
+
+def hspso(m: Machine, s) -> None:
+    """FUN140 HSPSO Ps SR WR with inputs EN, PAU, ABT (manual 001 ch. 11 FUN140 1-9)."""
+    en, pau, abt = _inputs(m, 3)
+    st = _state(m)
+    p = s.ops[0].get(m) % AXES
+    slot = st.slots[p]
+    a = slot.axis
+    rising = en and not m.edge[s.index]
+    m.edge[s.index] = en
+    if slot.owner != s.index:
+        # several FUN140 may share an axis; one runs at a time, the next takes a free axis
+        if not (en and not abt) or a.state != "idle" or a.braking:
+            m.acc = False
+            return
+        slot.owner, a.last_en = s.index, False
+        rising = True
+    slot.wr = (s.ops[2].kind, s.ops[2].addr(m, 7))
+    _advance(m, st, slot)
+    if rising and not abt and a.state == "idle":
+        sr_kind, sr = s.ops[1].kind, s.ops[1].addr(m, 2)
+        program = _load_table(m, sr_kind, sr)
+        if program is None or program.dialect != "hspso":
+            a.error = 34  # not a FUN140 table: "不合法定位程式"
+            a.last_en = True
+        else:
+            a.program = program
+            wr0 = m.words[slot.wr[0]][slot.wr[1]]  # the user may preset WR+0 (next step - 1)
+            a.wr0 = wr0 if 0 <= wr0 <= len(program.steps) else 0
+    slot.inputs = (en, pau, abt)
+    a.soft_stop = bool(m.bits["M"][DECEL_STOP])
+    a.run(MemEnv(m, st), en, pau, abt, 0)
+    _mirror(m, p, slot)
+    m.acc = a.act and a.state == "run"  # the result after FUN140 is its ACT output
+
+
+def _param_table(w: list[int], n: int) -> tuple[Params | None, int]:
+    """24 registers of FUN141 -> (Params, 0) or (None, error code = parameter number + 1)."""
+    r = w[n:n + 24]
+    d = lambda k: s32(r[k] | r[k + 1] << 16)  # noqa: E731
+    p0, p1, p2, p3, p4, p5 = r[0], r[1], d(2), r[4], d(5), d(7)
+    p14 = d(17)
+    checks = [(1, 0 <= p0 <= 2), (2, 1 <= p1 or p14), (3, 1 <= p2 <= 999999), (4, 0 <= p3 <= 3),
+              (5, 1 <= p4 <= 921600), (6, 0 <= p5 <= 921600), (7, r[9] >= 1), (8, r[10] <= 32767),
+              (9, r[11] <= 30000), (10, r[12] >> 8 <= 1 and r[12] & 0xFF <= 1), (13, r[15] <= 30000),
+              (14, r[16] <= 30000), (15, 0 <= p14 <= 1999999)]
+    bad = next((code for code, ok in checks if not ok), 0)
+    if bad:
+        return None, bad
+    per_rev = p14 or p1
+    unit = 10 ** (3 - p3)
+    ut = unit if p0 == 1 else unit * per_rev / p2  # motor unit: Ps; machine/compound: via P1/P2
+    speed = 1000 * per_rev / (6 * p2) if p0 == 0 else 1.0  # machine unit speeds (A5, P4 formula)
+    dog, pg0 = r[19] & 0xFF, r[20] & 0xFF
+    clr = r[20] >> 8
+    return Params(p4_max=round(p4 * speed), p5_start=round(p5 * speed), p6_creep=round(r[9] * speed),
+                  p7_backlash=r[10], p8_accel_ms=r[11], p9_count_down=bool(r[12] & 1),
+                  p9_home_left=bool(r[12] >> 8), p10_fwd=s16(r[13]), p11_rev=s16(r[14]),
+                  p12_decel_ms=r[15], ut_pulses=ut, speed_scale=speed,
+                  dog=None if dog == 0xFF else dog & 0x7F, dog_nc=bool(dog & 0x80) and dog != 0xFF,
+                  pg0=None if pg0 == 0xFF else pg0 & 0x7F, pg0_trailing=bool(pg0 & 0x80) and pg0 != 0xFF,
+                  clr=None if clr == 0xFF else clr, p16_origin=d(21), p17_count=r[23]), 0
+
+
+def mpara(m: Machine, s) -> None:
+    """FUN141 MPARA Ps SR: executed whether EN is 0 or 1; an invalid parameter -> R4060+Ps."""
+    st = _state(m)
+    p = s.ops[0].get(m) % AXES
+    kind, n = s.ops[1].kind, s.ops[1].addr(m, 24)
+    params, code = _param_table(m.words[kind], n)
+    slot = st.slots[p]
+    if params is None:
+        if m.words["R"][ERROR + p] != code:
+            slot.axis.error = code
+            _mirror(m, p, slot)
+        return
+    if params != slot.axis.params:
+        slot.axis.params = params
+
+
+def psoff(m: Machine, s) -> None:
+    """FUN142 PSOFF Ps: EN = 1 stops the axis' pulse output at once."""
+    if m.acc:
+        st = _state(m)
+        p = s.ops[0].get(m) % AXES
+        st.slots[p].axis.stop()
+        _mirror(m, p, st.slots[p])
+
+
+def pscnv(m: Machine, s) -> None:
+    """FUN143 PSCNV Ps D: D (pair) = the current position in display units (Ut), the
+    inverse of the travel conversion, truncated toward 0 (DECISION)."""
+    if m.acc:
+        st = _state(m)
+        a = st.slots[s.ops[0].get(m) % AXES].axis
+        ut = a.params.ut_pulses
+        v = int(a.position / ut) if ut else a.position
+        ref = s.ops[1]
+        kind, n = ref.kind, ref.addr(m, 2)
+        w = m.words[kind]
+        w[n], w[n + 1] = v & 0xFFFF, (v >> 16) & 0xFFFF
+        m.writer[(kind, n)] = m.writer[(kind, n + 1)] = m.pc
+
+
+ACTIONS = {"hspso": hspso, "mpara": mpara, "psoff": psoff, "pscnv": pscnv}
+
+
+def views(target, prog) -> list[DeviceView]:
+    """The registers and flags of every axis a FUN140/FUN141/FUN143 names with a constant Ps."""
+    axes = sorted({s.ins.operands[0].value % AXES for s in prog.steps
+                   if s.ins.spec.op in ACTIONS and s.ins.operands and s.ins.operands[0].is_const})
+    out = []
+    for p in axes:
+        out += [DeviceView("R", REMAINING + 2 * p, "d"), DeviceView("R", FREQ + 2 * p, "d"),
+                DeviceView("R", POSITION + 2 * p, "d"), DeviceView("R", ERROR + p, "w"),
+                DeviceView("R", END_STEP + p, "w"), DeviceView("M", READY + p, "bit"),
+                DeviceView("M", LAST_DONE + p, "bit"), DeviceView("Y", 2 * p, "bit"),
+                DeviceView("Y", 2 * p + 1, "bit")]
+    return out
