@@ -31,6 +31,9 @@ demo: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python bench/check_speed.py
 	$(BIN)/python bench/build_speed.py
+	# the simulator's peers, for bench/sim_speed.py only (not test dependencies)
+	$(BIN)/pip install --quiet awlsim pyrung
+	$(BIN)/python bench/sim_speed.py
 
 clean:
 	rm -rf $(VENV) out .pytest_cache

@@ -81,7 +81,17 @@ def action(draw) -> list[str]:
     if k == 13:
         return [f"MUL {draw(word)} {draw(const)} D{draw(st.sampled_from([0, 2, 4, 6]))}"]
     if k == 14:
-        return [f"CML {draw(word)} {draw(word)}", ]
+        return [draw(st.sampled_from([
+            f"CML {draw(word)} {draw(word)}",
+            f"{draw(st.sampled_from(['FADD', 'FSUB', 'FMUL', 'FDIV']))} "
+            f"{draw(st.sampled_from(['D0', 'D2', 'F1.5', 'F-0.1', 'K3']))} "
+            f"{draw(st.sampled_from(['D4', 'F2.5', 'K7', 'D0']))} D{draw(st.sampled_from([2, 4, 6]))}",
+            f"MOV K{draw(st.integers(1, 4))}M0 {draw(word)}",
+            f"MOV {draw(word)} K2Y0",
+            f"DMOV K8M0 D{draw(st.sampled_from([2, 4]))}",
+            f"CNT C{draw(st.integers(0, 1))} D{draw(st.integers(0, 3))}",
+            f"DMUL D0 {draw(const)} D4",
+        ]))]
     return [f"MOV K{draw(st.integers(0, 3))} V0"]
 
 

@@ -278,12 +278,14 @@ def run_lanes(lp: LaneProgram, group: list[tuple[str, Stimulus]], period: int, n
                 if not c.holds((S[slots[(c.view.kind, c.view.number)]] >> lane) & 1):
                     failed |= 1 << lane
     out: list[RunResult | None] = []
-    names = program_devices(lp.prog)
+    names = program_devices(lp.prog) | set(opts.watch)
+    base = sorted(names, key=DeviceView.sort_key)
     for lane, (_, st) in enumerate(group):
         if failed >> lane & 1:
             out.append(None)
             continue
-        views = sorted(names | st.devices() | set(opts.watch), key=DeviceView.sort_key)
+        extra = st.devices() - names
+        views = sorted(names | extra, key=DeviceView.sort_key) if extra else list(base)
         devices = {}
         for v in views:
             slot = slots.get((v.kind, v.number))

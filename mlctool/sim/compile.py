@@ -26,33 +26,48 @@ falls back silently and `Scanner.engine` says which one runs.
 from __future__ import annotations
 
 import hashlib
+import math
 import os
+import struct
 from collections import OrderedDict
 from collections.abc import Callable
 from types import CodeType
 
 from mlctool.sim import scan as _scan
 from mlctool.sim.decode import Program, Step
-from mlctool.sim.operands import BitRef, ConstRef, CounterRef, WordRef
+from mlctool.sim.operands import BitRef, ConstRef, CounterRef, GroupRef, WordRef
 from mlctool.sim.scan import DEFAULT_WATCHDOG, END_SCAN, Fault, end_of_scan, run_scan
 from mlctool.sim.semantics import advance_timer
-from mlctool.sim.state import Machine, SimFault
+from mlctool.sim.state import Machine, SimFault, f32_bits, to_f32
 
 ENGINES = ("compiled", "interp")
 DEFAULT_ENGINE = "compiled"
 ENGINE_ENV = "MLC_SIM_ENGINE"
-COMPILER_VERSION = "1"
+COMPILER_VERSION = "2"
 
 FLOW_OPS = frozenset({"cj", "call", "sret", "fend", "end", "for", "next"})
 RUNG_CLASSES = frozenset({"load", "and", "or", "anb", "orb", "mps", "mrd", "mpp", "inv"})
 BIT_KINDS = ("X", "Y", "M", "A", "T", "C")
 WORD_KINDS = ("D", "V", "Z", "T")
 _CMP = {"cmp_eq": "==", "cmp_ne": "!=", "cmp_gt": ">", "cmp_lt": "<", "cmp_ge": ">=", "cmp_le": "<="}
+_FLOAT = {"fadd": "+", "fsub": "-", "fmul": "*"}
 _ARITH = {"add": "+", "sub": "-", "wand": "&", "wor": "|", "wxor": "^"}
 
 
 # what run_scan does before the first step, where the target defines it (system relays)
 _before_scan = getattr(_scan, "system_relays", None)
+
+
+_T01 = bytes.maketrans(b"\x00\x01", b"01")  # device bits -> binary digits (Kn groups)
+
+
+_PACK_I, _UNPACK_F = struct.Struct("<I").pack, struct.Struct("<f").unpack
+
+
+def _f32_of_bits(raw: int) -> float:
+    """What `_float` makes of a D pair: to_f32(Ref.getf()) (identity but for NaN)."""
+    x = _UNPACK_F(_PACK_I(raw & 0xFFFFFFFF))[0]
+    return x if x == x else to_f32(x)
 
 
 class Unsupported(Exception):
@@ -211,6 +226,13 @@ class _Gen:
                 return _s32(f"({self.use('wZ')}[{n}] << 16 | {arr}[{n}])")
             if n + 1 <= ref.hi:
                 return _s32(f"({arr}[{n + 1}] << 16 | {arr}[{n}])")
+        if type(ref) is GroupRef and ref.ix is None and ref.kind in ("X", "Y", "M", "A") \
+                and ref.num + ref.n - 1 <= ref.hi:
+            arr, a, n = self.use("b" + ref.kind), ref.num, ref.n
+            expr = f"int({arr}[{a}:{a + n}][::-1].translate(T01), 2)"
+            if n == w:  # K4 in 16-bit and K8 in 32-bit are signed (GroupRef.get)
+                return _s16(expr) if w == 16 else _s32(expr)
+            return expr
         if type(ref) is CounterRef and ref.ix is None:
             cv = self.use("cv")
             n = ref.num
@@ -411,6 +433,12 @@ class _Gen:
             self.tmr(s)
         elif op in ("mov", "inc", "dec", "cml") or op in _ARITH:
             self.word_op(s)
+        elif op == "mul":
+            self.mul(s)
+        elif op == "cnt":
+            self.cnt(s)
+        elif op in _FLOAT:
+            self.float_op(s)
         else:
             self.reference(s)
 
@@ -466,6 +494,77 @@ class _Gen:
         self.emit("if a:", i)
         self.store(dst, src, s, di, 2)
 
+    def words_keys(self, ref, count: int) -> list[tuple[str, int]] | None:
+        """Writer keys of `count` consecutive words from a plain D/T operand (set_words)."""
+        if type(ref) is WordRef and ref.ix is None and ref.kind in ("D", "T") \
+                and ref.num + count - 1 <= ref.hi:
+            return [(ref.kind, ref.num + k) for k in range(count)]
+        return None
+
+    def mul(self, s: Step) -> None:
+        """semantics.mul: the product in 2 (16-bit) or 4 (32-bit) words from D."""
+        i = s.index
+        count = 2 if s.width == 16 else 4
+        keys = self.words_keys(s.ops[2], count)
+        x, y = self.value(s.ops[0], i, 0), self.value(s.ops[1], i, 1)
+        if keys is None or "(m)" in x + y:
+            self.reference(s)
+            return
+        arr = self.use("w" + s.ops[2].kind)
+        self.prepare(keys, i)
+        self.emit("if a:", i)
+        self.emit(f"v = {x} * {y}", i, 2)
+        for k, key in enumerate(keys):
+            self.emit(f"{arr}[{key[1]}] = (v >> {16 * k}) & 65535", i, 2)
+            self.emit(f"W[{key!r}] = {i}", i, 2)
+
+    def cnt(self, s: Step) -> None:
+        """semantics.cnt for a 16-bit counter with a K or plain D preset."""
+        i = s.index
+        c, pre = s.ops
+        if c.ix is not None or c.num >= self.c32_lo or not (
+                type(pre) is ConstRef and pre.ix is None
+                or type(pre) is WordRef and pre.ix is None and pre.kind == "D"):
+            self.reference(s)
+            return
+        n = c.num
+        preset = (str(max(pre.get(None) & 0xFFFF, 1)) if type(pre) is ConstRef
+                  else f"max({self.use('wD')}[{pre.num}], 1)")
+        e, cv, bc = self.use("bE"), self.use("cv"), self.use("bC")
+        self.prepare([("C", n)], i)
+        self.emit(f"pe = {e}[{i}]; {e}[{i}] = 1 if a else 0; v = {cv}[{n}]; pr = {preset}", i)
+        self.emit("if a and not pe and v < pr:", i)
+        self.emit(f"v += 1; {cv}[{n}] = v; W[('C', {n})] = {i}", i, 2)
+        self.emit(f"if v >= pr and not {bc}[{n}]:", i)
+        self.emit(f"m.c_pending[{n}] = 1", i, 2)
+
+    def fvalue(self, ref, i: int, j: int) -> str | None:
+        """The single-precision float `_float` computes from an operand, or None."""
+        if type(ref) is ConstRef and ref.ix is None:
+            x = to_f32(ref.getf(None))
+            return repr(x) if math.isfinite(x) else None
+        if type(ref) is WordRef and ref.ix is None and ref.kind == "D" and ref.num + 1 <= ref.hi:
+            arr = self.use("wD")
+            return f"FD({arr}[{ref.num + 1}] << 16 | {arr}[{ref.num}])"
+        return None
+
+    def float_op(self, s: Step) -> None:
+        """FADD/FSUB/FMUL (semantics._float): operands and result in single precision."""
+        i = s.index
+        x, y = self.fvalue(s.ops[0], i, 0), self.fvalue(s.ops[1], i, 1)
+        dst = s.ops[2]
+        keys = self.words_keys(dst, 2) if type(dst) is WordRef and dst.kind == "D" else None
+        if x is None or y is None or keys is None:
+            self.reference(s)
+            return
+        arr = self.use("wD")
+        self.prepare(keys, i)
+        self.emit("if a:", i)
+        self.emit(f"v = FB({x} {_FLOAT[s.ins.spec.op]} {y})", i, 2)
+        self.emit(f"{arr}[{dst.num}] = v & 65535; {arr}[{dst.num + 1}] = (v >> 16) & 65535", i, 2)
+        for key in keys:
+            self.emit(f"W[{key!r}] = {i}", i, 2)
+
     def flow(self, s: Step, j: int) -> None:
         i = s.index
         self.settle(i)
@@ -502,6 +601,7 @@ class Scanner:
     def _bind(self) -> None:
         code, m, prog = self.code, self.m, self.prog
         g: dict = {"__builtins__": __builtins__, "adv": advance_timer, "W": m.writer,
+                   "FD": _f32_of_bits, "FB": f32_bits, "T01": _T01,
                    "BLK": {st: j for j, st in enumerate(code.starts)}}
         for s in prog.steps:
             g[f"S{s.index}"] = s

@@ -21,8 +21,17 @@ OPERATION_ALARM = "OPERATION_ERROR"  # 4.8 API-61 "運算錯誤"; also our undef
 
 
 def alarm(m: Machine, name: str, message: str) -> None:
-    """A fault the manual names or that leaves the instruction not executed: recorded, run goes on."""
+    """A fault the manual names or that leaves the instruction not executed: recorded, run goes on.
+
+    Targets with error registers (target.toml `operation_error`, VS M9067/D9067) also get
+    the relay On and the code in the register."""
     m.alarms.append((m.now_us, m.pc, name, message))
+    err = m.target.settings.get("operation_error")
+    if err and name in (ARITH_ALARM, OPERATION_ALARM):
+        m.bits["M"][err["relay"]] = 1
+        m.words["D"][err["register"]] = err["code"]
+        for n in err.get("also_relays", ()):
+            m.bits["M"][n] = 1
 
 
 def _mask(width: int) -> int:

@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 from mlctool.sim import semantics as base
+from mlctool.sim.fx.common import set_flags  # M9020 zero / M9021 borrow / M9022 carry
 from mlctool.sim.operands import WordRef
 from mlctool.sim.state import Machine, SimFault, bits_f32, f32_bits, s16, s32, to_f32
 
@@ -95,14 +96,7 @@ def result_fall(m: Machine, s) -> None:
     m.acc = bool(prev and not m.acc)
 
 
-# ------------------------------------------------------------------ flags (5-3)
-
-def set_flags(m: Machine, **values: bool) -> None:
-    """M9020 zero / M9021 borrow / M9022 carry ... (target.toml [flags]); none on NC5."""
-    flags = m.target.settings.get("flags", {})
-    for name, on in values.items():
-        if name in flags:
-            m.bits["M"][flags[name]] = 1 if on else 0
+# ------------------------------------------------------------------ arithmetic with flags (5-3)
 
 
 def _add_sub(sign: int):
@@ -229,3 +223,8 @@ FX_ACTIONS = {
     "cmp": cmp3, "zcp": zcp, "xch": xch, "bmov": bmov, "fill": fill, "swap": swap,
     "flt": flt, "int": int_, "sum": sum_bits, "fcmp3": base.fcmp,
 }
+
+# The rest of the FX family (shift registers, data, floats, strings ...): mlctool/sim/fx/.
+from mlctool.sim.fx import ACTIONS as _MORE  # noqa: E402
+
+FX_ACTIONS.update(_MORE)

@@ -93,6 +93,7 @@ class Machine:
         self.mc_stack: list[bool] = []  # MC: the bus of each open level
         self.stl_step: int | None = None  # the step relay of the STL block being executed
         self.stl_leaving: set[int] = set()  # steps that transferred: reset at the end of the scan
+        self.fx_state: dict[int, object] = {}  # step index -> memory of an FX routine (SORT, PID)
         self.ext: dict = {}  # state of the target's simulation extension (sim/extension.py)
         self.scans_done = 0  # scans completed since power-on (first-scan relays)  # 1 ms timers skipped by CJ: contact held until OUT runs
 
@@ -148,6 +149,7 @@ class Machine:
             self.cval[lo:lo + len(values)] = values
             self.bits["C"][lo:lo + len(contacts)] = contacts
         self.stl_leaving.clear()
+        self.fx_state.clear()
         self.ext.clear()  # target hardware (pulse axes ...) restarts from power-on
         self.scans_done = 0
         n = len(self.t_running)
