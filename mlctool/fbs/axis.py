@@ -117,6 +117,8 @@ class Axis:
                 self.brake(tick)
             elif not pau:
                 self.tick(env, tick)
+            elif self.state == "run":
+                self.freq = 0.0  # paused (without M1991: at once); resumes from P5
             t += tick
 
     def stop(self) -> None:

@@ -1,0 +1,196 @@
+"""`mlc sim --target fbs`: FUN140-143 on the simulator's clock, axis registers in PLC memory."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+from mlctool.asm import program_from_paths
+from mlctool.fbs.files import table_preload
+from mlctool.sim.run import Simulation, plan_scans
+from mlctool.sim.state import parse_device_name
+from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.targets import load_target
+from test_fbs_cli import mlc
+
+FBS = load_target("fbs")
+SAMPLES = Path(__file__).resolve().parents[1] / "samples" / "fbs"
+
+# FUN141 table in R2000 (motor unit, 1 Ut = 1 Ps with P3 = 3, P4 100 kHz, P5 500 Hz, P8 100 ms,
+# DOG X4), then one HSPSO on Ps0 with EN M0, PAU M10, ABT M11; table at R5000, WR R2100.
+PARAMS = """
+LD M1924
+MOV K1 R2000
+MOV K2000 R2001
+DMOV K2000 R2002
+MOV K3 R2004
+DMOV K100000 R2005
+DMOV K500 R2007
+MOV K1000 R2009
+MOV K100 R2011
+MOV K256 R2012
+MOV K-252 R2019
+MOV K-1 R2020
+MOV K1 R2023
+LD M1924
+MPARA K0 R2000
+"""
+AXIS = PARAMS + """
+LD M0
+LD M10
+LD M11
+HSPSO K0 R5000 R2100
+OUT M20
+END
+"""
+
+
+def run(il: str, stim: str, tables: dict[str, str], trace: bool = False):
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "t.il")
+        Path(path).write_text(il.strip() + "\n", "utf-8")
+        image, diags, _ = program_from_paths([path], FBS)
+        assert image is not None, [d.message for d in diags]
+        preload = []
+        for sr, text in tables.items():
+            pos = os.path.join(tmp, f"{sr}.pos")
+            Path(pos).write_text(text, "utf-8")
+            table, problems = table_preload(f"{sr}={pos}")
+            assert table is not None, [d.message for d in problems]
+            preload.append(table)
+    st, sdiags = parse_stimulus_text("t.stim", stim, FBS)
+    assert not sdiags, [d.message for d in sdiags]
+    n = plan_scans(st, st.scan_us or 10_000, None, None)
+    return Simulation(image, FBS, st, [], st.scan_us or 10_000, [], trace, preload=preload).run(n)
+
+
+def ok(r) -> bool:
+    assert r.fault is None, r.fault
+    assert not r.failed, [(f.line, f.device, f.expected, f.actual) for f in r.failed]
+    assert not r.alarms
+    return True
+
+
+def test_exact_pulse_count_flags_and_registers():
+    table = "001 SPD 10000\n DRV ADR,+,12345,Ps\n MEND\n"
+    stim = """scan 10ms
+    0ms M0=1
+    50ms expect M1992=0 R2100=1 R2101:h=H1001 Y0=1 Y1=0 M20=1 R4080:d=10000
+    2s expect R4088:d=12345 R4072:d=0 M1992=1 M1996=1 R4064=1 R2101:h=H4001 R4060=0 M20=0"""
+    assert ok(run(AXIS, stim, {"R5000": table}))
+
+
+def test_pause_resumes_the_unfinished_pulses_and_abort_restarts_at_step_1():
+    table = "001 SPD 1000\n DRV ADR,+,3000,Ps\n GOTO NEXT\n002 SPD 1000\n DRV ADR,+,500,Ps\n MEND\n"
+    stim = """scan 10ms
+    0ms M0=1
+    1s M10=1
+    1.5s expect R4080:d=0 R4088:d=500..1000 R2101:h=H1102
+    2s M10=0
+    6s expect R4088:d=3500 M1996=1
+    6.5s M11=1
+    6.6s expect M1992=1 R2100=0"""
+    assert ok(run(AXIS, stim, {"R5000": table}))
+
+
+def test_en_off_stops_at_once_and_m1991_decelerates():
+    table = "001 SPD 50000\n DRV ADR,+,0,Ps\n MEND\n"  # ADR 0: continuous (WR+1 b10)
+    stim = """scan 10ms
+    0ms M0=1
+    490ms expect R2101:h=H1401
+    500ms M0=0
+    510ms expect R4080:d=0 M1992=1"""
+    assert ok(run(AXIS, stim, {"R5000": table}))
+    stim = """scan 10ms
+    0ms M0=1 M1991=1
+    500ms M0=0
+    510ms expect R4080:d=40000..49999 M1992=0
+    700ms expect R4080:d=0 M1992=1"""
+    assert ok(run(AXIS, stim, {"R5000": table}))  # P8 100 ms to 100 kHz: 50 kHz in 50 ms
+
+
+def test_r4056_makes_spd_changes_take_effect_at_once():
+    table = "001 SPD R100\n DRV ADR,+,0,Ps\n MEND\n"
+    base = """scan 10ms
+    0ms R100:d=2000 M0=1
+    300ms R100:d=4000
+    600ms expect R4080:d={}"""
+    assert ok(run(AXIS, base.format(2000), {"R5000": table}))
+    assert ok(run(AXIS, "0ms R4056=H5A\n" + base.format(4000), {"R5000": table}))
+
+
+def test_homing_md0_then_table_on_shared_axis_and_pscnv():
+    il = PARAMS + """
+LD M0
+LD M10
+LD M11
+HSPSO K0 R5000 R2100
+LD M1996
+AND M0
+RST M0
+SET M2
+LD M2
+LD M10
+LD M11
+HSPSO K0 R5100 R2110
+LD M2
+PSCNV K0 D10
+END
+"""
+    home = "001 SPD 5000\n DRVZ MD0\n MEND\n"
+    move = "001 SPD 5000\n DRV ABS, ,2500,Ut\n MEND\n"
+    stim = """scan 10ms
+    0ms M0=1
+    100ms expect Y1=1 Y0=0
+    300ms X4=1
+    400ms X4=0
+    500ms expect M2=1 R2110=1
+    2s expect R4088:d=2500 D10:d=2500 M1996=1 R2100=1 R2110=1"""
+    assert ok(run(il, stim, {"R5000": home, "R5100": move}))
+
+
+def test_errors_go_to_r4060_and_the_err_flag():
+    bad_speed = "001 SPD 200000\n DRV ADR,+,100,Ps\n MEND\n"  # above P4: error 37
+    stim = "scan 10ms\n0ms M0=1\n50ms expect R4060=37 R2101:h=H2001 M1992=1"
+    assert ok(run(AXIS, stim, {"R5000": bad_speed}))
+    stim = "scan 10ms\n0ms M0=1\n50ms expect R4060=34"  # no table at R5000
+    assert ok(run(AXIS, stim, {}))
+    stim = "scan 10ms\n0ms M0=1\n50ms expect R4060=2"  # P1 = 0
+    assert ok(run(AXIS.replace("MOV K2000 R2001", "MOV K0 R2001"), stim,
+                  {"R5000": "001 SPD 1000\n DRV ADR,+,1,Ps\n MEND\n"}))
+
+
+def test_cli_sample_with_vcd_of_the_axis(tmp_path):
+    vcd = tmp_path / "axis.vcd"
+    r = mlc("sim", "--target", "fbs", str(SAMPLES / "home_and_run.il"),
+            "--table", f"R5000={SAMPLES / 'home.pos'}", "--table", f"R5100={SAMPLES / 'run.pos'}",
+            "--stimulus", str(SAMPLES / "home_and_run.stim"), "--vcd", str(vcd))
+    assert r.returncode == 0, r.stdout + r.stderr
+    text = vcd.read_text()
+    for name in ("R4088_d", "R4080_d", "R4072_d", "R4064", "R2110", "Y0", "Y1"):
+        assert f" {name} $end" in text
+    # position as a 32-bit vector: the homing run went negative before the zero point
+    assert "b11111111" in text
+
+
+def test_cli_table_usage_errors_without_traceback(tmp_path):
+    il = str(SAMPLES / "home_and_run.il")
+    for spec in (str(SAMPLES / "home.pos"), f"R4000={SAMPLES / 'home.pos'}", "R5000=x.txt"):
+        r = mlc("sim", "--target", "fbs", il, "--table", spec, "--scans", "1")
+        assert r.returncode == 2 and "Traceback" not in r.stderr and "--table" in r.stderr, r.stderr
+    bad = tmp_path / "bad.pos"
+    bad.write_text("001 SPD 0\n DRV ADR,+,1,Ps\n MEND\n", "utf-8")
+    r = mlc("sim", "--target", "fbs", il, "--table", f"R5000={bad}", "--scans", "1")
+    assert r.returncode == 2 and "F031" in r.stderr and "Traceback" not in r.stderr
+    r = mlc("sim", il, "--table", f"R5000={bad}", "--scans", "1")  # nc5: no tables
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+
+
+def test_image_tables_load_at_their_sr(tmp_path):
+    img = tmp_path / "run.json"
+    r = mlc("build", str(SAMPLES / "run.pos"), "-o", str(img), "--sr", "R5100")
+    assert r.returncode == 0, r.stderr
+    table, problems = table_preload(str(img))
+    assert not problems and table[:2] == ("R", 5100) and table[2][0] == 0xA55A
+    assert parse_device_name("R4088:d", FBS).width == 32
