@@ -626,8 +626,7 @@ class Scanner:
 
     def _containers(self) -> tuple:
         m = self.m
-        return (m.edge, m.cval, m.t_seen, m.writer, m.words["D"], m.words["T"], m.words["V"],
-                m.words["Z"], *m.bits.values())
+        return (m.edge, m.cval, m.t_seen, m.writer, *m.words.values(), *m.bits.values())
 
     def __call__(self, watchdog: int = DEFAULT_WATCHDOG) -> None:
         if self.code is None:
