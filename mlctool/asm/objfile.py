@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 from mlctool.program import Instr
 from mlctool.syntax.operands import Operand
-from mlctool.targets.model import Target, choose_variant
+from mlctool.targets.model import Target, choose_variant, load_target
 
 MAGIC = b"\x7fMLCOBJ\n"
 VERSION = 1
@@ -65,9 +65,18 @@ class ObjectFile:
         """(instruction index, P) of every CJ/CALL whose label its own unit does not define."""
         own: set[tuple[int, int]] = {(u, ins.operands[0].number) for ins, u in zip(self.instrs, self.unit_of)
                                      if ins.spec.cls == "label"}
+        ends = _end_labels(self.target)  # CJ P63 on VS: END, never a relocation
         return [(k, ins.operands[0].number) for k, (ins, u) in enumerate(zip(self.instrs, self.unit_of))
                 if ins.spec.op in ("cj", "call") and not ins.operands[0].index
-                and (u, ins.operands[0].number) not in own]
+                and (u, ins.operands[0].number) not in own
+                and not (ins.spec.op == "cj" and ins.operands[0].number in ends)]
+
+
+def _end_labels(target: str) -> frozenset[int]:
+    try:
+        return load_target(target).end_labels
+    except KeyError:
+        return frozenset()
 
 
 class ObjectError(Exception):

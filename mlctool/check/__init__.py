@@ -9,6 +9,8 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
+from mlctool.check.blocks import check_blocks
+from mlctool.check.labels import assign_named_labels
 from mlctool.check.lint import cross_module_coils, lint_module, referenced_labels, set_without_reset
 from mlctool.check.resolve import resolve
 from mlctool.check.structure import check_layout, check_rungs
@@ -47,11 +49,13 @@ def check_texts(sources: list[SourceText], target: Target, config: Config | None
     noqa: dict[str, dict] = {}
     symbols, found = project_symbols(config)
     diags += found
-    for src in sources:
-        parsed = parse(src)
-        lines[src.path] = parsed.lines
-        noqa[src.path] = parsed.noqa
-        module, found = resolve(parsed, target, symbols)
+    parsed_files = [parse(src) for src in sources]
+    names, found = assign_named_labels(parsed_files, target)
+    diags += found
+    for parsed in parsed_files:
+        lines[parsed.path] = parsed.lines
+        noqa[parsed.path] = parsed.noqa
+        module, found = resolve(parsed, target, symbols, names.get(parsed.path))
         modules.append(module)
         diags += found
     # rung checks see every line; the rest only lines whose operands resolved
@@ -79,6 +83,7 @@ def check_texts(sources: list[SourceText], target: Target, config: Config | None
     for m in valid:
         diags += check_layout(m, target, {p: f for p, f in exported.items() if f != m.path}, calls,
                               broken[m.path])
+        diags += check_blocks(m, target)
         diags += lint_module(m, target, refs)
     # Each main module is its own program together with the libraries; independent main
     # programs checked in one call do not share coils.

@@ -30,13 +30,38 @@ def _where(ins: Instr) -> str:
     return f"{ins.file}:{ins.line}"
 
 
-def double_coils(instrs: list[Instr], code: str = "W401") -> list[Diagnostic]:
-    def key(ins):
-        o = ins.operands
-        return (o[0].kind, o[0].number) if ins.spec.op == "out" and not o[0].index else None
+def exclusive_regions(instrs: list[Instr]) -> list[int]:
+    """Per instruction, the exclusive region it lies in (0: none). An instruction whose table
+    entry says `region = "open"` (STL) starts a new region, `region = "close"` (RET) ends them:
+    only one step of a flow is live, so a coil driven in two steps is no double coil (VS 4-4)."""
+    out, region, count = [], 0, 0
+    for ins in instrs:
+        if ins.spec.region == "open":
+            count += 1
+            region = count
+        elif ins.spec.region == "close":
+            region = 0
+        out.append(region)
+    return out
 
-    return [_at(i, None, code, f"{i.texts[0]} is also driven at {_where(f)}; the last OUT in the scan wins (1.3.2)")
-            for i, f in _first_seen(instrs, key)]
+
+def double_coils(instrs: list[Instr], code: str = "W401") -> list[Diagnostic]:
+    """OUT of one coil twice. Two OUTs in different exclusive regions (STL steps) are fine;
+    twice in one region, or in a region and outside every region, is a double coil."""
+    seen: dict = {}  # coil -> {region: first instruction}
+    out = []
+    for ins, region in zip(instrs, exclusive_regions(instrs), strict=True):
+        o = ins.operands
+        if ins.spec.op != "out" or o[0].index:
+            continue
+        by_region = seen.setdefault((o[0].kind, o[0].number), {})
+        f = by_region.get(region) or (None if region else next(iter(by_region.values()), None)) \
+            or by_region.get(0)
+        if f is not None:
+            out.append(_at(ins, None, code, f"{ins.texts[0]} is also driven at {_where(f)}; "
+                           "the last OUT in the scan wins (1.3.2)"))
+        by_region.setdefault(region, ins)
+    return out
 
 
 def lint_module(module: Module, target: Target, referenced: set[int]) -> list[Diagnostic]:

@@ -8,6 +8,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from mlctool.check.labels import is_label_name
 from mlctool.check.tables import parse_row, table_kinds
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module
@@ -34,7 +35,7 @@ class _Arg:
 
 
 class _Resolver:
-    def __init__(self, parsed: ParsedFile, target: Target):
+    def __init__(self, parsed: ParsedFile, target: Target, names: dict[str, int] | None = None):
         self.p = parsed
         self.t = target
         self.path = parsed.path
@@ -46,6 +47,8 @@ class _Resolver:
         self.operand_cache: dict = {}  # (instruction form, position, text) -> (ok, problems)
         self._problems: list = []
         self.syntax = target.operand_syntax
+        self.names = names or {}  # named labels of this file -> P number (check/labels.py)
+        self.named_labels = bool(target.settings.get("named_labels"))
 
     # -- reporting
     def err(self, line: int, w: Word, code: str, msg: str, *notes: str) -> None:
@@ -103,8 +106,14 @@ class _Resolver:
 
     def label(self, st: Statement, w: Word) -> None:
         m = _LABEL.fullmatch(w.text)
+        if not m and w.text.upper() in self.names:
+            self.emit(st, self.label_spec, (Operand("P", number=self.names[w.text.upper()]),), (w.text,))
+            return
         if not m:
-            self.err(st.line, w, "E103", f"label {w.text!r} is not a P pointer (P0-P255)")
+            if not (self.named_labels and is_label_name(w.text, self.t)):  # else reported by labels.py
+                dev = self.t.devices[next(iter(self.label_spec.operands[0].kinds))]
+                self.err(st.line, w, "E103", f"label {w.text!r} is not a P pointer ({dev.name}{dev.lo}-"
+                         f"{dev.name}{dev.hi}" + (" or a label name" if self.named_labels else "") + ")")
             return
         dev = self.t.devices[next(iter(self.label_spec.operands[0].kinds))]
         if not dev.lo <= int(m[1]) <= dev.hi:
@@ -168,9 +177,16 @@ class _Resolver:
         args = [_Arg(k, t) for k, t in enumerate(texts)]
         operands: list[Operand] = []
         for a in args:
+            pointer = a.idx < n and "P" in spec.operands[a.idx].kinds
+            if pointer and a.text.upper() in self.names:  # a named label: its P number
+                operands.append(Operand("P", number=self.names[a.text.upper()]))
+                continue
             try:
                 operands.append(parse_operand(a.text, self.syntax))
             except OperandSyntaxError as e:
+                if pointer and self.named_labels and is_label_name(a.text, self.t):
+                    self.report(a, "E304", f"{spec.mnemonic} {a.text}: no such label")
+                    continue
                 # a specific message (octal X8, hex H on NC5, ...) beats "undefined symbol"
                 generic = str(e).endswith("is not a device, constant or pointer")
                 if SYMBOL.fullmatch(a.text) and len(a.text) > 1 and generic:
@@ -412,9 +428,10 @@ def _kind_name(op: Operand) -> str:
     return f"{op.kind} device"
 
 
-def resolve(parsed: ParsedFile, target: Target, predefined: dict[str, str] | None = None
-            ) -> tuple[Module, list[Diagnostic]]:
-    """`predefined`: device symbols every module starts with (mlc.toml [symbols])."""
-    r = _Resolver(parsed, target)
+def resolve(parsed: ParsedFile, target: Target, predefined: dict[str, str] | None = None,
+            names: dict[str, int] | None = None) -> tuple[Module, list[Diagnostic]]:
+    """`predefined`: device symbols every module starts with (mlc.toml [symbols]); `names`:
+    the file's named labels -> P numbers (check/labels.py)."""
+    r = _Resolver(parsed, target, names)
     r.module.symbols.update(predefined or {})
     return r.run()

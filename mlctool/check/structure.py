@@ -131,11 +131,16 @@ def check_layout(module: Module, target: Target, exported: dict[int, str], is_ca
 
     # labels
     labels: dict[int, int] = {}
+    ends = target.end_labels
     for k, ins in enumerate(instrs):
         if ins.spec.cls == "label":
             p = ins.operands[0].number
-            if p in labels:
-                out.append(_at(ins, "E303", f"P{p} already labels line {instrs[labels[p]].line}"))
+            if p in ends:
+                out.append(_at(ins, "E303", f"P{p} stands for END on target {target.name} (CJ P{p} jumps "
+                               "to END); it cannot label a line"))
+            elif p in labels:
+                name = ins.texts[0] if ins.texts else f"P{p}"  # a named label as written
+                out.append(_at(ins, "E303", f"{name} already labels line {instrs[labels[p]].line}"))
             else:
                 labels[p] = k
     cj_targets: dict[int, Instr] = {}
@@ -144,7 +149,9 @@ def check_layout(module: Module, target: Target, exported: dict[int, str], is_ca
         if ins.spec.op in JUMPS and not ins.operands[0].index:
             p = ins.operands[0].number
             (call_targets if ins.spec.op == "call" else cj_targets).setdefault(p, ins)
-            if p not in labels and p not in exported:
+            if p in ends and ins.spec.op == "call":
+                out.append(_at(ins, "E305", f"CALL P{p}: P{p} stands for END; only CJ may use it"))
+            elif p not in labels and p not in exported and not (p in ends and ins.spec.op == "cj"):
                 out.append(_at(ins, "E304", f"{ins.mnemonic} P{p}: no such label"
                                + (" (labels of other modules must be .export-ed)" if p not in labels else "")))
     shared = set(cj_targets) & (set(call_targets) | is_called)

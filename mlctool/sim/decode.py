@@ -133,6 +133,9 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
         steps.append(step)
         prev_cls = spec.cls
     labels = {s.ins.operands[0].number: s.index for s in steps if s.ins.spec.cls == "label"}
+    end = next((s.index for s in steps if s.ins.spec.op == "end"), None)
+    for p in target.end_labels if end is not None else ():  # CJ P63: to END (VS 2-10)
+        labels.setdefault(p, end)
     for s in steps:
         if s.ins.spec.op in ("cj", "call") and not s.ins.operands[0].index:
             s.target = labels.get(s.ins.operands[0].number, -1)

@@ -98,6 +98,10 @@ class InstrSpec:
     inputs: tuple[str, ...] = ()  # a multi-input instruction: its inputs, one block each
     pulse: bool = False  # the P-suffix form: executes once per Off->On of its condition
     models: frozenset[str] = frozenset()  # models that have it; empty: every model
+    once: bool = False  # the manual allows it once per program (E904)
+    # "open": starts an exclusive region (an STL step: only one step's coils are live, so the
+    # same coil in two regions is no double coil); "close": ends the regions (RET)
+    region: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -157,6 +161,12 @@ class Target:
     def short_operand(self, kind: str, number: int) -> bool:
         rng = self.settings.get("short_operand", {}).get(kind)
         return rng is not None and rng[0] <= number <= rng[1]
+
+    @property
+    def end_labels(self) -> frozenset[int]:
+        """P numbers that stand for END: CJ to one jumps to END without a label (VS 2-10: P63,
+        P255); they cannot label a line."""
+        return frozenset(self.settings.get("end_labels", ()))
 
     @property
     def indexable(self) -> frozenset[str]:
@@ -243,7 +253,8 @@ def _instructions(entries: list[dict], convention: dict | None = None
                     short_steps=e.get("steps_rule") == "short", table=e.get("table", 0),
                     constraints=tuple(e.get("constraints", ())),
                     section=e["section"], notes=notes, inputs=tuple(e.get("inputs", ())),
-                    pulse=pulse, models=models,
+                    pulse=pulse, models=models, once=bool(e.get("once", False)),
+                    region=e.get("region", ""),
                 )
                 # aliases name the 16-bit form too (FBs: HSPSO is also written FUN140)
                 aliases = e.get("aliases", []) if width == 16 and not pulse else []
