@@ -34,6 +34,7 @@ from collections.abc import Callable
 from types import CodeType
 
 from mlctool.sim import scan as _scan
+from mlctool.sim import semantics
 from mlctool.sim.decode import Program, Step
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, GroupRef, WordRef
 from mlctool.sim.scan import DEFAULT_WATCHDOG, END_SCAN, Fault, end_of_scan, run_scan
@@ -415,6 +416,10 @@ class _Gen:
             self.rung(s)
             return
         if op in ("nop", "label"):
+            return
+        if s.run is not semantics.ACTIONS.get(op):  # a target's own routine for this op
+            self.settle(i)
+            self.reference(s)
             return
         if op == "out" and _bit_simple(s.ops[0]) and s.ops[0].kind in ("Y", "M", "A"):
             dst = self.bit(s.ops[0])
