@@ -21,6 +21,7 @@ COMMAND_MODULES = {
     "check": "mlctool.cli.check", "explain": "mlctool.cli.check", "targets": "mlctool.cli.check",
     "device": "mlctool.cli.device",
     "fmt": "mlctool.cli.fmt",
+    "import": "mlctool.cli.imports",
     "ladder": "mlctool.cli.ladder",
     "sim": "mlctool.cli.sim",
     "test": "mlctool.cli.test",

@@ -1,0 +1,214 @@
+"""Vendor exports -> plain IL (`mlc import`): GX Works2 and GX Developer instruction-list CSV,
+WPLSoft CSV, plain IL text.
+
+The shapes read (docs/vs.md "Imports"):
+- GX Works2 "CSV": UTF-16 with BOM, tab-separated quoted fields; a program-name row and a
+  "PLC Information:" row, then a header row naming the columns ("Step Number", "Line
+  Statement", "Instruction", "I/O(Device)", ..., "Note"); an instruction's further operands
+  follow on continuation rows with empty step and instruction cells; devices zero-padded
+  (`X000`).
+- GX Developer CSV: the same rows, comma-separated (UTF-8/ASCII or Shift-JIS).
+- WPLSoft CSV: `000000,LD,X0` rows (6-digit step number, mnemonic, operands).
+- Plain IL: taken as it is.
+Step numbers are the exporting tool's own and are dropped (the target's step convention
+computes the addresses); operands are rewritten as the target writes them (`X000` -> `X0`);
+a 32-bit comparison in another vendor's spelling (`DLD>=`) becomes the target's (`LDD>=`).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import re
+
+from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.syntax.operands import OperandSyntaxError, format_operand, parse_operand
+from mlctool.targets.model import Target
+
+FORMATS = ("gxworks2", "gxdeveloper", "wplsoft", "il")
+_HEADER = {  # column -> the header texts naming it (English and Japanese GX)
+    "step": ("step number", "step no.", "ステップ番号"),
+    "statement": ("line statement", "行間ステートメント"),
+    "instruction": ("instruction", "命令"),
+    "device": ("i/o(device)", "i/o(デバイス)", "device"),
+    "note": ("note", "ノート"),
+}
+_STEP6 = re.compile(r"\s*[0-9]{6}\s*[,\t]")
+_LABEL = re.compile(r"[PI][0-9]+", re.IGNORECASE)
+
+
+def decode_export(path: str, data: bytes) -> tuple[str | None, list[Diagnostic]]:
+    """Bytes -> text: BOM-marked UTF-16/UTF-8 as GX Works2 writes, UTF-8, else Shift-JIS (GX
+    Developer on Japanese Windows)."""
+    for bom, enc in ((b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"), (b"\xef\xbb\xbf", "utf-8-sig")):
+        if data.startswith(bom):
+            try:
+                return data.decode(enc), []
+            except UnicodeDecodeError as e:
+                return None, [diag(path, Span.at(1), "E102", f"invalid {enc} ({e.reason})")]
+    if b"\0" in data:
+        return None, [diag(path, Span.at(1), "E101", "input is binary, not text")]
+    for enc in ("utf-8", "cp932"):
+        try:
+            return data.decode(enc), []
+        except UnicodeDecodeError:
+            continue
+    return None, [diag(path, Span.at(1), "E102", "input is neither UTF-8 nor Shift-JIS")]
+
+
+def _rows(text: str, delimiter: str) -> list[list[str]]:
+    return [[c.strip() for c in row] for row in csv.reader(io.StringIO(text), delimiter=delimiter)]
+
+
+def detect(text: str) -> str:
+    head = text.splitlines()[:12]
+    for line in head:
+        cells = [c.strip().strip('"').lower() for c in re.split(r"[\t,]", line)]
+        if any(c in _HEADER["instruction"] for c in cells) and any(c in _HEADER["device"][:2] for c in cells):
+            return "gxworks2" if "\t" in line else "gxdeveloper"
+    if any(_STEP6.match(line) for line in head):
+        return "wplsoft"
+    return "il"
+
+
+class _Writer:
+    """Collects IL lines; rewrites mnemonics and operands as the target writes them."""
+
+    def __init__(self, path: str, target: Target):
+        self.path, self.t = path, target
+        self.lines: list[str] = []
+        self.diags: list[Diagnostic] = []
+        self.pending: list[str] | None = None  # the instruction whose operands may continue
+
+    def flush(self) -> None:
+        if self.pending is not None:
+            self.lines.append(" ".join(self.pending))
+            self.pending = None
+
+    def comment(self, text: str) -> None:
+        self.flush()
+        self.lines.append(f"; {text}")
+
+    def label(self, text: str) -> None:
+        self.flush()
+        self.lines.append(f"{text.upper()}:")
+
+    def instruction(self, mnemonic: str, operands: list[str], row: int, note: str = "") -> None:
+        self.flush()
+        self.pending = [self.mnemonic(mnemonic, row), *(self.operand(o) for o in operands if o)]
+        if note:
+            self.pending.append(f"; {note}")
+
+    def more(self, operand: str, row: int) -> None:
+        if self.pending is None:
+            self.diags.append(diag(self.path, Span.at(row), "E907", f"operand {operand!r} without an instruction"))
+            return
+        at = next((k for k, w in enumerate(self.pending) if w.startswith(";")), len(self.pending))
+        self.pending.insert(at, self.operand(operand))
+
+    def mnemonic(self, text: str, row: int) -> str:
+        m = text.upper()
+        if m in self.t.instructions or m in self.t.variants or m in self.t.unavailable:
+            return m
+        # another vendor's spelling of a 32-bit comparison (DLD>= for LDD>=): the same FNC
+        short = self.t.instructions.get(m[1:]) if m.startswith("D") else None
+        if short is not None and short.api is not None:
+            for s in self.t.instructions.values():
+                if s.api == short.api and s.width == 32 and s.cls == short.cls and not s.pulse:
+                    return s.mnemonic
+        return m  # unknown: `mlc check` reports it (E201)
+
+    def operand(self, text: str) -> str:
+        try:
+            op = parse_operand(text, self.t.operand_syntax)
+        except OperandSyntaxError:
+            return text  # a symbol, a label name, or an error `mlc check` reports
+        return format_operand(op) if not op.is_const or op.kind in ("K", "H") else text
+
+
+def _gx(w: _Writer, text: str, delimiter: str) -> None:
+    rows = _rows(text, delimiter)
+    cols: dict[str, int] = {}
+    for k, row in enumerate(rows, 1):
+        low = [c.lower() for c in row]
+        if not cols:
+            found = {name: low.index(t) for name, texts in _HEADER.items() for t in texts if t in low}
+            if "instruction" in found and "device" in found:
+                cols = found
+            continue  # the program-name and "PLC Information:" rows before the header
+
+        def cell(name: str, row=row) -> str:
+            i = cols.get(name)
+            return row[i] if i is not None and i < len(row) else ""
+
+        instr, device, statement, note = cell("instruction"), cell("device"), cell("statement"), cell("note")
+        if statement:
+            w.comment(statement)
+        if instr:
+            if _LABEL.fullmatch(instr) and not device:
+                w.label(instr)
+            else:
+                w.instruction(instr, device.split(), k, note)
+        elif device:
+            w.more(device, k)
+        elif note:
+            w.comment(note)
+    if not cols:
+        w.diags.append(diag(w.path, Span.at(1), "E907", "no header row naming the Instruction and "
+                            "I/O(Device) columns"))
+
+
+def _wplsoft(w: _Writer, text: str) -> None:
+    for k, row in enumerate(_rows(text, ","), 1):
+        cells = [c for c in row if c != ""]
+        if not cells:
+            continue
+        if cells[0].startswith((";", "//")):
+            w.comment(",".join(row).lstrip(";/ "))
+            continue
+        if not re.fullmatch(r"[0-9]{6}", cells[0]):
+            if k == 1:
+                continue  # a title row
+            w.diags.append(diag(w.path, Span.at(k), "E907", f"row {k}: expected a 6-digit step number, "
+                                f"got {cells[0]!r}"))
+            continue
+        rest = cells[1:]
+        if not rest:
+            continue
+        first = rest[0].split()
+        words = first + rest[1:]
+        if _LABEL.fullmatch(words[0]) and len(words) == 1:
+            w.label(words[0])
+        else:
+            w.instruction(words[0], words[1:], k)
+
+
+def import_text(path: str, text: str, target: Target, fmt: str | None = None
+                ) -> tuple[str | None, str, list[Diagnostic]]:
+    """-> (IL text or None on errors, the format read, diagnostics)."""
+    fmt = fmt or detect(text)
+    if fmt == "il":
+        return (text if text.endswith("\n") else text + "\n"), fmt, []
+    w = _Writer(path, target)
+    if fmt in ("gxworks2", "gxdeveloper"):
+        _gx(w, text, "\t" if fmt == "gxworks2" or "\t" in text.split("\n", 3)[-1] else ",")
+    else:
+        _wplsoft(w, text)
+    w.flush()
+    if any(d.severity == "error" for d in w.diags):
+        return None, fmt, w.diags
+    return "\n".join(w.lines) + "\n", fmt, w.diags
+
+
+def import_file(path: str, target: Target, fmt: str | None = None) -> tuple[str | None, str, list[Diagnostic]]:
+    try:
+        with open(path, "rb") as f:
+            data = f.read(64 * 1024 * 1024 + 1)
+    except OSError as e:
+        return None, fmt or "", [diag(path, Span.at(1), "E100", f"cannot read: {e.strerror or e}")]
+    if len(data) > 64 * 1024 * 1024:
+        return None, fmt or "", [diag(path, Span.at(1), "E104", "input too large (64 MiB)")]
+    text, diags = decode_export(path, data)
+    if text is None:
+        return None, fmt or "", diags
+    return import_text(path, text.replace("\r\n", "\n").replace("\r", "\n"), target, fmt)
