@@ -235,3 +235,43 @@ def test_midr_midw_instr():
 
 def test_string_without_terminator_is_an_operation_error():
     run("LD X0\nLEN R23999 D0\n", "0ms R23999:h=H4141 X0=1\n0ms expect M9067=1 D0=0", alarms=True)
+
+
+# ------------------------------------------------------------------ 6-14 clock
+
+def test_virtual_calendar_trd_twr():
+    # FNC 166/167: TRD D0 reads year..second, weekday; the calendar starts at 2000-01-01
+    # 00:00:00 (a Saturday) and runs on virtual time; TWR and stimulus writes set it
+    run("LD X20\nTRD D0\nLD X21\nTWR D10\n",
+        "0ms X20=1\n0ms expect D0=2000 D1=1 D2=1 D3=0 D4=0 D5=0 D6=6 D9019=6\n"
+        "61s expect D4=1 D5=1 D9013=1 D9014=1\n"
+        "70s D10=2024 D11=2 D12=29 D13=23 D14=59 D15=58 D16=4 X21=1\n70.01s X21=0\n"
+        "72s expect D0=2024 D1=3 D2=1 D3=0 D4=0 D5=0 D6=5\n"
+        "80s D9018=2099 D9017=12 D9016=31\n80s expect D0=2099 D1=12 D2=31 D9018=2099")
+    run("LD X21\nTWR D10\n", "0ms D10=2024 D11=2 D12=30 X21=1\n0ms expect M9067=1", alarms=True)
+
+
+def test_time_compare_add_sub_convert():
+    # FNC 160-165 examples: TCMP K8 K30 K20 D0 M0; TZCP; TADD 8:30:00 + 6:35:30 = 15:05:30,
+    # 8:25:30 + 20:10:20 = 4:35:50 with M9022; TSUB 18:28:50 - 8:40:20 = 9:48:30,
+    # 6:30:20 - 20:20:10 = 10:10:10 with M9021; HTOS 3:15:48 = 11748 s, DHTOS 40:21:33 = 145293
+    run("""
+LD X20
+TCMP K8 K30 K20 D0 M0
+TZCP D10 D13 D0 M3
+TADD D20 D23 D26
+TSUB D30 D33 D36
+TADD D40 D43 D46
+TSUB D50 D53 D56
+HTOS D60 D63
+DHTOS D64 D68
+STOH D63 D70
+DSTOH D68 D73
+""", "0ms D0=8 D1=30 D2=21 D10=8 D11=0 D12=0 D13=9 D14=0 D15=0 D20=8 D21=30 D23=6 D24=35 "
+     "D25=30 D30=18 D31=28 D32=50 D33=8 D34=40 D35=20 D40=8 D41=25 D42=30 D43=20 D44=10 "
+     "D45=20 D50=6 D51=30 D52=20 D53=20 D54=20 D55=10 D60=3 D61=15 D62=48 D64=40 D65=21 "
+     "D66=33 X20=1\n0ms expect M0=0 M1=0 M2=1 M3=0 M4=1 M5=0 D26=15 D27=5 D28=30 D36=9 "
+     "D37=48 D38=30 D46=4 D47=35 D48=50 D56=10 D57=10 D58=10 D63=11748 D68:d=145293 "
+     "D70=3 D71=15 D72=48 D73=40 D74=21 D75=33 M9021=1 M9022=0")
+    run("LD X20\nTADD D40 D43 D46\n", "0ms D40=8 D41=25 D42=30 D43=20 D44=10 D45=20 X20=1\n"
+        "0ms expect D46=4 D47=35 D48=50 M9022=1 M9020=0")

@@ -9,6 +9,7 @@ from __future__ import annotations
 from mlctool.program import Image
 from mlctool.sim.decode import Program, Step, decode
 from mlctool.sim.semantics import advance_timer, alarm
+from mlctool.sim.semantics_fx import BEFORE_SCAN
 from mlctool.sim.state import Machine, SimFault
 
 END_SCAN = -1
@@ -141,7 +142,10 @@ def run_scan(prog: Program, m: Machine, watchdog: int = DEFAULT_WATCHDOG) -> Non
 
 def system_relays(m: Machine) -> None:
     """Special relays the system drives before each scan (target.toml [system_relays]):
-    always On/Off, On/Off in the first scan only, clocks with a period in ms (half On)."""
+    always On/Off, On/Off in the first scan only, clocks with a period in ms (half On); then
+    the FX-family hooks (the virtual calendar's registers)."""
+    for hook in BEFORE_SCAN:
+        hook(m)
     table = m.target.settings.get("system_relays")
     if not table:
         return

@@ -224,7 +224,14 @@ FX_ACTIONS = {
     "flt": flt, "int": int_, "sum": sum_bits, "fcmp3": base.fcmp,
 }
 
-# The rest of the FX family (shift registers, data, floats, strings ...): mlctool/sim/fx/.
-from mlctool.sim.fx import ACTIONS as _MORE  # noqa: E402
+# The rest of the FX family (shift registers, data, floats, strings, clock): mlctool/sim/fx/.
+from mlctool.sim.fx.clock import CLOCK_ACTIONS, refresh  # noqa: E402
+from mlctool.sim.fx.data import DATA_ACTIONS  # noqa: E402
+from mlctool.sim.fx.floats import FLOAT_ACTIONS  # noqa: E402
+from mlctool.sim.fx.shift import SHIFT_ACTIONS  # noqa: E402
+from mlctool.sim.fx.strings import STRING_ACTIONS  # noqa: E402
 
-FX_ACTIONS.update(_MORE)
+FX_ACTIONS.update({**SHIFT_ACTIONS, **DATA_ACTIONS, **FLOAT_ACTIONS, **STRING_ACTIONS, **CLOCK_ACTIONS})
+# Run by scan.system_relays before every scan; each does nothing on a target without its
+# settings (the calendar: target.toml `rtc`).
+BEFORE_SCAN = (refresh,)
