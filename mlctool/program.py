@@ -66,6 +66,9 @@ class Image:
     instrs: list[Instr]
     modules: list[tuple[str, int, int]] = field(default_factory=list)  # (path, first addr, end addr)
     symbols: dict[str, str] = field(default_factory=dict)  # device symbols of all modules
+    # directives of all modules as written, (module path, text): tables kept beside the code
+    # (`.table` rows) reach the simulator this way
+    directives: list[tuple[str, str]] = field(default_factory=list)
 
     @property
     def total_steps(self) -> int:

@@ -68,7 +68,8 @@ def image_from_object(obj: ObjectFile) -> Image:
     symbols: dict[str, str] = {}
     for u in obj.units:
         symbols.update(u.symbols)
-    return Image(obj.target, list(obj.instrs), [(u.path, u.first, u.end) for u in obj.units], symbols)
+    return Image(obj.target, list(obj.instrs), [(u.path, u.first, u.end) for u in obj.units], symbols,
+                 [(u.path, d.text) for u in obj.units for d in u.directives])
 
 
 def unit_instrs(obj: ObjectFile, k: int) -> list:

@@ -13,7 +13,8 @@ from mlctool.targets.model import Target
 
 
 class ModelIO:
-    """What a model may touch: named devices and the servo table (WRTL/RDTL, 4.9)."""
+    """What a model may touch: named devices, the servo table (WRTL/RDTL, 4.9) and the
+    PLC's serial ports."""
 
     def __init__(self, machine: Machine):
         self._m = machine
@@ -29,6 +30,12 @@ class ModelIO:
 
     def set_torque_reached(self, station: int, reached: bool) -> None:
         self._m.servo_at_limit[station] = 1 if reached else 0
+
+    def serial_port(self, name: str):
+        """The PLC's serial port `name` (CP1...), for models on a Modbus link (sim/seriallink.py)."""
+        from mlctool.sim.seriallink import port  # only models on a link need it
+
+        return port(self._m, name)
 
 
 class DeviceModel:

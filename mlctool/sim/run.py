@@ -137,6 +137,7 @@ class Simulation:
         self.target = target
         self.prog: Program = load_program(image, target, probe)
         self.m = Machine(target, len(self.prog.steps))
+        self.m.image = image
         for kind, first, words in preload:  # register tables loaded with the program (--table)
             self.m.words[kind][first:first + len(words)] = [w & 0xFFFF for w in words]
         self.st = st
