@@ -223,6 +223,8 @@ FX_ACTIONS = {
     "cmp": cmp3, "zcp": zcp, "xch": xch, "bmov": bmov, "fill": fill, "swap": swap,
     "flt": flt, "int": int_, "sum": sum_bits, "fcmp3": base.fcmp,
 }
+from mlctool.sim.fx_mbus import MBUS_ACTIONS  # noqa: E402  Modbus master MBUS (FNC 149)
+FX_ACTIONS.update(MBUS_ACTIONS)
 
 # The rest of the FX family (shift registers, data, floats, strings, clock): mlctool/sim/fx/.
 from mlctool.sim.fx.clock import CLOCK_ACTIONS, refresh  # noqa: E402

@@ -10,13 +10,19 @@ puts MOVE on OUT5. `pN=MODE:POS[:SPEED[:TORQUE[:ACC[:DEC[:WAIT[:NEXT]]]]]]` stor
 (0-127; POS in mm, modes INC ABS ORG +TSL -TSL INC-R ABS-R INC-T ABS-T). `mirror=Dn` writes
 the device's state into Dn..Dn+5 every scan (test instrumentation): Dn:d = position in
 0.01 mm, Dn+2 ActionStatus, Dn+3 AlarmStatus, Dn+4 ErrorStatus, Dn+5 StepNo (1000H-100EH).
+`link=CPn station=N [baud=] [protocol=rtu|ascii] [reply=TIME] [timeout=TIME]` puts it on the
+PLC's RS-485 port for the VS MBUS instruction (sim/seriallink.py, docs/xc100.md).
 """
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 from mlctool.devices.base import DeviceModel, ModelIO, ParamError
 from mlctool.devices.xc100 import controller as c
+from mlctool.devices.xc100.modbus import handle_pdu
 from mlctool.devices.xc100.tables import tables
+from mlctool.sim.seriallink import PORT_NAMES, LineSettings
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
 from mlctool.targets.model import Target
 
@@ -56,7 +62,7 @@ class XC100Model(DeviceModel):
         start = self._number("start", str(stroke / 6), 0, stroke)
         work = self._number("work", None, 0, stroke) if "work" in params else None
         self.emg = self._bit("emg", "Y") if "emg" in params else None
-        regs = {}
+        regs = self._line_keys()  # baud= protocol= are the parameters 0A00H / 0A04H
         for key in sorted(k for k in params if k.startswith("r") and k[1:] and _is_hex(k[1:])):
             self.used.add(key)
             regs[int(key[1:], 16)] = self._register(key, params[key])
@@ -72,9 +78,10 @@ class XC100Model(DeviceModel):
             except ValueError as e:
                 raise ParamError(key, f"{key}: {e}") from None
         self.mirror = self._mirror() if "mirror" in params else []
+        self.link = self._link()
         self.check_unused()
-        if not self.ins and not self.outs:
-            raise ParamError("in1", "model xc100 needs wiring: inN=Y.. and/or outN=X..")
+        if not self.ins and not self.outs and self.link is None:
+            raise ParamError("in1", "model xc100 needs wiring (inN=Y.., outN=X..) and/or link=CPn")
         dev.points[:len(dev.points)] = [points.get(n, p) for n, p in enumerate(dev.points)]
         self.dev = dev
         self.last_t: int | None = None
@@ -120,6 +127,38 @@ class XC100Model(DeviceModel):
         except NameError_ as e:
             raise ParamError("mirror", f"mirror needs D{base.number}..D{base.number + 5}: {e}") from None
 
+    def _line_keys(self) -> dict[int, int]:
+        regs = {}
+        if "baud" in self.params:
+            text = self._param("baud", None)
+            if text not in BAUDS:
+                raise ParamError("baud", f"baud takes {', '.join(BAUDS)} (0A00H), not {text!r}")
+            regs[0x0A00] = BAUDS.index(text)
+        if "protocol" in self.params:
+            text = self._param("protocol", None).lower()
+            if text not in ("ascii", "rtu"):
+                raise ParamError("protocol", f"protocol takes ascii or rtu (0A04H), not {text!r}")
+            regs[0x0A04] = 1 if text == "rtu" else 0
+        return regs
+
+    def _link(self) -> Link | None:
+        """link=CPn station=1-16 [reply=TIME] [timeout=TIME]: on the PLC's RS-485 port CPn."""
+        if "link" not in self.params:
+            for key in ("station", "reply", "timeout", "baud", "protocol"):
+                if key in self.params:
+                    raise ParamError(key, f"{key}= needs link=CPn (the PLC port the XC100 is on)")
+            return None
+        port = self._param("link", None).upper()
+        if port not in PORT_NAMES:
+            raise ParamError("link", f"link takes {', '.join(PORT_NAMES)}, not {port!r}")
+        text = self._param("station", "1")
+        if not text.isdigit() or not 1 <= int(text) <= 16:
+            raise ParamError("station", f"station takes 1-16 (rotary switch CH + 1, 8.2), not {text!r}")
+        timeout = self.time("timeout") if "timeout" in self.params else None
+        if timeout is not None and timeout <= 0:
+            raise ParamError("timeout", "timeout must be longer than 0")
+        return Link(port, int(text), self.time("reply", DEFAULT_REPLY), timeout)
+
     # -- simulation
     def devices(self) -> list[DeviceView]:
         return list(self.ins.values()) + list(self.outs.values()) + \
@@ -127,6 +166,8 @@ class XC100Model(DeviceModel):
 
     def step(self, io: ModelIO, t_us: int, period_us: int) -> None:
         dev = self.dev
+        if self.link is not None:
+            self._serve(io.serial_port(self.link.port), t_us)
         if self.last_t is not None:
             c.advance(dev, t_us - self.last_t)
         self.last_t = t_us
@@ -141,6 +182,53 @@ class XC100Model(DeviceModel):
             values = [pos, 1 if dev.motion else dev.action, dev.alarm, dev.error, dev.step_no]
             for view, v in zip(self.mirror, values):
                 io.set(view, v)
+
+
+    def _serve(self, port, t_us: int) -> None:
+        """Answer the requests that reached the XC100 since the last step, each at the time
+        it arrived (the axis is advanced to that moment first): as `mlc device serve` does,
+        pymodbus's framer reads the frame and modbus.handle_pdu answers (manual 004 ch. 8)."""
+        dev, me = self.dev, id(self)
+        port.attach(me, line_settings(dev), self.link.timeout)
+        for ex in port.arrived(me, t_us):
+            if self.last_t is not None and ex.arrive_us > self.last_t:
+                c.advance(dev, ex.arrive_us - self.last_t)
+                self.last_t = ex.arrive_us
+            if not port.hears(me):
+                continue  # other line settings than the master: noise, no answer
+            framer = _framer(dev)
+            _used, unit, _tid, pdu = framer.decode(ex.request)
+            if not pdu:
+                continue  # bad CRC/LRC: dropped silently (8.3 defines no answer)
+            reply = handle_pdu(dev, self.link.station, unit, pdu)
+            if reply is not None:
+                port.answer(ex, me, framer.encode(reply, unit, 0), self.link.reply_us)
+
+
+class Link(NamedTuple):
+    port: str  # CP1..CP5
+    station: int
+    reply_us: int  # from the end of the request to the start of the answer
+    timeout: int | None  # the PLC port's time-out, when this link sets it
+
+
+BAUDS = ("9600", "19200", "38400", "57600", "115200")  # 0A00H 0-4 (5.8)
+DEFAULT_REPLY = "2ms"  # [P] the manual gives no response time
+
+
+def line_settings(dev: c.Xc100) -> LineSettings:
+    """The XC100's RS-485 settings as of power-up (5.8 0A00H-0A04H)."""
+    boot = dev.boot
+    return LineSettings(int(BAUDS[boot[0x0A00]]), 7 if boot[0x0A01] else 8,
+                        ("none", "even", "odd")[boot[0x0A02]], "rtu" if boot[0x0A04] else "ascii")
+
+
+def _framer(dev: c.Xc100):
+    from mlctool.devices.xc100.server import XC100Decoder  # pymodbus: only for linked models
+    from pymodbus.framer import FramerAscii, FramerRTU
+
+    cls = FramerRTU if dev.boot[0x0A04] else FramerAscii
+    return cls(XC100Decoder(True))
 
 
 def _is_hex(text: str) -> bool:
