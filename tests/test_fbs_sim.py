@@ -54,7 +54,7 @@ def run(il: str, stim: str, tables: dict[str, str], trace: bool = False):
         assert image is not None, [d.message for d in diags]
         preload = []
         for sr, text in tables.items():
-            pos = os.path.join(tmp, f"{sr}.pos")
+            pos = os.path.join(tmp, f"{sr}.{'mpos' if ' LIN' in text else 'pos'}")
             Path(pos).write_text(text, "utf-8")
             table, problems = table_preload(f"{sr}={pos}")
             assert table is not None, [d.message for d in problems]
@@ -194,3 +194,42 @@ def test_image_tables_load_at_their_sr(tmp_path):
     table, problems = table_preload(str(img))
     assert not problems and table[:2] == ("R", 5100) and table[2][0] == 0xA55A
     assert parse_device_name("R4088:d", FBS).width == 32
+
+
+def test_mhspo_manual_example_linear_interpolation():
+    """FUN147 format example: 4 axes 500/400/300/200 Ut (P3 = 3: 1 Ut = 1 Ps) at 5 kHz line
+    speed, then Ps0/Ps1 from DD100/DD200, then Ps2/Ps3 from DR300/DR400 in Ps, WAIT X0.
+    The group holds its axes (M1992-M1995 Off) until its run ends, waits included."""
+    il = PARAMS.replace("MPARA K0 R2000", "MPARA K0 R2000\nMPARA K1 R2000\nMPARA K2 R2000\n"
+                        "MPARA K3 R2000") + """
+LD M0
+LD M10
+LD M11
+MHSPO K0 R5000 R2200
+OUT M20
+END
+"""
+    text = (SAMPLES / "man_interpolation.mpos").read_text("utf-8")
+    stim = """scan 10ms
+    0ms R1000:d=5000 D100:d=100 D200:d=-300 R500=10 R1002:d=1000 R300:d=50 R400:d=-50 M0=1
+    50ms expect M1992=0 M1993=0 M1994=0 M1995=0 M20=1 R2200=1 R4068:d=4000..5000
+    1s expect R4088:d=500 R4090:d=400 R4092:d=300 R4094:d=200 M1992=0 R2201:h=H4203 D4062=1
+    1.25s expect R4088:d=600 R4090:d=100 R4092:d=300 R2200=2 D4062=2
+    2.6s expect R4088:d=600 R4090:d=100 R4092:d=350 R4094:d=150 R2200=3 M20=0
+    3s X0=1
+    3.1s expect R2200=1 M20=1
+    """
+    assert ok(run(il, stim, {"R5000": text}))
+
+
+def test_mhspo_waits_for_an_axis_fun140_holds():
+    il = AXIS.replace("END", "LD M1\nLD M12\nLD M13\nMHSPO K0 R5100 R2200\nEND")
+    stim = """scan 10ms
+    0ms M0=1
+    100ms M1=1
+    200ms expect R4088:d=100..1000 R4090:d=0 R2200=0
+    2.5s expect R4088:d=2000 R4090:d=1000
+    """
+    tables = {"R5000": "001 SPD 1000\n DRV ADR,+,1000,Ps\n MEND\n",
+              "R5100": "001 SPD 1000\n LIN ADR,1000,1000, , ,Ps\n MEND\n"}
+    assert ok(run(il, stim, tables))

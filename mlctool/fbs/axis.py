@@ -39,6 +39,7 @@ class Params:
     p10_fwd: int = 0  # forward compensation
     p11_rev: int = 0  # reverse compensation
     p12_decel_ms: int = 0  # 0 -> P8
+    p13_ms: int = 500  # FUN147 interpolation ramp: constant time 0 -> working frequency
     ut_pulses: float = 10  # one Ut in pulses: 10**(3-P3), P3 = 2 (notes A5, decision)
     speed_scale: float = 1.0  # SPD unit in Ps/s (P0 = 0: 1000 A / (6 B), notes A5)
     dog: int | None = None  # P15-0: X number (None = FFH)

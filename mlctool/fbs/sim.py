@@ -21,11 +21,15 @@ from dataclasses import dataclass, field
 
 from mlctool.fbs.axis import Axis, Params
 from mlctool.fbs.files import table_preload as load_table  # noqa: F401  (mlc sim --table)
+from mlctool.fbs.interp import Group
 from mlctool.fbs.model import PosProgram, tables
 from mlctool.fbs.table import TableError, decode
 from mlctool.sim.state import DeviceView, Machine, s16, s32
 
 AXES = 4
+GROUPS = 2
+# FUN147 per group: D4060+Gp error, D4062+Gp end step, DR4068+2Gp line speed, M1934+Gp done
+G_ERROR, G_END_STEP, G_SPEED, G_DONE = 4060, 4062, 4068, 1934
 REMAINING, FREQ, POSITION = 4072, 4080, 4088  # DR registers, + 2 Ps
 ERROR, END_STEP = 4060, 4064  # R registers, + Ps
 READY, LAST_DONE, DECEL_STOP = 1992, 1996, 1991  # M relays
@@ -48,11 +52,25 @@ class Slot:
     t_us: int = 0  # virtual time the axis has run to
     pin_mode: str = "UD"
     err_latched: bool = False
+    used: bool = False  # driven by a FUN140/147 once: its registers and pins are mirrored
+
+
+@dataclass
+class GroupSlot:
+    """One FUN147 group Gp: the interpolation state, its owner's WR and inputs."""
+
+    group: Group
+    owner: int = -1
+    wr: tuple[str, int] | None = None
+    inputs: tuple[bool, bool, bool] = (False, False, False)
+    t_us: int = 0
+    err_latched: bool = False
 
 
 @dataclass
 class State:
     slots: list[Slot] = field(default_factory=list)
+    groups: list[GroupSlot] = field(default_factory=list)
 
 
 def _state(m: Machine) -> State:
@@ -61,6 +79,8 @@ def _state(m: Machine) -> State:
         modes = list(m.target.settings.get("pulse_modes", ["UD"] * AXES))
         st = State([Slot(Axis(PosProgram("hspso", ())), pin_mode=modes[p] if p < len(modes) else "UD")
                     for p in range(AXES)])
+        axes = [slot.axis for slot in st.slots]
+        st.groups = [GroupSlot(Group(PosProgram("mhspo", ()), axes)) for _ in range(GROUPS)]
         m.ext["fbs"] = st
     return st
 
@@ -114,7 +134,7 @@ def _mirror(m: Machine, p: int, slot: Slot) -> None:
         slot.err_latched = True
         a.error = 0
     m.words["R"][END_STEP + p] = a.end_step
-    busy = a.state != "idle" or a.braking
+    busy = a.state != "idle" or a.braking or not a.ready  # not ready: a FUN147 group has it
     m.bits["M"][READY + p] = 0 if busy else 1
     m.bits["M"][LAST_DONE + p] = 1 if a.done_last else 0
     if slot.wr is not None:
@@ -163,7 +183,12 @@ def before_scan(m: Machine) -> None:
     st = _state(m)
     for p, slot in enumerate(st.slots):
         _advance(m, st, slot)
-        if slot.owner >= 0 or slot.axis.state != "idle":
+    for g, gs in enumerate(st.groups):
+        _advance_group(m, st, gs)
+        if gs.owner >= 0:
+            _mirror_group(m, g, gs)
+    for p, slot in enumerate(st.slots):
+        if slot.used:
             _mirror(m, p, slot)
 
 
@@ -202,10 +227,10 @@ def hspso(m: Machine, s) -> None:
     m.edge[s.index] = en
     if slot.owner != s.index:
         # several FUN140 may share an axis; one runs at a time, the next takes a free axis
-        if not (en and not abt) or a.state != "idle" or a.braking:
+        if not (en and not abt) or a.state != "idle" or a.braking or not a.ready:
             m.acc = False
             return
-        slot.owner, a.last_en = s.index, False
+        slot.owner, a.last_en, slot.used = s.index, False, True
         rising = True
     slot.wr = (s.ops[2].kind, s.ops[2].addr(m, 7))
     _advance(m, st, slot)
@@ -248,7 +273,7 @@ def _param_table(w: list[int], n: int) -> tuple[Params | None, int]:
     return Params(p4_max=round(p4 * speed), p5_start=round(p5 * speed), p6_creep=round(r[9] * speed),
                   p7_backlash=r[10], p8_accel_ms=r[11], p9_count_down=bool(r[12] & 1),
                   p9_home_left=bool(r[12] >> 8), p10_fwd=s16(r[13]), p11_rev=s16(r[14]),
-                  p12_decel_ms=r[15], ut_pulses=ut, speed_scale=speed,
+                  p12_decel_ms=r[15], p13_ms=r[16], ut_pulses=ut, speed_scale=speed,
                   dog=None if dog == 0xFF else dog & 0x7F, dog_nc=bool(dog & 0x80) and dog != 0xFF,
                   pg0=None if pg0 == 0xFF else pg0 & 0x7F, pg0_trailing=bool(pg0 & 0x80) and pg0 != 0xFF,
                   clr=None if clr == 0xFF else clr, p16_origin=d(21), p17_count=r[23]), 0
@@ -294,7 +319,80 @@ def pscnv(m: Machine, s) -> None:
         m.writer[(kind, n)] = m.writer[(kind, n + 1)] = m.pc
 
 
-ACTIONS = {"hspso": hspso, "mpara": mpara, "psoff": psoff, "pscnv": pscnv}
+def _advance_group(m: Machine, st: State, gs: GroupSlot) -> None:
+    dt = m.now_us - gs.t_us
+    gs.t_us = m.now_us
+    if dt > 0 and gs.group.state != "idle":
+        en, pau, abt = gs.inputs
+        gs.group.run(MemEnv(m, st), en, pau, abt, dt)
+
+
+def _mirror_group(m: Machine, g: int, gs: GroupSlot) -> None:
+    grp = gs.group
+    if grp.error:
+        m.words["D"][G_ERROR + g] = grp.error
+        gs.err_latched, grp.error = True, 0
+    m.words["D"][G_END_STEP + g] = grp.end_step
+    _put32(m, G_SPEED + 2 * g, int(grp.vector))
+    m.bits["M"][G_DONE + g] = 1 if grp.done_last else 0
+    if gs.wr is not None:
+        kind, n = gs.wr
+        w = m.words[kind]
+        kept = w[n + 1] & (ERR | DN)
+        if grp.dn:
+            kept, grp.dn = kept | DN, False
+        if gs.err_latched:
+            kept, gs.err_latched = kept | ERR, False
+        en, pau, _ = gs.inputs
+        flags = len(grp.program.steps) & 0xFF | kept
+        flags |= PAUSED if pau and en and grp.state != "idle" else 0
+        flags |= WAITING if grp.state == "wait" else 0
+        flags |= CONTINUOUS if grp.state == "run" and grp.lead == float("inf") else 0
+        flags |= ACT if grp.state == "run" and grp.used else 0
+        w[n], w[n + 1] = grp.wr0 & 0xFFFF, flags
+
+
+def mhspo(m: Machine, s) -> None:
+    """FUN147 MHSPO Gp SR WR with inputs EN, PAU, ABT: linear interpolation (interp.py).
+    It starts only when every axis its step names is free (M1992+Ps On)."""
+    en, pau, abt = _inputs(m, 3)
+    st = _state(m)
+    g = s.ops[0].get(m) % GROUPS
+    gs = st.groups[g]
+    grp = gs.group
+    rising = en and not m.edge[s.index]
+    m.edge[s.index] = en
+    if gs.owner != s.index:
+        if not (en and not abt) or grp.state != "idle":
+            m.acc = False
+            return
+        gs.owner, grp.last_en, rising = s.index, False, True
+    gs.wr = (s.ops[2].kind, s.ops[2].addr(m, 9))
+    _advance_group(m, st, gs)
+    if (rising or not grp.last_en) and en and not abt and grp.state == "idle":
+        program = _load_table(m, s.ops[1].kind, s.ops[1].addr(m, 2))
+        if program is None or program.dialect != "mhspo":
+            grp.error, grp.last_en = 34, True
+        else:
+            grp.program = program
+            wr0 = m.words[gs.wr[0]][gs.wr[1]]
+            grp.wr0 = wr0 if 0 <= wr0 <= len(program.steps) else 0
+            k = grp.wr0 + 1 if grp.wr0 < len(program.steps) else 1
+            named = [i for i, v in enumerate(program.steps[k - 1].motion.travel) if v.kind]
+            if any(st.slots[i].axis.state != "idle" or not st.slots[i].axis.ready for i in named):
+                en = False  # an axis is busy: wait (retried every scan while EN is On)
+            grp.p13_ms = st.slots[named[0]].axis.params.p13_ms if named else 500
+            for i in named:
+                st.slots[i].used = True
+    gs.inputs = (en, pau, abt)
+    grp.run(MemEnv(m, st), en, pau, abt, 0)
+    _mirror_group(m, g, gs)
+    for i in grp.used:
+        _mirror(m, i, st.slots[i])
+    m.acc = grp.state == "run" and bool(grp.used)
+
+
+ACTIONS = {"mhspo": mhspo, "hspso": hspso, "mpara": mpara, "psoff": psoff, "pscnv": pscnv}
 
 
 def views(target, prog) -> list[DeviceView]:
