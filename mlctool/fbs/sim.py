@@ -395,10 +395,13 @@ def mhspo(m: Machine, s) -> None:
 ACTIONS = {"mhspo": mhspo, "hspso": hspso, "mpara": mpara, "psoff": psoff, "pscnv": pscnv}
 
 
+PS_OPS = ("hspso", "mpara", "psoff", "pscnv")  # first operand Ps (FUN147's is a group)
+
+
 def views(target, prog) -> list[DeviceView]:
     """The registers and flags of every axis a FUN140/FUN141/FUN143 names with a constant Ps."""
     axes = sorted({s.ins.operands[0].value % AXES for s in prog.steps
-                   if s.ins.spec.op in ACTIONS and s.ins.operands and s.ins.operands[0].is_const})
+                   if s.ins.spec.op in PS_OPS and s.ins.operands and s.ins.operands[0].is_const})
     out = []
     for p in axes:
         out += [DeviceView("R", REMAINING + 2 * p, "d"), DeviceView("R", FREQ + 2 * p, "d"),
