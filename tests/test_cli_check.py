@@ -187,3 +187,14 @@ def test_independent_programs_do_not_share_coils_but_libraries_do(mlc, tmp_path)
     (tmp_path / "c.il").write_text("LD X1\nCALL P1\nFEND\nEND\n")
     data = json.loads(mlc("check", "--format", "json", "a.il", "c.il", "lib.il", cwd=tmp_path).out)
     assert [(d["file"], d["line"], d["code"]) for d in data["diagnostics"]] == [("lib.il", 5, "W401")]
+
+
+def test_select_lint_rules(mlc, tmp_path):
+    p = tmp_path / "l.il"
+    p.write_text("LD X0\nOUT Y0\nOUT Y0\nSET M1\nMOV K99999 D0\nEND\n")
+    codes = lambda *a: [d["code"] for d in json.loads(mlc("check", "--format", "json", *a, str(p)).out)["diagnostics"]]  # noqa: E731
+    assert codes() == ["W401", "W405", "E206"]
+    assert codes("--select", "W405") == ["W405", "E206"]
+    assert codes("--select", "W401,W405") == ["W401", "W405", "E206"]
+    r = mlc("check", "--select", "E206", str(p))
+    assert r.code == 2 and "not lint rules: E206" in r.err

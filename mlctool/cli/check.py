@@ -24,8 +24,10 @@ from mlctool.targets import available_targets, load_target
 @click.option("--werror", is_flag=True, help="treat warnings as errors (exit 1)")
 @click.option("--ignore", multiple=True, metavar="CODE", help="drop diagnostics with this code (repeatable)")
 @click.option("--no-lint", is_flag=True, help="drop the lint warnings (W4xx)")
+@click.option("--select", "select", multiple=True, metavar="CODE[,CODE]",
+              help="run only these lint rules (W4xx); legality and structure checks always run")
 @click.argument("files", nargs=-1, required=True, type=click.Path())
-def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, files):
+def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, files):
     """Check instruction-list sources against the target's manual.
 
     Exit 0: no errors; 1: errors (or warnings with --werror); 2: usage or unreadable input.
@@ -33,8 +35,16 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, files):
     config = get_config(config_path)
     target = get_target(target_name, config)
     ignored = frozenset(c.upper() for c in ignore)
+    lint = {c for c in CODES if c.startswith("W4")}
     if no_lint:
-        ignored |= {c for c in CODES if c.startswith("W4")}
+        ignored |= lint
+    chosen = {c.strip().upper() for item in select for c in item.split(",") if c.strip()}
+    if chosen:
+        unknown = sorted(chosen - lint)
+        if unknown:
+            raise click.BadParameter(f"not lint rules: {', '.join(unknown)} (lint rules: {', '.join(sorted(lint))})",
+                                     param_hint="--select")
+        ignored |= lint - chosen
     # FBs positioning programs (.pos/.mpos) have their own language: mlctool/fbs
     positioning = [f for f in files if is_positioning_source(f)]
     il_files = [f for f in files if f not in positioning]
