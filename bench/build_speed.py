@@ -10,14 +10,12 @@ from __future__ import annotations
 
 import json
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
-import time
 
 sys.path.insert(0, os.path.dirname(__file__))
-from gen import program  # noqa: E402
+from gen import mlc_command, program, timed  # noqa: E402
 
 LIBRARY_STEPS = 2000
 
@@ -28,21 +26,21 @@ def library() -> str:
 
 
 def main() -> None:
-    mlc = shutil.which("mlc", path=os.path.dirname(sys.executable)) or shutil.which("mlc")
+    mlc = mlc_command()
     text = program(64000 - LIBRARY_STEPS).replace("END\n", "LD X0\nCALL P10\nEND\n")
     with tempfile.TemporaryDirectory() as d:
         for name, body in (("main.il", text), ("lib.il", library())):
             with open(os.path.join(d, name), "w") as f:
                 f.write(body)
         build = [mlc, "build", "main.il", "lib.il", "-o", "p.mlx", "--map", "p.map", "--listing", "p.lst"]
-        runs = [_time(build, d) for _ in range(5)]
+        runs = [timed(build, d) for _ in range(5)]
         assert runs[0][2] == 0, "build failed"
         info = json.loads(subprocess.run([mlc, "objdump", "--json", "p.mlx"], cwd=d, capture_output=True,
                                          text=True, check=True).stdout)
         steps = info["total_steps"]
         subprocess.run([mlc, "build", "-c", "main.il", "lib.il"], cwd=d, check=True, capture_output=True)
-        link = min(_time([mlc, "link", "main.mlo", "lib.mlo", "-o", "q.mlx"], d)[0] for _ in range(3))
-        dump = min(_time([mlc, "objdump", "--json", "p.mlx"], d)[0] for _ in range(3))
+        link = min(timed([mlc, "link", "main.mlo", "lib.mlo", "-o", "q.mlx"], d)[0] for _ in range(3))
+        dump = min(timed([mlc, "objdump", "--json", "p.mlx"], d)[0] for _ in range(3))
         size = os.path.getsize(os.path.join(d, "p.mlx"))
     wall = min(r[0] for r in runs)
     cpu = min(r[1] for r in runs)
@@ -52,16 +50,6 @@ def main() -> None:
     print(f"mlc link of the two .mlo alone: wall {link:.3f} s = {steps / link:,.0f} steps/s; "
           f"mlc objdump --json: {dump:.3f} s")
 
-
-def _time(cmd, cwd) -> tuple[float, float, int]:
-    """(wall s, CPU s of the child, exit code): CPU time is steadier on a busy machine."""
-    before = os.times()
-    t = time.perf_counter()
-    r = subprocess.run(cmd, capture_output=True, cwd=cwd)
-    wall = time.perf_counter() - t
-    after = os.times()
-    cpu = (after.children_user - before.children_user) + (after.children_system - before.children_system)
-    return wall, cpu, r.returncode
 
 
 if __name__ == "__main__":

@@ -3,7 +3,12 @@
 from __future__ import annotations
 
 import itertools
+import os
 import random
+import shutil
+import subprocess
+import sys
+import time
 
 # (template, steps); {o} is a fresh coil, {t} a fresh timer, {p} a fresh 32-bit pair, {w} a fresh word
 RUNGS = [
@@ -41,3 +46,20 @@ def program(steps: int, seed: int = 1) -> str:
         total += n
     out.append("END\n")
     return "".join(out)
+
+
+def mlc_command() -> str:
+    """The mlc of the running interpreter's environment (the project's .venv under make)."""
+    return shutil.which("mlc", path=os.path.dirname(sys.executable)) or shutil.which("mlc") or "mlc"
+
+
+def timed(cmd, cwd=None) -> tuple[float, float, int]:
+    """Run a whole process: (wall s, CPU s of the child, exit code). CPU time is steadier
+    than wall time on a busy machine."""
+    before = os.times()
+    t = time.perf_counter()
+    r = subprocess.run(cmd, capture_output=True, cwd=cwd)
+    wall = time.perf_counter() - t
+    after = os.times()
+    cpu = (after.children_user - before.children_user) + (after.children_system - before.children_system)
+    return wall, cpu, r.returncode
