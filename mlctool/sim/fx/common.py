@@ -43,10 +43,16 @@ def set_relay(m: Machine, name: str, on: bool) -> None:
         m.bits["M"][n] = 1 if on else 0
 
 
-def op_error(m: Machine, s, why: str) -> None:
+def op_error(m: Machine, s, why: str, code: int | None = None, goes_on: bool = False) -> None:
     """"運算錯誤" (operation error): the instruction is not executed, the run goes on, the
-    alarm is reported; semantics.alarm sets M9067/D9067 on targets that have them."""
-    base.alarm(m, base.OPERATION_ALARM, f"{s.ins.mnemonic}: {why}; not executed")
+    alarm is reported; semantics.alarm sets M9067/D9067 on targets that have them. `code`:
+    the page's own error number for D9067 (PID 6730-6747) instead of the target's default;
+    `goes_on`: the instruction still runs (PID 6740-6747: "continues")."""
+    base.alarm(m, base.OPERATION_ALARM, f"{s.ins.mnemonic}: {why}"
+               + ("; continues" if goes_on else "; not executed"))
+    err = m.target.settings.get("operation_error")
+    if err and code is not None:
+        m.words["D"][err["register"]] = code
 
 
 def state(m: Machine, s, default):
