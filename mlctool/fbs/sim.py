@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from mlctool.fbs import mpg as follow
 from mlctool.fbs.axis import Axis, Params
 from mlctool.fbs.files import table_preload as load_table  # noqa: F401  (mlc sim --table)
 from mlctool.fbs.interp import Group
@@ -52,7 +53,8 @@ class Slot:
     t_us: int = 0  # virtual time the axis has run to
     pin_mode: str = "UD"
     err_latched: bool = False
-    used: bool = False  # driven by a FUN140/147 once: its registers and pins are mirrored
+    used: bool = False  # driven by a FUN140/147/148 once: its registers and pins are mirrored
+    follow: follow.Follower = field(default_factory=follow.Follower)  # FUN148 on this axis
 
 
 @dataclass
@@ -114,7 +116,9 @@ def _advance(m: Machine, st: State, slot: Slot) -> None:
     slot.t_us = m.now_us
     a = slot.axis
     a.soft_stop = bool(m.bits["M"][DECEL_STOP])
-    if dt > 0 and (a.state != "idle" or a.clr):
+    if dt > 0 and slot.follow.active:
+        follow.run(slot.follow, a, dt)
+    elif dt > 0 and (a.state != "idle" or a.clr):
         en, pau, abt = slot.inputs
         a.run(MemEnv(m, st), en, pau, abt, dt)
 
@@ -164,7 +168,8 @@ def _pins(m: Machine, p: int, slot: Slot) -> None:
     if not slot.pin_mode:
         return
     a = slot.axis
-    pulsing = a.freq > 0 and a.state == "run" or a.braking
+    # FUN147/148 hold an idle axis (not ready) while they drive it
+    pulsing = a.freq > 0 and (a.state == "run" or not a.ready) or a.braking
     up = a.dir > 0
     y = m.bits["Y"]
     if slot.pin_mode == "UD":
@@ -234,6 +239,12 @@ def hspso(m: Machine, s) -> None:
         rising = True
     slot.wr = (s.ops[2].kind, s.ops[2].addr(m, 7))
     _advance(m, st, slot)
+    if a.state == "idle" and not a.ready:  # a FUN147 group or FUN148 holds the axis: wait
+        if rising or not en:  # an EN edge seen while held starts the run when it is free
+            a.last_en = False
+        slot.inputs = (False, pau, abt)
+        m.acc = False
+        return
     if rising and not abt and a.state == "idle":
         sr_kind, sr = s.ops[1].kind, s.ops[1].addr(m, 2)
         program = _load_table(m, sr_kind, sr)
@@ -392,16 +403,76 @@ def mhspo(m: Machine, s) -> None:
     m.acc = grp.state == "run" and bool(grp.used)
 
 
-ACTIONS = {"mhspo": mhspo, "hspso": hspso, "mpara": mpara, "psoff": psoff, "pscnv": pscnv}
+def _dword(m: Machine, kind: str, n: int) -> int:
+    w = m.words[kind]
+    return s32(w[n] | w[n + 1] << 16)
+
+
+def mpg(m: Machine, s) -> None:
+    """FUN148 MPG Sc Ps Fo Mr WR with input EN: the axis follows the handwheel counted by
+    HSC Sc (mpg.py; decisions in docs/fbs.md). The result after it is its ACT output."""
+    en = m.acc
+    st = _state(m)
+    sc, p = s.ops[0].get(m), s.ops[1].get(m)
+    wr_kind, wr = s.ops[4].kind, s.ops[4].addr(m, 4)
+    if not (0 <= sc <= 7 and 0 <= p < AXES):  # out of the operand range: no output
+        m.acc = False
+        return
+    slot = st.slots[p]
+    f, a = slot.follow, slot.axis
+    _advance(m, st, slot)
+    count = _dword(m, "R", follow.HSC_BASE + follow.HSC_STRIDE * sc)
+    if not en:
+        if f.owner == s.index and f.enabled:
+            if f.active:  # EN Off: output stops at once (as FUN140 without M1991)
+                follow.release(f, a)
+            f.enabled = False
+        m.acc = f.active and f.owner == s.index
+        if slot.used:
+            _mirror(m, p, slot)
+        return
+    if f.owner != s.index and (f.active or (f.enabled and f.owner >= 0)):
+        m.acc = False  # another FUN148 follows on this axis
+        return
+    if not f.enabled or f.owner != s.index:  # EN rising: the reference count, 50 ms clock
+        f.owner, f.enabled, f.last_count, f.carry, f.lost = s.index, True, count, 0, 0
+        f.next_us = m.now_us + follow.SAMPLE_US
+    elif m.now_us >= f.next_us:
+        while f.next_us <= m.now_us:
+            f.next_us += follow.SAMPLE_US
+        fa, fb = m.words[s.ops[3].kind][s.ops[3].addr(m, 2)], m.words[s.ops[3].kind][s.ops[3].addr(m, 2) + 1]
+        pulses = follow.sample(f, count, fa, fb)
+        fo = _dword(m, s.ops[2].kind, s.ops[2].addr(m, 2))
+        free = a.state == "idle" and not a.braking and (a.ready or f.active)
+        r4020 = m.words["R"][follow.INHIBIT]
+        if not free or fo <= 0 or (pulses and follow.inhibited(r4020, p, pulses > 0)):
+            pulses = 0  # held by FUN140/147, no frequency, or inhibited: nothing is output
+        follow.start(f, a, pulses, fo)
+        slot.used = True
+    w = m.words[wr_kind]
+    w[wr], w[wr + 1] = f.last_count & 0xFFFF, (f.last_count >> 16) & 0xFFFF
+    w[wr + 2], w[wr + 3] = f.carry & 0xFFFF, f.lost & 0xFFFF
+    for k in range(4):
+        m.writer[(wr_kind, wr + k)] = m.pc
+    if slot.used:
+        _mirror(m, p, slot)
+    m.acc = f.active  # ACT: pulses being output
+
+
+ACTIONS = {"mpg": mpg, "mhspo": mhspo, "hspso": hspso, "mpara": mpara, "psoff": psoff, "pscnv": pscnv}
 
 
 PS_OPS = ("hspso", "mpara", "psoff", "pscnv")  # first operand Ps (FUN147's is a group)
 
 
 def views(target, prog) -> list[DeviceView]:
-    """The registers and flags of every axis a FUN140/FUN141/FUN143 names with a constant Ps."""
-    axes = sorted({s.ins.operands[0].value % AXES for s in prog.steps
-                   if s.ins.spec.op in PS_OPS and s.ins.operands and s.ins.operands[0].is_const})
+    """The registers and flags of every axis a FUN140/141/143/148 names with a constant Ps."""
+    axes = {s.ins.operands[0].value % AXES for s in prog.steps
+            if s.ins.spec.op in PS_OPS and s.ins.operands and s.ins.operands[0].is_const}
+    axes |= {s.ins.operands[1].value for s in prog.steps  # FUN148: Sc Ps ...
+             if s.ins.spec.op == "mpg" and len(s.ins.operands) > 1 and s.ins.operands[1].is_const
+             and 0 <= s.ins.operands[1].value < AXES}
+    axes = sorted(axes)
     out = []
     for p in axes:
         out += [DeviceView("R", REMAINING + 2 * p, "d"), DeviceView("R", FREQ + 2 * p, "d"),
