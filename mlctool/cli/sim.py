@@ -20,6 +20,8 @@ from mlctool.fileio import write_atomic
 from mlctool.sim.batch import Options
 from mlctool.sim.compile import ENGINE_ENV, ENGINES
 from mlctool.sim.decode import unsimulated
+from mlctool.sim.extension import extension
+from mlctool.sim.pin_window import EDGE_LIMIT, parse_window
 from mlctool.sim.output import json_value, run_diagnostics, summary, to_json
 from mlctool.sim.run import DEFAULT_SCAN_US, RunResult, Simulation, build_models, plan_scans
 from mlctool.sim.scan import DEFAULT_WATCHDOG
@@ -70,12 +72,16 @@ def _errors(diags: list[Diagnostic]) -> bool:
 @click.option("--table", "tables", multiple=True, metavar="[SR=]FILE",
               help="load a register table with the program (target's own format; FBs: "
                    "R5000=home.pos or an image from mlc build)")
+@click.option("--pulse-window", "pulse_window", default=None, metavar="FROM..TO",
+              help="trace the pulse output pins as pulse trains between FROM and TO in the VCD "
+                   f"(at most {EDGE_LIMIT} edges; FBs: docs/fbs.md)")
 @click.argument("program", nargs=-1, required=True, type=click.Path())
 def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_path, watch,
-            as_json, junit_path, watchdog, report_path, engine, jobs, tables, program):
+            as_json, junit_path, watchdog, report_path, engine, jobs, tables, pulse_window, program):
     """Simulate PROGRAM (sources, objects or a linked image) on virtual time."""
     if until is not None and scans is not None:
         raise click.UsageError("give --until or --scans, not both")
+    window = _window_option(pulse_window, vcd_path, stim_path)
     scan_us = _time_option(scan_time, "--scan-time")
     until_us = _time_option(until, "--until")
     config = get_config(config_path)
@@ -91,6 +97,8 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         sys.exit(2)
 
     preload = _tables(tables, target)
+    if window is not None and not hasattr(extension(target), "pulse_pins"):
+        raise click.UsageError(f"--pulse-window: target {target.name} has no pulse outputs")
     if is_batch(stim_path):  # many scenarios: mlctool/cli/sim_batch.py
         if preload:
             raise click.UsageError("--table takes one stimulus file, not a pattern")
@@ -121,8 +129,11 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         power = PowerProbe(period)
     sim = Simulation(image, target, st, models, period, watch_views,
                      trace=vcd_path is not None or report_path is not None, watchdog=watchdog,
-                     probe=power, preload=preload)
+                     probe=power, preload=preload, pulse_window=window)
     result = _run(sim, n_scans)
+    if result.pin_window is not None and result.pin_window.overflow:
+        raise click.UsageError(f"--pulse-window {pulse_window}: the pulse pins change more than "
+                               f"{EDGE_LIMIT} times in the window; give a shorter one (no VCD written)")
 
     _report(result, st, lines, as_json, watch_views)
     if vcd_path:
@@ -144,12 +155,24 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     sys.exit(0 if result.ok else 1)
 
 
+def _window_option(text: str | None, vcd_path: str | None, stim_path: str | None):
+    """--pulse-window FROM..TO -> (from us, to us); it shapes the VCD, so it needs --vcd."""
+    if text is None:
+        return None
+    if not vcd_path:
+        raise click.UsageError("--pulse-window shapes the VCD: give --vcd too")
+    if is_batch(stim_path):
+        raise click.UsageError("--pulse-window takes one stimulus file, not a pattern")
+    try:
+        return parse_window(text, parse_time)
+    except (ValueError, StimError) as e:
+        raise click.BadParameter(getattr(e, "message", str(e)), param_hint="--pulse-window") from None
+
+
 def _tables(specs: tuple[str, ...], target) -> list:
     """--table: register tables the target's extension can load (mlctool/sim/extension.py)."""
     if not specs:
         return []
-    from mlctool.sim.extension import extension
-
     load = getattr(extension(target), "load_table", None)
     if load is None:
         raise click.BadParameter(f"target {target.name} has no register tables", param_hint="--table")

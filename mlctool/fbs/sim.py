@@ -20,7 +20,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from mlctool.fbs import mpg as follow
-from mlctool.fbs.axis import Axis, Params
+from mlctool.fbs import pulses
+from mlctool.fbs.axis import TICK_US, Axis, Params
 from mlctool.fbs.files import table_preload as load_table  # noqa: F401  (mlc sim --table)
 from mlctool.fbs.interp import Group
 from mlctool.fbs.model import PosProgram, tables
@@ -73,6 +74,8 @@ class GroupSlot:
 class State:
     slots: list[Slot] = field(default_factory=list)
     groups: list[GroupSlot] = field(default_factory=list)
+    pin_levels: dict = field(default_factory=dict)  # --pulse-window: Y levels written
+    window_open: bool = False
 
 
 def _state(m: Machine) -> State:
@@ -111,16 +114,35 @@ class MemEnv:
 
 # ------------------------------------------------------------------ time and memory
 
+def _pieces(m: Machine, t0: int, traced: bool) -> list[tuple[int, int]]:
+    """(start, length) of the advance from t0 to now: one piece, or 1 ms ticks when the
+    pulse pins are traced (each tick's pulses are placed in it: fbs/pulses.py)."""
+    dt = m.now_us - t0
+    if dt <= 0:
+        return []
+    trace = m.pin_window
+    if not traced or trace is None or not trace.overlaps(t0, m.now_us):
+        return [(t0, dt)]
+    return [(t, min(TICK_US, m.now_us - t)) for t in range(t0, m.now_us, TICK_US)]
+
+
 def _advance(m: Machine, st: State, slot: Slot) -> None:
-    dt = m.now_us - slot.t_us
-    slot.t_us = m.now_us
+    t0, slot.t_us = slot.t_us, m.now_us
     a = slot.axis
     a.soft_stop = bool(m.bits["M"][DECEL_STOP])
-    if dt > 0 and slot.follow.active:
-        follow.run(slot.follow, a, dt)
-    elif dt > 0 and (a.state != "idle" or a.clr):
-        en, pau, abt = slot.inputs
-        a.run(MemEnv(m, st), en, pau, abt, dt)
+    p = st.slots.index(slot)
+    for start, dt in _pieces(m, t0, bool(slot.pin_mode)):
+        before = a.pulses_out
+        if slot.follow.active:
+            follow.run(slot.follow, a, dt)
+        elif a.state != "idle" or a.clr:
+            en, pau, abt = slot.inputs
+            a.run(MemEnv(m, st), en, pau, abt, dt)
+        else:
+            break
+        if m.pin_window is not None:
+            pulses.emit(m.pin_window, st.pin_levels, p, slot.pin_mode, start, dt,
+                        a.pulses_out - before, a.dir > 0)
 
 
 def _put32(m: Machine, n: int, v: int) -> None:
@@ -186,6 +208,12 @@ def _pins(m: Machine, p: int, slot: Slot) -> None:
 def before_scan(m: Machine) -> None:
     """Every axis runs to the scan's start time (hardware keeps going between scans)."""
     st = _state(m)
+    trace = m.pin_window
+    if trace is not None and not st.window_open and m.now_us >= trace.from_us:
+        st.window_open = True  # the pins of the axes in use go to rest at the window's start
+        for p, slot in enumerate(st.slots):
+            if slot.used and slot.pin_mode:
+                pulses.open_window(trace, st.pin_levels, p, slot.pin_mode, slot.axis.dir > 0)
     for p, slot in enumerate(st.slots):
         _advance(m, st, slot)
     for g, gs in enumerate(st.groups):
@@ -331,11 +359,18 @@ def pscnv(m: Machine, s) -> None:
 
 
 def _advance_group(m: Machine, st: State, gs: GroupSlot) -> None:
-    dt = m.now_us - gs.t_us
-    gs.t_us = m.now_us
-    if dt > 0 and gs.group.state != "idle":
+    t0, gs.t_us = gs.t_us, m.now_us
+    grp = gs.group
+    for start, dt in _pieces(m, t0, True):
+        if grp.state == "idle":
+            break
+        before = [a.pulses_out for a in grp.axes]
         en, pau, abt = gs.inputs
-        gs.group.run(MemEnv(m, st), en, pau, abt, dt)
+        grp.run(MemEnv(m, st), en, pau, abt, dt)
+        if m.pin_window is not None:
+            for p, slot in enumerate(st.slots):
+                pulses.emit(m.pin_window, st.pin_levels, p, slot.pin_mode, start, dt,
+                            slot.axis.pulses_out - before[p], slot.axis.dir > 0)
 
 
 def _mirror_group(m: Machine, g: int, gs: GroupSlot) -> None:
@@ -460,6 +495,11 @@ def mpg(m: Machine, s) -> None:
 
 
 ACTIONS = {"mpg": mpg, "mhspo": mhspo, "hspso": hspso, "mpara": mpara, "psoff": psoff, "pscnv": pscnv}
+
+
+def pulse_pins(target) -> list[tuple[str, int]]:
+    """The pins `mlc sim --pulse-window` traces as pulse trains: Y0-Y7 of Ps0-Ps3."""
+    return [("Y", n) for n in range(2 * AXES)]
 
 
 PS_OPS = ("hspso", "mpara", "psoff", "pscnv")  # first operand Ps (FUN147's is a group)

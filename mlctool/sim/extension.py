@@ -5,6 +5,8 @@ target.toml (`sim_extension = "mlctool.fbs.sim"`). The module may define
 - `before_scan(m)`: run before each scan's inputs are applied (hardware that runs on the
   virtual clock between scans, e.g. pulse axes), at m.now_us;
 - `views(target, prog)`: device views a run always reports and traces (axis registers).
+- `pulse_pins(target)`: the pins it drives as pulse trains; with `mlc sim --pulse-window`
+  it records their level changes in `Machine.pin_window` (sim/pin_window.py).
 
 State of the extension lives in `Machine.ext` (cleared by a power cycle). Targets without
 the key behave as before.

@@ -17,6 +17,7 @@ from mlctool.program import Image
 from mlctool.sim.compile import scanner
 from mlctool.sim.decode import Program, program_devices
 from mlctool.sim.extension import extension
+from mlctool.sim.pin_window import PinWindow
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, load_program
 from mlctool.sim.state import DeviceView, Machine
 from mlctool.sim.stimulus import Check, Event, Stimulus
@@ -84,6 +85,7 @@ class RunResult:
     alarms: list[AlarmReport]
     fault: FaultReport | None
     trace: list[tuple[int, list[tuple[int, int | float]]]]  # (time us, [(view index, value)])
+    pin_window: object = None  # sim/pin_window.py PinWindow of --pulse-window (None: per-scan levels only)
 
     @property
     def time_us(self) -> int:
@@ -132,12 +134,14 @@ class Simulation:
     def __init__(self, image: Image, target: Target, st: Stimulus, models: list[DeviceModel],
                  period_us: int, watch: list[DeviceView], trace: bool,
                  watchdog: int = DEFAULT_WATCHDOG, probe=None, engine: str | None = None,
-                 preload: list[tuple[str, int, list[int]]] = ()):
+                 preload: list[tuple[str, int, list[int]]] = (), pulse_window: tuple[int, int] | None = None):
         self.image = image
         self.target = target
         self.prog: Program = load_program(image, target, probe)
         self.m = Machine(target, len(self.prog.steps))
         self.m.image = image
+        if pulse_window is not None:  # the target's extension records its pulse pins' edges
+            self.m.pin_window = PinWindow(*pulse_window)
         for kind, first, words in preload:  # register tables loaded with the program (--table)
             self.m.words[kind][first:first + len(words)] = [w & 0xFFFF for w in words]
         self.st = st
@@ -279,7 +283,8 @@ class Simulation:
         outcomes.sort(key=lambda o: (o.scan, o.line))
         alarms = _first_alarms(alarms)
         devices = {v.name: v.read(m) for v in self.views}
-        return RunResult(self.period, scans_done, devices, self.views, outcomes, alarms, fault, trace)
+        return RunResult(self.period, scans_done, devices, self.views, outcomes, alarms, fault, trace,
+                         m.pin_window)
 
     def _fault(self, f: Fault, k: int) -> FaultReport:
         if f.step is None:

@@ -95,6 +95,7 @@ class Machine:
         self.stl_leaving: set[int] = set()  # steps that transferred: reset at the end of the scan
         self.fx_state: dict[int, object] = {}  # step index -> memory of an FX routine (SORT, PID)
         self.ext: dict = {}  # state of the target's simulation extension (sim/extension.py)
+        self.pin_window = None  # sim/pin_window.py PinWindow: pulse pins inside a window (kept over power)
         self.image = None  # the linked program (Image): data kept beside the code (.table rows)
         self.scans_done = 0  # scans completed since power-on (first-scan relays)  # 1 ms timers skipped by CJ: contact held until OUT runs
 

@@ -33,8 +33,9 @@ def _raw(view: DeviceView, value):
 
 def to_vcd(r: RunResult, image: Image, target: Target) -> str:
     buf = io.StringIO()
-    writer = VCDWriter(buf, timescale="1 us", date="", comment="mlc sim (virtual time)",
-                       version="mlctool")
+    window = r.pin_window  # --pulse-window: 1 ns time unit, pulse pins as pulse trains inside it
+    writer = VCDWriter(buf, timescale="1 ns" if window else "1 us", date="",
+                       comment="mlc sim (virtual time)", version="mlctool")
     variables = []
     for v in r.views:
         if v.is_float:
@@ -46,11 +47,48 @@ def to_vcd(r: RunResult, image: Image, target: Target) -> str:
         view = _symbol_view(text, target)
         if view is not None and view.name in by_name:
             writer.register_alias(SCOPE + ".symbols", sym, variables[by_name[view.name]])
-    for t, changes in r.trace:
-        for k, value in changes:
-            writer.change(variables[k], t, _raw(r.views[k], value))
-    writer.close(r.time_us)
+    if window is None:
+        for t, changes in r.trace:
+            for k, value in changes:
+                writer.change(variables[k], t, _raw(r.views[k], value))
+        writer.close(r.time_us)
+        return buf.getvalue()
+    for t, k, value in _with_pulses(r, window, by_name):
+        writer.change(variables[k], t, _raw(r.views[k], value))
+    writer.close(r.time_us * 1000)
     return buf.getvalue()
+
+
+def _with_pulses(r: RunResult, window, by_name: dict[str, int]):
+    """(t ns, view index, value) in time order: the per-scan values, except the pulse pins
+    inside the window, where the recorded edges replace them; at the window's end the pins
+    take their per-scan level again."""
+    pins = {by_name[f"{kind}{n}"] for kind, n in window.pins if f"{kind}{n}" in by_name}
+    out = []
+    for t_us, changes in r.trace:
+        t = t_us * 1000
+        for k, value in changes:
+            if not (k in pins and window.inside(t)):
+                out.append((t, 0, k, value))
+    for t, kind, n, value in window.edges:
+        k = by_name.get(f"{kind}{n}")
+        if k is not None:
+            out.append((t, 1, k, value))
+    for k in pins:  # back to the per-scan level at the window's end
+        out.append((window.to_ns, 2, k, _level_at(r, k, window.to_ns)))
+    out.sort(key=lambda e: (e[0], e[1]))
+    return [(t, k, v) for t, _, k, v in out]
+
+
+def _level_at(r: RunResult, k: int, t_ns: int):
+    value = 0
+    for t_us, changes in r.trace:
+        if t_us * 1000 > t_ns:
+            break
+        for j, v in changes:
+            if j == k:
+                value = v
+    return value
 
 
 def _symbol_view(text: str, target: Target) -> DeviceView | None:
