@@ -17,6 +17,7 @@ from mlctool.program import Image
 from mlctool.sim.compile import scanner
 from mlctool.sim.decode import Program, program_devices
 from mlctool.sim.extension import extension
+from mlctool.sim.pulses import Train, add_train, drive_inputs
 from mlctool.sim.pin_window import PinWindow
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, load_program
 from mlctool.sim.state import DeviceView, Machine
@@ -198,6 +199,10 @@ class Simulation:
         elif e.kind == "release":
             for view, _ in e.assigns:
                 self.forces.pop(view, None)
+        elif e.kind == "pulses":
+            view, (start, period, end) = e.assigns[0]
+            add_train(self.m, view.kind, view.number, Train(start, period, end))
+            self._mark(view, e.line)
 
     def _mark(self, view: DeviceView, line: int) -> None:
         kind = view.gdev if view.view == "group" else view.kind
@@ -243,6 +248,8 @@ class Simulation:
             for e in events:
                 if e.kind not in ("expect", "alarm"):
                     self.apply(e)
+            if m.pulse_trains:
+                drive_inputs(m)
             self.apply_forces()
             try:
                 self.scan(self.watchdog)

@@ -230,12 +230,13 @@ FX_ACTIONS.update(MBUS_ACTIONS)
 from mlctool.sim.fx.clock import CLOCK_ACTIONS, refresh  # noqa: E402
 from mlctool.sim.fx.data import DATA_ACTIONS  # noqa: E402
 from mlctool.sim.fx.floats import FLOAT_ACTIONS  # noqa: E402
+from mlctool.sim.fx.hsc import HSC_ACTIONS, catch_up  # noqa: E402
 from mlctool.sim.fx.pid import PID_ACTIONS  # noqa: E402
 from mlctool.sim.fx.shift import SHIFT_ACTIONS  # noqa: E402
 from mlctool.sim.fx.strings import STRING_ACTIONS  # noqa: E402
 
 FX_ACTIONS.update({**SHIFT_ACTIONS, **DATA_ACTIONS, **FLOAT_ACTIONS, **STRING_ACTIONS, **CLOCK_ACTIONS,
-                   **PID_ACTIONS})
+                   **PID_ACTIONS, **HSC_ACTIONS})
 # Run by scan.system_relays before every scan; each does nothing on a target without its
-# settings (the calendar: target.toml `rtc`).
-BEFORE_SCAN = (refresh,)
+# settings (the calendar: target.toml `rtc`; high-speed counters: `high_speed_counters`).
+BEFORE_SCAN = (refresh, catch_up)

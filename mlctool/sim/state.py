@@ -94,6 +94,10 @@ class Machine:
         self.stl_step: int | None = None  # the step relay of the STL block being executed
         self.stl_leaving: set[int] = set()  # steps that transferred: reset at the end of the scan
         self.fx_state: dict[int, object] = {}  # step index -> memory of an FX routine (SORT, PID)
+        # input pulse trains of the stimulus (sim/pulses.py): (kind, number) -> trains; the
+        # hardware's, so a power cycle keeps them
+        self.pulse_trains: dict[tuple[str, int], list] = {}
+        self.hsc: dict = {}  # high-speed counters and their compare points (sim/fx/hsc.py)
         self.ext: dict = {}  # state of the target's simulation extension (sim/extension.py)
         self.pin_window = None  # sim/pin_window.py PinWindow: pulse pins inside a window (kept over power)
         self.image = None  # the linked program (Image): data kept beside the code (.table rows)
@@ -152,6 +156,7 @@ class Machine:
             self.bits["C"][lo:lo + len(contacts)] = contacts
         self.stl_leaving.clear()
         self.fx_state.clear()
+        self.hsc.clear()
         self.ext.clear()  # target hardware (pulse axes ...) restarts from power-on
         self.scans_done = 0
         n = len(self.t_running)

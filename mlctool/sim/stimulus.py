@@ -43,6 +43,22 @@ def parse_time(text: str) -> int:
     return int(us)
 
 
+_FREQ = re.compile(r"(?P<num>[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?P<unit>hz|khz|mhz)", re.IGNORECASE)
+_HZ = {"hz": 1, "khz": 1000, "mhz": 1_000_000}
+MAX_HZ = 10_000_000
+
+
+def parse_frequency(text: str) -> Fraction:
+    """'1kHz' -> 1000 (Hz, exact). Raises StimError."""
+    m = _FREQ.fullmatch(text.strip())
+    if not m:
+        raise StimError(f"{text!r} is not a frequency (e.g. 500Hz, 1kHz, 2.5kHz, 0Hz)")
+    hz = Fraction(m["num"]) * _HZ[m["unit"].lower()]
+    if hz > MAX_HZ:
+        raise StimError(f"{text!r}: at most 10MHz")
+    return hz
+
+
 @dataclass(frozen=True, slots=True)
 class Check:
     """One `DEV=V`, `DEV!=V` or `DEV=LO..HI` of an expect line."""
@@ -240,6 +256,8 @@ class _Parser:
             else:
                 ev.kind = "expect"
                 ev.checks = [self.check(t, col, off + 1 + k) for k, (t, col) in enumerate(toks[1:])]
+        elif len(toks) > 1 and toks[1][0].lower() == "pulses":
+            self.pulses(ev, toks, off)
         elif word == "release":
             if len(toks) < 2:
                 raise StimError("release needs device names", off)
@@ -261,6 +279,31 @@ class _Parser:
                 view = self.view(name, off + k)
                 ev.assigns.append((view, self.at(off + k, lambda v=value, w=view: parse_value(v, w))))
         self.st.events.append(ev)
+
+    def pulses(self, ev: Event, toks: list[tuple[str, int]], off: int) -> None:
+        """`X0 pulses 1kHz [until TIME | for TIME]`: a pulse train on an input (sim/pulses.py)."""
+        form = "expected `DEV pulses FREQUENCY [until TIME | for TIME]`, e.g. X0 pulses 1kHz until 500ms"
+        view = self.view(toks[0][0], off)
+        dev = self.target.devices.get(view.kind)
+        if view.view != "bit" or dev is None or not dev.input:
+            raise StimError(f"{toks[0][0]}: pulse trains drive inputs (e.g. X0)", off)
+        if len(toks) not in (3, 5):
+            raise StimError(form, min(len(toks) - 1, 3) + off)
+        if ev.time_us is None:
+            raise StimError("a pulse train starts at a time (e.g. 0ms), not at a scan number", 0)
+        hz = self.at(off + 2, lambda: parse_frequency(toks[2][0]))
+        end = None
+        if len(toks) == 5:
+            word = toks[3][0].lower()
+            if word not in ("until", "for"):
+                raise StimError(form, off + 3)
+            span = self.at(off + 4, lambda: parse_time(toks[4][0]))
+            end = span if word == "until" else ev.time_us + span
+            if end <= ev.time_us:
+                raise StimError(f"{toks[4][0]}: the train must end after it starts", off + 4)
+        period = None if hz == 0 else Fraction(1_000_000) / hz
+        ev.kind = "pulses"
+        ev.assigns = [(view, (ev.time_us, period, end))]
 
     def view(self, name: str, offset: int) -> DeviceView:
         try:

@@ -1,0 +1,187 @@
+"""Software high-speed counters C235-C255 and their compare instructions (manual 2-7, 6-7
+FNC 53 DHSCS, 54 DHSCR, 55 DHSZ, 56 SPD) on the stimulus's pulse trains (sim/pulses.py).
+
+Which counters count which input is data: target.toml `[high_speed_counters]` (`inputs`:
+counter -> input; `counters`: the whole range, so one without an input assignment is a
+run-time fault naming it, never a silent count of its rung). A high-speed counter counts the
+rising edges of its input between scans while its coil (OUT C235 K..) was On at its last
+execution, up or down by its direction relay M9235... as of that execution, past the preset both ways (contact
+On at value >= preset, judged at each count).
+
+Counting is analytic: the edges of a scan interval are counted, never stepped. Compare
+points of DHSCS/DHSCR (active while their condition was On at their last execution) act at
+the edge that makes the value equal to S1, in time order within the interval (the time of
+edge k of a train is t0 + k/f): DHSCS sets D (Y at once, not at END), DHSCR resets D (the
+counter itself: value 0, contact Off, counting goes on from 0). DHSZ judges the zone after
+the counts of the interval. Writing a counter (DMOV) compares nothing (2-7, 6-7).
+"""
+
+from __future__ import annotations
+
+from mlctool.sim import semantics as base
+from mlctool.sim.fx.common import op_error
+from mlctool.sim.operands import CounterRef
+from mlctool.sim.pulses import count as count_edges
+from mlctool.sim.pulses import edges
+from mlctool.sim.state import Machine, SimFault, s32
+
+MAX_COMPARES = 8  # DHSCS/DHSCR/DHSZ/DHSCT executed together (6-7)
+
+
+def _table(m: Machine):
+    return m.target.settings.get("high_speed_counters")
+
+
+def _counters(m: Machine) -> dict:
+    return m.hsc.setdefault("counters", {})
+
+
+def _compares(m: Machine) -> dict:
+    return m.hsc.setdefault("compares", {})
+
+
+def is_high_speed(m: Machine, n: int) -> bool:
+    t = _table(m)
+    return bool(t) and t["counters"][0] <= n <= t["counters"][1]
+
+
+def coil(m: Machine, s, n: int) -> None:
+    """OUT C235 K..: enables counting of the input's pulses (2-7 "software start")."""
+    inp = _table(m)["inputs"].get(str(n))
+    if inp is None:
+        raise SimFault(f"C{n}: the input assignment of this high-speed counter is not simulated "
+                       f"(simulated: {', '.join('C' + k for k in _table(m)['inputs'])})")
+    c = _counters(m).setdefault(n, {})
+    # the state the program leaves counts the pulses until its next execution: enable,
+    # preset and the direction relay as of now (a relay changed later acts from then on)
+    c.update(on=bool(m.acc), preset=s.ops[1].get(m), input=(inp[0], int(inp[1:], 8)),
+             direction=_direction(m, n))
+
+
+def _direction(m: Machine, n: int) -> int:
+    base_relay = m.target.settings.get("counter_direction_base")
+    k = n - m.c32_lo
+    if base_relay is None or k >= m.target.settings.get("counter_direction_count", 0):
+        return 1
+    return -1 if m.bits["M"][base_relay + k] else 1
+
+
+def catch_up(m: Machine) -> None:
+    """Before a scan: the counts since the previous scan (edges in (last, now])."""
+    if not _table(m):
+        return
+    last = m.hsc.get("last_us", -1)
+    m.hsc["last_us"] = m.now_us
+    for n, c in sorted(_counters(m).items()):
+        if not c["on"]:
+            continue
+        runs = edges(m, *c["input"], last, m.now_us)
+        total = sum(k for _, _, k in runs)
+        if total:
+            _count(m, n, c, total)
+
+
+def _count(m: Machine, n: int, c: dict, total: int) -> None:
+    d = c["direction"]
+    points = [(idx, p) for idx, p in sorted(_compares(m).items()) if p["counter"] == n]
+    v = s32(m.cval[n])
+    seen_reset = None  # remaining count at the last self-reset: the cycle repeats after it
+    while total:
+        hit = None
+        for idx, p in points:
+            if p["kind"] in ("set", "reset"):
+                steps = (p["value"] - v) * d
+                if 1 <= steps <= total and (hit is None or steps < hit[0]):
+                    hit = (steps, p)
+        if hit is None:
+            v = s32(v + d * total)
+            total = 0
+            break
+        steps, p = hit
+        v = s32(v + d * steps)
+        total -= steps
+        m.bits["C"][n] = 1 if v >= c["preset"] else 0
+        if p["kind"] == "set":
+            p["dest"].setbit(m, 1)
+        elif isinstance(p["dest"], CounterRef) and p["dest"].addr(m) == n:
+            v = 0  # self-reset: value 0, contact Off (6-7 DHSCR)
+            m.bits["C"][n] = 0
+            if seen_reset is not None and seen_reset > total:
+                total %= seen_reset - total  # whole cycles leave the same state
+            seen_reset = total
+        else:
+            p["dest"].setbit(m, 0)
+    m.cval[n] = v
+    m.bits["C"][n] = 1 if v >= c["preset"] else 0
+    for _, p in points:
+        if p["kind"] == "zone":
+            lo, hi = p["value"]
+            for k, on in enumerate((v < lo, lo <= v <= hi, v > hi)):
+                p["dest"].setbit(m, on, k)
+
+
+def _register(kind: str):
+    """DHSCS/DHSCR/DHSZ: the compare point is active while the condition is On."""
+    def run(m: Machine, s) -> None:
+        points = _compares(m)
+        if not m.acc:
+            points.pop(s.index, None)
+            return
+        ops = s.ops
+        counter = ops[-2]
+        n = counter.addr(m)
+        if not is_high_speed(m, n):
+            op_error(m, s, f"C{n} is not a high-speed counter")
+            return
+        if s.index not in points and len(points) >= MAX_COMPARES:
+            op_error(m, s, f"more than {MAX_COMPARES} high-speed compares active at once")
+            return
+        value = (ops[0].get(m), ops[1].get(m)) if kind == "zone" else ops[0].get(m)
+        points[s.index] = {"kind": kind, "value": value, "counter": n, "dest": ops[-1]}
+    return run
+
+
+def spd(m: Machine, s) -> None:
+    """SPD S1 S2 D (FNC 56): the pulses of input S1 counted over windows of S2 ms: D = the
+    count of the last complete window, D+1 the count so far in this one, D+2 the ms left.
+    DECISION: windows start at the execution that finds the condition On after Off, and
+    follow each other without gaps (remainders carried); Off stops the measurement, D keeps."""
+    memo = m.hsc.setdefault("spd", {})
+    if not m.acc:
+        memo.pop(s.index, None)
+        return
+    src, window_ref, dst = s.ops
+    ms = window_ref.get(m)
+    if ms < 1:
+        op_error(m, s, f"S2 = {ms} ms: the window must be at least 1 ms")
+        return
+    kind, number = src.kind, src.addr(m)
+    start = memo.setdefault(s.index, m.now_us)
+    span = ms * 1000
+    while m.now_us - start >= span:
+        dst.set(m, count_edges(m, kind, number, start, start + span))
+        start += span
+    memo[s.index] = start
+    size = 2 if s.width == 32 else 1
+    words = m.words[dst.kind]
+    a = dst.addr(m)
+    for k, value in enumerate((count_edges(m, kind, number, start, m.now_us),
+                               (start + span - m.now_us) // 1000), 1):
+        for h in range(size):
+            words[a + k * size + h] = (value >> (16 * h)) & 0xFFFF
+        m.writer[(dst.kind, a + k * size)] = m.pc
+
+
+def counter_coil(m: Machine, s) -> None:
+    """OUT C: high-speed counters by the table, every other counter as before."""
+    n = s.ops[0].addr(m)
+    if is_high_speed(m, n):
+        coil(m, s, n)
+    else:
+        base.cnt(m, s)
+
+
+HSC_ACTIONS = {
+    "cnt": counter_coil, "dhscs": _register("set"), "dhscr": _register("reset"),
+    "dhsz": _register("zone"), "spd": spd,
+}

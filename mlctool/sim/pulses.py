@@ -1,0 +1,70 @@
+"""Pulse trains on inputs, described by the stimulus (`0ms X0 pulses 1kHz until 500ms`), on
+virtual time and counted analytically: a train is never stepped pulse by pulse.
+
+A train of frequency f starting at t0 has its rising edges at t0 + k/f (k = 0, 1, ...)
+before its end, and is On for the first half of each period (50 % duty). A later train on
+the same input ends the earlier one where it starts. Scans see the input's level at their
+start time; high-speed counters (sim/fx/hsc.py) and SPD count the edges between two times.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+
+
+@dataclass(slots=True)
+class Train:
+    start_us: int
+    period_us: Fraction | None  # None: 0 Hz (the input stays Off)
+    end_us: int | None  # exclusive; None: until the next train on the input or the run's end
+
+    def edges_upto(self, t: int) -> int:
+        """Rising edges at times <= t."""
+        if self.period_us is None or t < self.start_us:
+            return 0
+        n = math.floor((t - self.start_us) / self.period_us) + 1
+        if self.end_us is not None:  # the edges before the end (exclusive)
+            n = min(n, math.ceil((self.end_us - self.start_us) / self.period_us))
+        return n
+
+    def level(self, t: int) -> int:
+        if self.period_us is None or t < self.start_us or (self.end_us is not None and t >= self.end_us):
+            return 0
+        return 1 if (t - self.start_us) % self.period_us < self.period_us / 2 else 0
+
+    def edge_time(self, k: int) -> Fraction:
+        """Time of edge number k (0 = the first)."""
+        return self.start_us + k * self.period_us
+
+
+def add_train(m, kind: str, number: int, train: Train) -> None:
+    trains = m.pulse_trains.setdefault((kind, number), [])
+    for old in trains:  # the new train ends the ones still running
+        if old.end_us is None or old.end_us > train.start_us:
+            old.end_us = max(old.start_us, train.start_us)
+    trains.append(train)
+
+
+def edges(m, kind: str, number: int, after: int, upto: int) -> list[tuple[Train, int, int]]:
+    """The rising edges in (after, upto] as (train, first k, count) runs, in time order."""
+    out = []
+    for tr in m.pulse_trains.get((kind, number), ()):
+        first = tr.edges_upto(after)
+        last = tr.edges_upto(upto)
+        if last > first:
+            out.append((tr, first, last - first))
+    return out
+
+
+def count(m, kind: str, number: int, after: int, upto: int) -> int:
+    return sum(n for _, _, n in edges(m, kind, number, after, upto))
+
+
+def drive_inputs(m) -> None:
+    """Before a scan: every input with a train takes the train's level at the scan's start."""
+    for (kind, number), trains in m.pulse_trains.items():
+        live = [tr for tr in trains if tr.start_us <= m.now_us]
+        if live:
+            m.bits[kind][number] = live[-1].level(m.now_us)
