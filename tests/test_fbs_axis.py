@@ -219,3 +219,29 @@ def test_abort_restarts_at_step_one_and_pause_resumes():
     assert ax.pulses_out > before
     run(ax, env, 0.02, abt=True)
     assert ax.wr0 == 0 and ax.ready and not ax.act
+
+
+def limit_plant(lo: int, hi: int, limit_at: int):
+    """dog_plant, plus the travel limit (X1) on at and beyond `limit_at` (homing side)."""
+    dog = dog_plant(lo, hi)
+
+    def hook(axis, env):
+        dog(axis, env)
+        env.bits[("X", 1)] = axis.position <= limit_at
+    return hook
+
+
+def test_homing_from_past_the_dog_uses_the_travel_limit():
+    """11.7 (start on or before DOG, P15-1): to the limit, reverse at once until DOG 1 -> 0,
+    then the mode (MD0) from there."""
+    for start in (-3000, -1500):  # past the DOG, and on it
+        env = Env()
+        env.hook = limit_plant(-2000, -1000, -4000)
+        ax = axis_for("001 SPD 5000\n DRVZ MD0\n MEND\n", env, dog=0, limit=1, p6_creep=1000,
+                      p16_origin=100, p8_accel_ms=100)
+        ax.position = start
+        assert run(ax, env, 10, until=lambda a: a.done_last)
+        assert ax.position == 100 and ax.error == 0
+        # start -> -4000 -> just past -1000 -> just past -2000 (inputs per 1 ms: a few Ps late)
+        want = start + 4000 + 3000 + 1000
+        assert want <= ax.pulses_out <= want + 30, (start, ax.pulses_out)

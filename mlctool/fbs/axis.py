@@ -44,6 +44,8 @@ class Params:
     speed_scale: float = 1.0  # SPD unit in Ps/s (P0 = 0: 1000 A / (6 B), notes A5)
     dog: int | None = None  # P15-0: X number (None = FFH)
     dog_nc: bool = False
+    limit: int | None = None  # P15-1: travel-limit X number (None = FFH)
+    limit_nc: bool = False
     pg0: int | None = None  # P15-2
     pg0_trailing: bool = False
     clr: int | None = None  # P15-3: Y number
@@ -95,6 +97,7 @@ class Axis:
     home_seen: int = 0
     prev_dog: bool = False
     prev_pg0: bool = False
+    home_started: bool = False
     clr_us: int = 0
 
     # ------------------------------------------------------------ scan interface
@@ -349,12 +352,26 @@ class Axis:
         self.dir = (-1 if left else 1) * (-1 if p.p9_count_down else 1)
         self.to_go, self.counted, self.home, self.home_seen = INF, INF, "fast", 0
         self.prev_dog = self.prev_pg0 = False
+        self.home_started = False
 
     def home_inputs(self, env: Env) -> None:
         p, mode = self.params, self.step.motion.mode
         dog = env.bit("X", p.dog) != p.dog_nc
+        if not self.home_started and p.limit is not None:
+            self.prev_dog = dog  # with a limit switch, starting on DOG is not a DOG edge
+        self.home_started = True
         rise, fall = dog and not self.prev_dog, self.prev_dog and not dog
         self.prev_dog = dog
+        if p.limit is not None and self.home in ("fast", "escape"):
+            # 11.7: started on or past DOG, the axis runs to the travel limit, reverses at
+            # once until DOG goes 1 -> 0, then homes in its mode from there
+            if self.home == "fast" and env.bit("X", p.limit) != p.limit_nc:
+                self.home, self.dir, self.freq = "escape", -self.dir, 0.0
+                return
+            if self.home == "escape":
+                if fall:
+                    self.home, self.dir, self.freq = "fast", -self.dir, 0.0
+                return
         pg0 = env.bit("X", p.pg0) if p.pg0 is not None else False
         pg0_rise = pg0 and not self.prev_pg0
         self.prev_pg0 = pg0

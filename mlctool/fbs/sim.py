@@ -307,13 +307,14 @@ def _param_table(w: list[int], n: int) -> tuple[Params | None, int]:
     unit = 10 ** (3 - p3)
     ut = unit if p0 == 1 else unit * per_rev / p2  # motor unit: Ps; machine/compound: via P1/P2
     speed = 1000 * per_rev / (6 * p2) if p0 == 0 else 1.0  # machine unit speeds (A5, P4 formula)
-    dog, pg0 = r[19] & 0xFF, r[20] & 0xFF
+    dog, pg0, limit = r[19] & 0xFF, r[20] & 0xFF, r[19] >> 8  # P15-0, P15-2, P15-1
     clr = r[20] >> 8
     return Params(p4_max=round(p4 * speed), p5_start=round(p5 * speed), p6_creep=round(r[9] * speed),
                   p7_backlash=r[10], p8_accel_ms=r[11], p9_count_down=bool(r[12] & 1),
                   p9_home_left=bool(r[12] >> 8), p10_fwd=s16(r[13]), p11_rev=s16(r[14]),
                   p12_decel_ms=r[15], p13_ms=r[16], ut_pulses=ut, speed_scale=speed,
                   dog=None if dog == 0xFF else dog & 0x7F, dog_nc=bool(dog & 0x80) and dog != 0xFF,
+                  limit=None if limit == 0xFF else limit & 0x7F, limit_nc=bool(limit & 0x80) and limit != 0xFF,
                   pg0=None if pg0 == 0xFF else pg0 & 0x7F, pg0_trailing=bool(pg0 & 0x80) and pg0 != 0xFF,
                   clr=None if clr == 0xFF else clr, p16_origin=d(21), p17_count=r[23]), 0
 
