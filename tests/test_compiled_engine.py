@@ -180,8 +180,10 @@ def test_compiled_engine_matches_the_interpreter(il, stim):
     a, sim_a = _run(image, stim, "compiled")
     b, sim_b = _run(image, stim, "interp")
     assert sim_a.scan.engine == "compiled" and sim_b.scan.engine == "interp"
-    assert a.trace == b.trace
-    assert a.devices == b.devices
+    assert repr(a.trace) == repr(b.trace)  # repr: a float view may hold NaN (nan != nan)
+    assert repr(a.devices) == repr(b.devices)
+    assert sim_a.m.words == sim_b.m.words and sim_a.m.cval == sim_b.m.cval  # raw patterns
+    assert sim_a.m.bits == sim_b.m.bits
     assert a.scans == b.scans and a.fault == b.fault and a.alarms == b.alarms
     assert a.expectations == b.expectations  # failures include the last writer
     if a.fault is None:

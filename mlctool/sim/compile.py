@@ -25,10 +25,11 @@ falls back silently and `Scanner.engine` says which one runs.
 
 from __future__ import annotations
 
+import array
 import hashlib
 import math
 import os
-import struct
+import re
 from collections import OrderedDict
 from collections.abc import Callable
 from types import CodeType
@@ -38,13 +39,12 @@ from mlctool.sim import semantics
 from mlctool.sim.decode import Program, Step
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, GroupRef, WordRef
 from mlctool.sim.scan import DEFAULT_WATCHDOG, END_SCAN, Fault, end_of_scan, run_scan
-from mlctool.sim.semantics import advance_timer
-from mlctool.sim.state import Machine, SimFault, f32_bits, to_f32
+from mlctool.sim.state import Machine, SimFault, s16, s32, to_f32
 
 ENGINES = ("compiled", "interp")
 DEFAULT_ENGINE = "compiled"
 ENGINE_ENV = "MLC_SIM_ENGINE"
-COMPILER_VERSION = "2"
+COMPILER_VERSION = "3"
 
 FLOW_OPS = frozenset({"cj", "call", "sret", "fend", "end", "for", "next"})
 RUNG_CLASSES = frozenset({"load", "and", "or", "anb", "orb", "mps", "mrd", "mpp", "inv"})
@@ -62,13 +62,28 @@ _before_scan = getattr(_scan, "system_relays", None)
 _T01 = bytes.maketrans(b"\x00\x01", b"01")  # device bits -> binary digits (Kn groups)
 
 
-_PACK_I, _UNPACK_F = struct.Struct("<I").pack, struct.Struct("<f").unpack
+# Single-precision conversions without struct calls: one 4-byte buffer seen as a float (FF)
+# and as an unsigned 32-bit word (FI). `FI[0] = raw; FF[0]` is bits_f32(raw) and
+# `FF[0] = x; FI[0]` is f32_bits(x) (both round through a C float cast, as struct's "<f" does;
+# overflow gives the signed infinity f32_bits returns; NaN payloads are kept the same way).
+_FF = array.array("f", [0.0])
+_FI = memoryview(_FF).cast("B").cast("I")
 
 
-def _f32_of_bits(raw: int) -> float:
-    """What `_float` makes of a D pair: to_f32(Ref.getf()) (identity but for NaN)."""
-    x = _UNPACK_F(_PACK_I(raw & 0xFFFFFFFF))[0]
-    return x if x == x else to_f32(x)
+def _fault(m: Machine, writers: dict | None, ref, extent: int) -> None:
+    """An index-modified operand outside its device: the writer records deferred so far are
+    applied (the interpreter had made them), then Ref.addr raises the interpreter's fault."""
+    if writers:
+        m.writer.update(writers)
+    ref.addr(m, extent)
+    raise SimFault(f"{ref.text}: address out of range")  # pragma: no cover - addr raised
+
+
+def _drop_loops(m: Machine, target: int) -> None:
+    """scan._jump_to: a CJ out of FOR bodies drops those loops (4.1 API-08 item 3)."""
+    fors = m.fors
+    while fors and not (fors[-1][0] < target <= fors[-1][1]):
+        fors.pop()
 
 
 class Unsupported(Exception):
@@ -79,7 +94,8 @@ class Code:
     """A program compiled to Python: the code object and what the driver needs to run it."""
 
     def __init__(self, key: str, code: CodeType, filename: str, starts: list[int],
-                 block_steps: list[int], linemap: list[int], source: str):
+                 block_steps: list[int], linemap: list[int], source: str,
+                 consts: dict[str, dict] | None = None, used: frozenset[str] = frozenset()):
         self.key = key
         self.code = code
         self.filename = filename
@@ -87,6 +103,8 @@ class Code:
         self.block_steps = block_steps  # steps executed by each block (for the watchdog)
         self.linemap = linemap  # generated line (0-based) -> step index
         self.source = source
+        self.consts = consts or {}  # U<n>: constant writer records (dict updates)
+        self.used = used  # machine containers the code reads (G_<name>)
 
 
 _CACHE: OrderedDict[str, Code | None] = OrderedDict()
@@ -134,6 +152,19 @@ def _s32(expr: str) -> str:
     return f"(({expr} ^ 2147483648) - 2147483648)"
 
 
+def _word(ref) -> bool:
+    """A D/T/V/Z word operand (plain or index-modified) the generator reads and writes inline."""
+    return type(ref) is WordRef and ref.kind in WORD_KINDS
+
+
+_CONST_EXPR = re.compile(r"[0-9()+\-*&|^~<> ]+")
+
+
+def _fold(expr: str) -> int | None:
+    """The value of an expression of integer literals (known words folded in), or None."""
+    return eval(expr, {"__builtins__": {}}) if _CONST_EXPR.fullmatch(expr) else None  # noqa: S307
+
+
 class _Gen:
     def __init__(self, prog: Program, key: str):
         self.prog = prog
@@ -141,10 +172,23 @@ class _Gen:
         self.filename = f"<mlc-compiled {key[:16]}>"
         self.lines: list[str] = []
         self.linemap: list[int] = []
-        self.c32_lo = prog.target.settings["counters32"][0]
+        self.consts: dict[str, dict] = {}  # U<n>: writer records applied by one dict update
+        self.all_used: set[str] = set()
+        settings = prog.target.settings
+        self.c32_lo = settings["counters32"][0]
+        self.for_depth = settings["for_depth"]
+        self.call_depth = settings["call_depth"]
+        # VS-style preset ranges change TMR/CNT; such targets keep the reference routines
+        self.tmr_inline = settings.get("timer_preset_range") is None
+        self.cnt_inline = settings.get("counter16_preset_range") is None
+        self.gopen = False  # an `if a:` group is open: application instructions under one rung result
+        self.gpend: dict[tuple[str, int], int] = {}  # writer records of the open group
+        self.known: dict[tuple[str, int], int] = {}
 
     # -- output helpers
     def emit(self, text: str, step: int, depth: int = 1) -> None:
+        if depth == 1 and self.gopen:
+            self.close_group(step)
         self.lines.append("    " * depth + text)
         self.linemap.append(step)
 
@@ -153,6 +197,7 @@ class _Gen:
         if not steps:
             raise Unsupported("empty program")
         starts = sorted({0} | {s.index for s in steps if s.ins.spec.cls == "label"}
+                        | {s.target for s in steps if s.ins.spec.op in ("cj", "call") and s.target >= 0}
                         | {s.index + 1 for s in steps if s.ins.spec.op in FLOW_OPS} - {len(steps)})
         bounds = starts + [len(steps)]
         block_of = {st: j for j, st in enumerate(starts)}
@@ -164,7 +209,8 @@ class _Gen:
             self.block(j, block, len(starts))
         source = "\n".join(self.lines) + "\n"
         code = compile(source, self.filename, "exec")
-        return Code(self.key, code, self.filename, starts, block_steps, self.linemap, source)
+        return Code(self.key, code, self.filename, starts, block_steps, self.linemap, source,
+                    self.consts, frozenset(self.all_used))
 
     # -- one block
     def block(self, j: int, block: list[Step], nblocks: int) -> None:
@@ -173,6 +219,8 @@ class _Gen:
         header_at = len(self.lines)
         self.used: set[str] = set()
         self.pending: dict[tuple[str, int], int] = {}
+        self.gopen, self.gpend = False, {}
+        self.known: dict[tuple[str, int], int] = {}  # words of the open group holding a constant
         self.blocks: list[str] = []  # symbolic ANB/ORB block stack: names of locals
         self.stack: list[str] = []  # symbolic MPS stack
         self.tmp = 0
@@ -193,7 +241,10 @@ class _Gen:
             self.flush(block[-1].index)
             self.emit("m.acc = a", block[-1].index)
             self.emit(f"return {j + 1}", block[-1].index)
-        header = [f"{name} = G_{name}" for name in sorted(self.used)]
+        header = [f"{name} = G_{name}" for name in sorted(self.used - {"now"})]
+        if "now" in self.used:
+            header.append("now = m.now_us")
+        self.all_used |= self.used
         self.lines[header_at:header_at] = ["    " + h for h in header]
         self.linemap[header_at:header_at] = [first] * len(header)
 
@@ -213,41 +264,97 @@ class _Gen:
     def bit(self, ref) -> str:
         return f"{self.use('b' + ref.kind)}[{ref.num}]"
 
-    def value(self, ref, i: int, j: int) -> str:
-        """Signed value of an operand as Ref.get gives it."""
+    def index(self, ref, i: int, j: int, depth: int, extent: int) -> str:
+        """Emit the address of an index-modified operand (Ref.addr inline: number + signed
+        index register, range-checked); a fault applies the deferred writer records first and
+        lets Ref.addr raise its message. Returns the local holding the address."""
+        x = self.new_tmp("x")
+        n = ref.ixn
+        if ref.width == 32 and ref.ix == "V":
+            iv = _s32(f"({self.use('wZ')}[{n}] << 16 | {self.use('wV')}[{n}])")
+        else:
+            iv = _s16(f"{self.use('w' + ref.ix)}[{n}]")
+        self.emit(f"{x} = {ref.num} + {iv}", i, depth)
+        done = dict(self.pending)
+        done.update(self.gpend)
+        self.emit(f"if {x} < 0 or {x} > {ref.hi - extent + 1}: FLT(m, {self.const(done)}, O{i}_{j}, {extent})",
+                  i, depth)
+        return x
+
+    def const(self, d: dict) -> str:
+        if not d:
+            return "None"
+        name = f"U{len(self.consts)}"
+        self.consts[name] = dict(d)
+        return name
+
+    def readable(self, ref) -> bool:
+        """`value` reads the operand inline (no Ref.get call)."""
+        if type(ref) is ConstRef:
+            return ref.ix is None
+        if _word(ref):
+            return ref.ix is not None or ref.width == 16 or ref.kind in ("Z", "V") or ref.num + 1 <= ref.hi
+        if type(ref) is GroupRef:
+            return ref.ix is None and ref.kind in ("X", "Y", "M", "A") and ref.num + ref.n - 1 <= ref.hi
+        if type(ref) is CounterRef:
+            return ref.ix is None and (ref.width == 16 or ref.num >= self.c32_lo or ref.num + 1 <= ref.hi)
+        return False
+
+    def value(self, ref, i: int, j: int, depth: int = 1, unsigned: bool = False) -> str:
+        """Value of an operand as Ref.get gives it (signed); `unsigned`: any expression equal
+        to it modulo 2^width (enough for + - & | ^ and stores). Index-modified operands emit
+        their address on lines of their own first (at `depth`)."""
         w = ref.width
         if type(ref) is ConstRef and ref.ix is None:
-            return repr(ref.get(None))
-        if type(ref) is WordRef and ref.ix is None and ref.kind in WORD_KINDS:
+            v = ref.get(None)
+            return repr(v & (0xFFFF if w == 16 else 0xFFFFFFFF)) if unsigned else repr(v)
+        if _word(ref):
             arr = self.use("w" + ref.kind)
-            n = ref.num
-            if w == 16 or ref.kind == "Z":
-                return _s16(f"{arr}[{n}]")
-            if ref.kind == "V":
-                return _s32(f"({self.use('wZ')}[{n}] << 16 | {arr}[{n}])")
-            if n + 1 <= ref.hi:
-                return _s32(f"({arr}[{n + 1}] << 16 | {arr}[{n}])")
+            one = w == 16 or ref.kind == "Z"
+            if ref.ix is None:
+                n, n1 = ref.num, str(ref.num + 1)
+                if not one and ref.kind != "V" and ref.num + 1 > ref.hi:
+                    return f"O{i}_{j}.get(m)"
+                hk = ("Z", n) if ref.kind == "V" else (ref.kind, n + 1)
+                if depth == 2 and (ref.kind, n) in self.known and (one or hk in self.known):
+                    raw = self.known[(ref.kind, n)] if one else self.known[hk] << 16 | self.known[(ref.kind, n)]
+                    if unsigned:
+                        return repr(raw)
+                    return repr(s16(raw) if one else s32(raw))
+            else:
+                n = self.index(ref, i, j, depth, 1 if one or ref.kind == "V" else 2)
+                n1 = f"{n} + 1"
+            if one:
+                raw = f"{arr}[{n}]"
+                return raw if unsigned else _s16(raw)
+            hi = f"{self.use('wZ')}[{n}]" if ref.kind == "V" else f"{arr}[{n1}]"
+            raw = f"({hi} << 16 | {arr}[{n}])"
+            return raw if unsigned else _s32(raw)
         if type(ref) is GroupRef and ref.ix is None and ref.kind in ("X", "Y", "M", "A") \
                 and ref.num + ref.n - 1 <= ref.hi:
             arr, a, n = self.use("b" + ref.kind), ref.num, ref.n
-            expr = f"int({arr}[{a}:{a + n}][::-1].translate(T01), 2)"
-            if n == w:  # K4 in 16-bit and K8 in 32-bit are signed (GroupRef.get)
+            expr = f"int({arr}[{a + n - 1}:{a - 1 if a else ''}:-1].translate(T01), 2)"
+            if n == w and not unsigned:  # K4 in 16-bit and K8 in 32-bit are signed (GroupRef.get)
                 return _s16(expr) if w == 16 else _s32(expr)
             return expr
         if type(ref) is CounterRef and ref.ix is None:
             cv = self.use("cv")
             n = ref.num
             if w == 16:
-                return _s16(f"({cv}[{n}] & 65535)")
+                return f"({cv}[{n}] & 65535)" if unsigned else _s16(f"({cv}[{n}] & 65535)")
             if n >= self.c32_lo:
-                return _s32(f"({cv}[{n}] & 4294967295)")
-            if n + 1 <= ref.hi:
-                return _s32(f"(({cv}[{n + 1}] << 16 | {cv}[{n}]) & 4294967295)")
+                raw = f"({cv}[{n}] & 4294967295)"
+            elif n + 1 <= ref.hi:
+                raw = f"(({cv}[{n + 1}] << 16 | {cv}[{n}]) & 4294967295)"
+            else:
+                return f"O{i}_{j}.get(m)"
+            return raw if unsigned else _s32(raw)
         return f"O{i}_{j}.get(m)"
 
     def store_keys(self, ref) -> list[tuple[str, int]] | None:
-        """Writer keys of an inline store to `ref`, or None: Ref.set runs it."""
-        if type(ref) is WordRef and ref.ix is None and ref.kind in WORD_KINDS:
+        """Writer keys of an inline store to a plain word operand (None: not known at compile
+        time, or not a plain word)."""
+        if _word(ref) and ref.ix is None:
             n = ref.num
             if ref.width == 16 or ref.kind == "Z":
                 return [(ref.kind, n)]
@@ -257,50 +364,114 @@ class _Gen:
                 return [(ref.kind, n), (ref.kind, n + 1)]
         return None
 
-    def store(self, ref, expr: str, s: Step, j: int, depth: int) -> None:
-        """Write of a signed value as Ref.set does; `prepare(store_keys(ref))` came first."""
+    def storable(self, ref) -> bool:
+        return _word(ref) and (ref.ix is not None or self.store_keys(ref) is not None)
+
+    def store(self, ref, expr: str, s: Step, j: int, masked: bool = False) -> None:
+        """WordRef.set inline, inside the open group (`cond` came first). `masked`: expr is
+        already an unsigned 16-bit value."""
         i = s.index
-        keys = self.store_keys(ref)
-        if keys is None:
-            self.emit(f"m.pc = {i}", i, depth)
-            self.emit(f"O{i}_{j}.set(m, {expr})", i, depth)
-            return
         arr = self.use("w" + ref.kind)
-        n = ref.num
-        for k in keys:
-            self.emit(f"W[{k!r}] = {i}", i, depth)
-        if len(keys) == 1:
-            self.emit(f"{arr}[{n}] = {expr} & 65535", i, depth)
+        one = ref.width == 16 or ref.kind == "Z"
+        if ref.ix is None:
+            n, n1 = ref.num, ref.num + 1
+            hi_key = ("Z", n) if ref.kind == "V" else (ref.kind, n1)
+        else:
+            src = self.new_tmp("v")
+            self.emit(f"{src} = {expr}", i, 2)  # the source is read before the destination's address
+            expr, masked = src, False
+            n = self.index(ref, i, j, 2, 1 if one or ref.kind == "V" else 2)
+            n1 = f"{n} + 1"
+            hi_key = None
+        c = _fold(expr) if ref.ix is None else None
+        if one:
+            if c is not None:
+                self.emit(f"{arr}[{n}] = {c & 0xFFFF}", i, 2)
+            else:
+                self.emit(f"{arr}[{n}] = {expr}" if masked else f"{arr}[{n}] = {expr} & 65535", i, 2)
+            if ref.ix is None:
+                self.learn([(ref.kind, n)], None if c is None else [c & 0xFFFF])
+                self.gwrite([(ref.kind, n)], i)
+            else:
+                self.emit(f"W[({ref.kind!r}, {n})] = {i}", i, 2)
             return
-        hi_arr = self.use("wZ") if ref.kind == "V" else arr
-        self.emit(f"v = {expr}", i, depth)
-        self.emit(f"{arr}[{n}] = v & 65535", i, depth)
-        self.emit(f"{hi_arr}[{keys[1][1]}] = (v >> 16) & 65535", i, depth)
+        hi = f"{self.use('wZ')}[{n}]" if ref.kind == "V" else f"{arr}[{n1}]"
+        if c is not None:
+            words = [c & 0xFFFF, (c >> 16) & 0xFFFF]
+            self.emit(f"{arr}[{n}] = {words[0]}; {hi} = {words[1]}", i, 2)
+        else:
+            v = expr if expr.isidentifier() else "v"
+            if v == "v":
+                self.emit(f"v = {expr}", i, 2)
+            self.emit(f"{arr}[{n}] = {v} & 65535; {hi} = ({v} >> 16) & 65535", i, 2)
+        if ref.ix is None:
+            self.learn([(ref.kind, n), hi_key], None if c is None else words)
+            self.gwrite([(ref.kind, n), hi_key], i)
+        else:
+            hk = "'Z'" if ref.kind == "V" else repr(ref.kind)
+            self.emit(f"W[({ref.kind!r}, {n})] = {i}; W[({hk}, {n1 if ref.kind != 'V' else n})] = {i}",
+                      i, 2)
 
     # -- writer tracking
-    def prepare(self, keys, i: int) -> None:
-        """Before a conditional write: pending writer records of the same device go first
-        (all of them when the written devices are not known at compile time)."""
-        if keys is None or any(k in self.pending for k in keys):
+    def cond(self, keys, i: int, kinds: tuple[str, ...] = ()) -> None:
+        """Open (or stay in) the `if a:` group before a conditional write. Writer records
+        deferred from earlier steps that the write could overwrite go first; `keys` None: a
+        store whose address is known at run time only, to a device of `kinds`."""
+        if keys is None:
+            if any(k[0] in kinds for k in self.pending):
+                self.flush(i)
+            if any(k[0] in kinds for k in self.gpend):
+                self.emit_records(self.gpend, i, 2)
+                self.gpend = {}
+            for k in [k for k in self.known if k[0] in kinds]:
+                del self.known[k]
+        elif any(k in self.pending for k in keys):
+            self.flush(i)
+        if not self.gopen:
+            self.emit("if a:", i)
+            self.gopen = True
+
+    def direct(self, key, i: int) -> None:
+        """Before a writer record written on the spot (outside any group)."""
+        if key in self.pending:
             self.flush(i)
 
-    def cond_writer(self, keys, i: int, depth: int) -> None:
+    def learn(self, keys, words: list[int] | None) -> None:
+        """Words the open group just wrote: constants later reads in the group fold in."""
+        for k, key in enumerate(keys):
+            if words is None:
+                self.known.pop(key, None)
+            else:
+                self.known[key] = words[k]
+
+    def gwrite(self, keys, i: int) -> None:
         for k in keys:
-            self.emit(f"W[{k!r}] = {i}", i, depth)
+            self.gpend[k] = i
+
+    def close_group(self, i: int) -> None:
+        self.gopen = False
+        self.known = {}
+        if self.gpend:
+            self.emit_records(self.gpend, i, 2)
+            self.gpend = {}
+
+    def emit_records(self, d: dict, i: int, depth: int) -> None:
+        if len(d) == 1:
+            (k, v), = d.items()
+            self.emit(f"W[{k!r}] = {v}", i, depth)
+        else:
+            self.emit(f"W.update({self.const(d)})", i, depth)
 
     def defer_writer(self, key, i: int) -> None:
         self.pending.pop(key, None)
         self.pending[key] = i
 
     def flush(self, i: int) -> None:
-        if not self.pending:
-            return
-        if len(self.pending) == 1:
-            (k, v), = self.pending.items()
-            self.emit(f"W[{k!r}] = {v}", i)
-        else:
-            self.emit(f"W.update({dict(self.pending)!r})", i)
-        self.pending = {}
+        if self.gopen:
+            self.close_group(i)
+        if self.pending:
+            pending, self.pending = self.pending, {}
+            self.emit_records(pending, i, 1)
 
     # -- instructions
     def reference(self, s: Step) -> None:
@@ -324,6 +495,7 @@ class _Gen:
             expr = f"({x} {_CMP[op]} {y})"
             if "(m)" in expr:
                 t = self.new_tmp("c")
+                self.flush(i)
                 self.emit(f"{t} = {expr}", i)
                 return t
             return expr
@@ -331,8 +503,11 @@ class _Gen:
             return None
         if _bit_simple(ref):
             b = self.bit(ref)
+        elif type(ref) is BitRef and ref.kind in BIT_KINDS:
+            b = f"{self.use('b' + ref.kind)}[{self.index(ref, i, 0, 1, 1)}]"
         else:
             b = self.new_tmp("c")
+            self.flush(i)
             self.emit(f"{b} = O{i}_0.bit(m)", i)
         if op == "contact":
             return b
@@ -452,10 +627,9 @@ class _Gen:
         key = (ref.kind, ref.num)
         dst = self.bit(ref)
         if op in ("set", "rst"):
-            self.prepare([key], i)
-            self.emit("if a:", i)
+            self.cond([key], i)
             self.emit(f"{dst} = {1 if op == 'set' else 0}", i, 2)
-            self.cond_writer([key], i, 2)
+            self.gwrite([key], i)
         else:
             e = self.use("bE")
             self.emit(f"e = {e}[{i}]; {e}[{i}] = 1 if a else 0", i)
@@ -464,40 +638,65 @@ class _Gen:
             self.defer_writer(key, i)
 
     def tmr(self, s: Step) -> None:
+        """semantics.tmr and advance_timer inline for a plain timer with a K or plain D preset."""
         i = s.index
         t, pre = s.ops
-        if t.ix is not None or not (type(pre) is ConstRef and pre.ix is None
-                                    or type(pre) is WordRef and pre.ix is None and pre.kind == "D"):
+        target = self.prog.target
+        if t.ix is not None or not self.tmr_inline or target.timer_base(t.num).get("retentive") \
+                or not (type(pre) is ConstRef and pre.ix is None
+                        or type(pre) is WordRef and pre.ix is None and pre.kind == "D"):
             self.reference(s)
             return
         n = t.num
+        base = target.timer_base_ms(n) * 1000
         preset = str(pre.get(None) & 0xFFFF) if type(pre) is ConstRef else f"{self.use('wD')}[{pre.num}]"
-        self.emit(f"{self.use('ts')}[{n}] = 1", i)
-        self.prepare([("T", n)], i)
+        wt, bt, tr, tl, tf, tp, ts = (self.use(x) for x in ("wT", "bT", "tr", "tl", "tf", "tp", "ts"))
+        self.use("now")
+        self.direct(("T", n), i)
+        self.emit(f"{ts}[{n}] = 1", i)
         self.emit("if a:", i)
-        self.cond_writer([("T", n)], i, 2)
-        self.emit(f"adv(m, {n}, {preset})", i, 2)
+        self.emit(f"W[('T', {n})] = {i}; pr = {preset}; {tp}[{n}] = pr", i, 2)
+        self.emit(f"if {tr}[{n}]:", i, 2)
+        self.emit(f"q, {tf}[{n}] = divmod(now - {tl}[{n}] + {tf}[{n}], {base}); {tl}[{n}] = now", i, 3)
+        self.emit(f"v = {wt}[{n}]", i, 3)
+        self.emit("if v < pr:", i, 3)
+        self.emit(f"v += q; {wt}[{n}] = v if v < pr else pr", i, 4)
+        self.emit("else:", i, 2)
+        self.emit(f"{tr}[{n}] = 1; {tl}[{n}] = now; {tf}[{n}] = 0", i, 3)
+        self.emit(f"{bt}[{n}] = 1 if {wt}[{n}] >= pr else 0", i, 2)
         self.emit("else:", i)
-        self.emit(f"m.reset_timer({n})", i, 2)
+        self.emit(f"{wt}[{n}] = 0; {bt}[{n}] = 0; {tr}[{n}] = 0; {tf}[{n}] = 0", i, 2)
 
     def word_op(self, s: Step) -> None:
         op, i = s.ins.spec.op, s.index
         ops = s.ops
+        mask = "65535" if s.width == 16 else "4294967295"
         if op == "mov":
-            src, dst, di = self.value(ops[0], i, 0), ops[1], 1
+            dst, di = ops[1], 1
         elif op in ("inc", "dec"):
-            src, dst, di = f"({self.value(ops[0], i, 0)} {'+' if op == 'inc' else '-'} 1)", ops[0], 0
+            dst, di = ops[0], 0
         elif op == "cml":
-            src, dst, di = f"(~{self.value(ops[0], i, 0)})", ops[1], 1
+            dst, di = ops[1], 1
         else:
-            src = f"({self.value(ops[0], i, 0)} {_ARITH[op]} {self.value(ops[1], i, 1)})"
             dst, di = ops[2], 2
-        if type(dst) is ConstRef:
+        if not self.storable(dst) or not all(self.readable(r) for k, r in enumerate(ops) if k != di):
             self.reference(s)
             return
-        self.prepare(self.store_keys(dst), i)
-        self.emit("if a:", i)
-        self.store(dst, src, s, di, 2)
+        keys = self.store_keys(dst)
+        self.cond(keys, i, ("V", "Z") if dst.kind == "V" else (dst.kind,))
+        masked = False
+        if op == "mov":
+            src = self.value(ops[0], i, 0, 2, unsigned=True)
+            masked = s.width == 16 and (_word(ops[0]) and (ops[0].width == 16 or ops[0].kind == "Z")
+                                        or type(ops[0]) is ConstRef)
+        elif op in ("inc", "dec"):
+            src = f"({self.value(ops[0], i, 0, 2, unsigned=True)} {'+' if op == 'inc' else '-'} 1)"
+        elif op == "cml":
+            src = f"(~{self.value(ops[0], i, 0, 2, unsigned=True)} & {mask})"
+        else:
+            src = (f"({self.value(ops[0], i, 0, 2, unsigned=True)} {_ARITH[op]} "
+                   f"{self.value(ops[1], i, 1, 2, unsigned=True)})")
+        self.store(dst, src, s, di, masked)
 
     def words_keys(self, ref, count: int) -> list[tuple[str, int]] | None:
         """Writer keys of `count` consecutive words from a plain D/T operand (set_words)."""
@@ -511,23 +710,34 @@ class _Gen:
         i = s.index
         count = 2 if s.width == 16 else 4
         keys = self.words_keys(s.ops[2], count)
+        if keys is None or not all(type(r) is ConstRef and r.ix is None or _word(r) and r.ix is None
+                                   for r in s.ops[:2]):
+            self.reference(s)
+            return
         x, y = self.value(s.ops[0], i, 0), self.value(s.ops[1], i, 1)
-        if keys is None or "(m)" in x + y:
+        if "(m)" in x + y:
             self.reference(s)
             return
         arr = self.use("w" + s.ops[2].kind)
-        self.prepare(keys, i)
-        self.emit("if a:", i)
-        self.emit(f"v = {x} * {y}", i, 2)
-        for k, key in enumerate(keys):
-            self.emit(f"{arr}[{key[1]}] = (v >> {16 * k}) & 65535", i, 2)
-            self.emit(f"W[{key!r}] = {i}", i, 2)
+        self.cond(keys, i)
+        x, y = self.value(s.ops[0], i, 0, 2), self.value(s.ops[1], i, 1, 2)  # constants folded in
+        c = _fold(f"{x} * {y}")
+        if c is not None:
+            words = [(c >> (16 * k)) & 0xFFFF for k in range(len(keys))]
+            self.emit("; ".join(f"{arr}[{key[1]}] = {words[k]}" for k, key in enumerate(keys)), i, 2)
+        else:
+            words = None
+            parts = [f"{arr}[{key[1]}] = (v >> {16 * k}) & 65535" if k else f"{arr}[{key[1]}] = v & 65535"
+                     for k, key in enumerate(keys)]
+            self.emit(f"v = {x} * {y}; " + "; ".join(parts), i, 2)
+        self.learn(keys, words)
+        self.gwrite(keys, i)
 
     def cnt(self, s: Step) -> None:
         """semantics.cnt for a 16-bit counter with a K or plain D preset."""
         i = s.index
         c, pre = s.ops
-        if c.ix is not None or c.num >= self.c32_lo or not (
+        if c.ix is not None or c.num >= self.c32_lo or not self.cnt_inline or not (
                 type(pre) is ConstRef and pre.ix is None
                 or type(pre) is WordRef and pre.ix is None and pre.kind == "D"):
             self.reference(s)
@@ -536,56 +746,106 @@ class _Gen:
         preset = (str(max(pre.get(None) & 0xFFFF, 1)) if type(pre) is ConstRef
                   else f"max({self.use('wD')}[{pre.num}], 1)")
         e, cv, bc = self.use("bE"), self.use("cv"), self.use("bC")
-        self.prepare([("C", n)], i)
-        self.emit(f"pe = {e}[{i}]; {e}[{i}] = 1 if a else 0; v = {cv}[{n}]; pr = {preset}", i)
-        self.emit("if a and not pe and v < pr:", i)
+        self.direct(("C", n), i)
+        if type(pre) is ConstRef:
+            pr = preset
+            self.emit(f"pe = {e}[{i}]; {e}[{i}] = 1 if a else 0; v = {cv}[{n}]", i)
+        else:
+            pr = "pr"
+            self.emit(f"pe = {e}[{i}]; {e}[{i}] = 1 if a else 0; v = {cv}[{n}]; pr = {preset}", i)
+        self.emit(f"if a and not pe and v < {pr}:", i)
         self.emit(f"v += 1; {cv}[{n}] = v; W[('C', {n})] = {i}", i, 2)
-        self.emit(f"if v >= pr and not {bc}[{n}]:", i)
+        self.emit(f"if v >= {pr} and not {bc}[{n}]:", i)
         self.emit(f"m.c_pending[{n}] = 1", i, 2)
 
     def fvalue(self, ref, i: int, j: int) -> str | None:
-        """The single-precision float `_float` computes from an operand, or None."""
+        """An expression for the single-precision float `_float` computes from an operand,
+        or None: a constant as a literal, a D pair as its raw 32-bit pattern ("raw:..."),
+        to be turned into a float through the FI/FF buffer (struct-free, bit-identical)."""
         if type(ref) is ConstRef and ref.ix is None:
             x = to_f32(ref.getf(None))
             return repr(x) if math.isfinite(x) else None
-        if type(ref) is WordRef and ref.ix is None and ref.kind == "D" and ref.num + 1 <= ref.hi:
-            arr = self.use("wD")
-            return f"FD({arr}[{ref.num + 1}] << 16 | {arr}[{ref.num}])"
+        if _word(ref) and ref.kind == "D" and (ref.ix is not None or ref.num + 1 <= ref.hi):
+            return "raw:" + self.value(ref, i, j, 2, unsigned=True)
         return None
 
     def float_op(self, s: Step) -> None:
         """FADD/FSUB/FMUL (semantics._float): operands and result in single precision."""
         i = s.index
-        x, y = self.fvalue(s.ops[0], i, 0), self.fvalue(s.ops[1], i, 1)
         dst = s.ops[2]
         keys = self.words_keys(dst, 2) if type(dst) is WordRef and dst.kind == "D" else None
-        if x is None or y is None or keys is None:
+        if keys is None or not all(type(r) is ConstRef and r.ix is None and math.isfinite(to_f32(r.getf(None)))
+                                   or _word(r) and r.kind == "D" and (r.ix is not None or r.num + 1 <= r.hi)
+                                   for r in s.ops[:2]):
             self.reference(s)
             return
+        self.cond(keys, i)
+        x, y = self.fvalue(s.ops[0], i, 0), self.fvalue(s.ops[1], i, 1)
+        sym = _FLOAT[s.ins.spec.op]
+        if x.startswith("raw:") and y.startswith("raw:"):
+            self.emit(f"FI[0] = {x[4:]}; f = FF[0]; FI[0] = {y[4:]}; FF[0] = f {sym} FF[0]", i, 2)
+        elif x.startswith("raw:"):
+            self.emit(f"FI[0] = {x[4:]}; FF[0] = FF[0] {sym} {y}", i, 2)
+        elif y.startswith("raw:"):
+            self.emit(f"FI[0] = {y[4:]}; FF[0] = {x} {sym} FF[0]", i, 2)
+        else:
+            self.emit(f"FF[0] = {x} {sym} {y}", i, 2)
         arr = self.use("wD")
-        self.prepare(keys, i)
-        self.emit("if a:", i)
-        self.emit(f"v = FB({x} {_FLOAT[s.ins.spec.op]} {y})", i, 2)
-        self.emit(f"{arr}[{dst.num}] = v & 65535; {arr}[{dst.num + 1}] = (v >> 16) & 65535", i, 2)
-        for key in keys:
-            self.emit(f"W[{key!r}] = {i}", i, 2)
+        self.emit(f"v = FI[0]; {arr}[{dst.num}] = v & 65535; {arr}[{dst.num + 1}] = v >> 16", i, 2)
+        self.learn(keys, None)
+        self.gwrite(keys, i)
 
+    # -- program flow (scan.py's routines inline; their fault and alarm paths call them)
     def flow(self, s: Step, j: int) -> None:
         i = s.index
+        op = s.ins.spec.op
         self.settle(i)
         self.exit_checks(s)
         self.flush(i)
         self.emit(f"m.acc = a; m.pc = {i}", i)
-        if s.ins.spec.op in ("fend", "end"):
-            self.emit(f"S{i}.run(m, S{i})", i)
+        ref_call = f"S{i}.run(m, S{i})"
+        if op in ("fend", "end"):
+            self.emit(f"if m.calls or m.fors: {ref_call}", i)
             self.emit("return -1", i)
-            return
-        self.emit(f"r = S{i}.run(m, S{i})", i)
-        self.emit(f"if r is None: return {j + 1}", i)
-        self.emit("return -1 if r == -1 else BLK[r]", i)
+        elif op == "for" and s.target >= 0 and (type(s.ops[0]) is ConstRef and s.ops[0].ix is None
+                                                or _word(s.ops[0]) and s.ops[0].ix is None):
+            self.emit("fs = m.fors", i)
+            self.emit(f"if len(fs) >= {self.for_depth}: {ref_call}", i)
+            self.emit(f"n = {self.value(s.ops[0], i, 0)}", i)
+            self.emit(f"fs.append([{i}, {s.target}, n if n > 1 else 1])", i)
+            self.emit(f"return {j + 1}", i)
+        elif op == "next" and s.target >= 0 and s.target + 1 in self.block_of:
+            self.emit("fs = m.fors", i)
+            self.emit(f"if fs and fs[-1][1] == {i}:", i)
+            self.emit("lp = fs[-1]; lp[2] -= 1", i, 2)
+            self.emit(f"if lp[2] > 0: return {self.block_of[s.target + 1]}", i, 2)
+            self.emit("fs.pop()", i, 2)
+            self.emit(f"return {j + 1}", i)
+        elif op == "cj" and s.target in self.block_of:
+            self.emit("if a:", i)
+            self.emit(f"if m.fors: JMP(m, {s.target})", i, 2)
+            self.emit(f"return {self.block_of[s.target]}", i, 2)
+            self.emit(f"return {j + 1}", i)
+        elif op == "call" and s.target in self.block_of:
+            self.emit(f"if a and len(m.calls) < {self.call_depth}:", i)
+            self.emit(f"m.calls.append({i + 1}); return {self.block_of[s.target]}", i, 2)
+            self.emit(f"if a: {ref_call}", i)  # the 6th level: the routine raises the alarm
+            self.emit(f"return {j + 1}", i)
+        elif op == "sret":
+            self.emit(f"if not m.calls: {ref_call}", i)
+            self.emit("return BLK.get(m.calls.pop(), NB)", i)
+        else:
+            self.emit(f"r = {ref_call}", i)
+            self.emit(f"if r is None: return {j + 1}", i)
+            self.emit("return -1 if r == -1 else BLK[r]", i)
 
 
 # ---------------------------------------------------------------------------- running
+
+# generated-code names of Machine containers other than the device dicts (bX, wD ...)
+_CONTAINERS = {"cv": "cval", "bE": "edge", "ts": "t_seen", "tr": "t_running", "tl": "t_last",
+               "tf": "t_frac", "tp": "t_preset"}
+
 
 class Scanner:
     """Runs scans of one program on one Machine; `engine` names the engine actually used."""
@@ -599,15 +859,16 @@ class Scanner:
         self.engine = "compiled" if self.code is not None else "interp"
         self._zero_t = bytes(len(m.t_seen))
         self._checked = False
+        self._stale = None
         if self.code is not None:
             self._runs = [s.run for s in prog.steps]
             self._bind()
 
     def _bind(self) -> None:
         code, m, prog = self.code, self.m, self.prog
-        g: dict = {"__builtins__": __builtins__, "adv": advance_timer, "W": m.writer,
-                   "FD": _f32_of_bits, "FB": f32_bits, "T01": _T01,
-                   "BLK": {st: j for j, st in enumerate(code.starts)}}
+        g: dict = {"__builtins__": __builtins__, "W": m.writer, "T01": _T01, "FF": _FF, "FI": _FI,
+                   "FLT": _fault, "JMP": _drop_loops, "NB": len(code.starts),
+                   "BLK": {st: j for j, st in enumerate(code.starts)}, **code.consts}
         for s in prog.steps:
             g[f"S{s.index}"] = s
             for k, ref in enumerate(s.ops):
@@ -623,15 +884,25 @@ class Scanner:
             g["G_b" + k] = arr
         for k, arr in m.words.items():
             g["G_w" + k] = arr
-        g["G_cv"] = m.cval
-        g["G_bE"] = m.edge
-        g["G_ts"] = m.t_seen
+        for name, attr in _CONTAINERS.items():
+            g["G_" + name] = getattr(m, attr)
         g["W"] = m.writer
-        self._bound = self._containers()
+        if self._stale is None:
+            self._stale = self._stale_check()
 
-    def _containers(self) -> tuple:
-        m = self.m
-        return (m.edge, m.cval, m.t_seen, m.writer, *m.words.values(), *m.bits.values())
+    def _stale_check(self) -> Callable:
+        """A function telling whether the machine replaced a container the code holds (a
+        power cycle gives new lists): one identity test per container the code uses."""
+        tests = ["m.writer is not W"]
+        for name in sorted(self.code.used):
+            if name in _CONTAINERS:
+                tests.append(f"m.{_CONTAINERS[name]} is not G_{name}")
+            elif name[0] == "b" and name[1:] in self.m.bits:
+                tests.append(f"m.bits[{name[1:]!r}] is not G_{name}")
+            elif name[0] == "w" and name[1:] in self.m.words:
+                tests.append(f"m.words[{name[1:]!r}] is not G_{name}")
+        exec(f"def _stale(m):\n    return {' or '.join(tests)}\n", self.g)  # noqa: S102
+        return self.g["_stale"]
 
     def __call__(self, watchdog: int = DEFAULT_WATCHDOG) -> None:
         if self.code is None:
@@ -644,7 +915,7 @@ class Scanner:
                 return
         m = self.m
         m.t_seen[:] = self._zero_t
-        if any(a is not b for a, b in zip(self._containers(), self._bound)):
+        if self._stale(m):
             self._rebind()
         m.acc = False
         m.blocks.clear()
