@@ -275,3 +275,19 @@ DSTOH D68 D73
      "D70=3 D71=15 D72=48 D73=40 D74=21 D75=33 M9021=1 M9022=0")
     run("LD X20\nTADD D40 D43 D46\n", "0ms D40=8 D41=25 D42=30 D43=20 D44=10 D45=20 X20=1\n"
         "0ms expect D46=4 D47=35 D48=50 M9022=1 M9020=0")
+
+
+# ------------------------------------------------------------------ 6-15, 6-21 conversions
+
+def test_gry_gbin_gray_code():
+    # FNC 170/171 examples: GRY D0 K4Y20, GBIN K4X20 D0 (1234 <-> Gray H06BB)
+    run("LD X0\nGRY D0 K4Y20\nLD X1\nGBIN K4X20 D1\n",
+        "0ms D0=1234 K4X20=H06BB X0=1 X1=1\n0ms expect K4Y20=H06BB D1=1234\n")
+
+
+def test_limit_band_zone_curves():
+    # FNC 256-258 examples: LIMIT K500 K1000 D0 D1, BAND K-5000 K5000 D0 D1, ZONE K-5000 K5000 D0 D1
+    run("LD X0\nLIMIT K500 K1000 D0 D1\nBAND K-5000 K5000 D0 D2\nZONE K-5000 K5000 D0 D3\n",
+        "0ms X0=1 D0=300\n0ms expect D1=500 D2=0 D3=5300\n10ms D0=-6000\n"
+        "10ms expect D1=500 D2=-1000 D3=-11000\n20ms D0=7000\n20ms expect D1=1000 D2=2000 D3=12000\n"
+        "30ms D0=0\n30ms expect D3=0 D2=0\n")

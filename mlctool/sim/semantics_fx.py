@@ -228,6 +228,7 @@ FX_ACTIONS.update(MBUS_ACTIONS)
 
 # The rest of the FX family (shift registers, data, floats, strings, clock): mlctool/sim/fx/.
 from mlctool.sim.fx.clock import CLOCK_ACTIONS, refresh  # noqa: E402
+from mlctool.sim.fx.convert import CONVERT_ACTIONS  # noqa: E402
 from mlctool.sim.fx.data import DATA_ACTIONS  # noqa: E402
 from mlctool.sim.fx.floats import FLOAT_ACTIONS  # noqa: E402
 from mlctool.sim.fx.hsc import HSC_ACTIONS, catch_up  # noqa: E402
@@ -236,7 +237,7 @@ from mlctool.sim.fx.shift import SHIFT_ACTIONS  # noqa: E402
 from mlctool.sim.fx.strings import STRING_ACTIONS  # noqa: E402
 
 FX_ACTIONS.update({**SHIFT_ACTIONS, **DATA_ACTIONS, **FLOAT_ACTIONS, **STRING_ACTIONS, **CLOCK_ACTIONS,
-                   **PID_ACTIONS, **HSC_ACTIONS})
+                   **PID_ACTIONS, **HSC_ACTIONS, **CONVERT_ACTIONS})
 # Run by scan.system_relays before every scan; each does nothing on a target without its
 # settings (the calendar: target.toml `rtc`; high-speed counters: `high_speed_counters`).
 BEFORE_SCAN = (refresh, catch_up)
