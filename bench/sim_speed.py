@@ -7,7 +7,8 @@ Benchmarks (issue 5; figures in docs/bench.md):
 - mixed: timers, counters, MOV/ADD/MUL, compare contacts, 32-bit and float arithmetic, Kn
   groups, V/Z indexing, FOR/NEXT, CALL and CJ; the same work in AWL and pyrung.
 - batch: 1024 scenarios of bool1000 (`mlc sim --stimulus 'dir/*.stim'` as lanes), and the
-  same scenarios one by one in 2 processes.
+  same scenarios one by one in 2 processes; 1024 scenarios of mixed-words (the straight-line
+  word part of mixed) as numpy word lanes, and some of them one by one.
 - compile cost: a 64k-step program (bench/gen.py) from linked image to its first scan.
 
 "Basic instructions/s" counts the mlc program's executed instructions per scan for every
@@ -88,6 +89,21 @@ def mixed_il() -> str:
             "LD M1001", "CJ P2", "LD M1000", "INC D901", "P2:",
             "FEND", "P1:", "LD M1000", "INC D902", "SRET", "END"]
     return "\n".join(out) + "\n"
+
+
+def mixed_words_il() -> str:
+    """The straight-line word part of mixed (no float, Kn, index or flow): numpy word lanes."""
+    out = []
+    for u in range(UNITS):
+        out += [
+            f"LD M{u}", f"TMR T{u} K50",
+            f"LD X{u % 8}", f"CNT C{u} K100",
+            "LD M1000", f"MOV K{u} D{100 + u}", f"ADD D{100 + u} D{800 + u} D{200 + u}",
+            f"MUL D{200 + u} K2 D{300 + 2 * u}",
+            f"LD> D{200 + u} K10", f"OUT M{100 + u}",
+            "LD M1000", f"DADD D{400 + 2 * u} K70000 D{400 + 2 * u}", f"SUB D{200 + u} D{100 + u} D{600 + u}",
+        ]
+    return "\n".join(out + ["END"]) + "\n"
 
 
 def mixed_awl() -> str:
@@ -379,6 +395,38 @@ def bench_batch(n: int = 1024, scans: int = 1000) -> None:
         assert all(s.ok for s in scenarios)
 
 
+def bench_batch_words(n: int = 1024, scans: int = 1000) -> None:
+    image = build(mixed_words_il())
+    instrs = executed_per_scan(image, lambda m: None)
+    rnd = random.Random(SEED)
+    with tempfile.TemporaryDirectory() as d:
+        paths = []
+        for k in range(n):
+            lines = [f"#{rnd.randrange(scans)} X{rnd.randrange(8)}={rnd.randrange(2)}" for _ in range(10)]
+            lines += [f"#{rnd.randrange(scans)} M{rnd.randrange(17)}={rnd.randrange(2)}" for _ in range(10)]
+            lines += [f"#{rnd.randrange(scans)} M1000={rnd.randrange(2)}" for _ in range(3)]
+            lines += [f"#{rnd.randrange(scans)} D{800 + rnd.randrange(16)}={rnd.randrange(-30, 30)}" for _ in range(5)]
+            path = os.path.join(d, f"w{k:04}.stim")
+            with open(path, "w") as f:
+                f.write("\n".join(lines) + f"\nrun #{scans}\n")
+            paths.append(path)
+        t0, c0 = time.perf_counter(), time.process_time()
+        scenarios, stats = run_batch(image, NC5, paths, Options())
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        work = n * scans * instrs
+        print(f"\nbatch words: {n} scenarios x {scans} scans of mixed-words ({instrs} instructions/scan: TMR, "
+              f"CNT, MOV, ADD, SUB, MUL, LD>, DADD) as numpy lanes ({stats.word_lanes} lanes): "
+              f"{work / wall / 1e6:,.0f} M scenario-instr/s wall ({wall:.2f} s), {work / cpu / 1e6:,.0f} M/s CPU")
+        few = paths[:32]
+        t0 = time.perf_counter()
+        c0 = time.process_time()
+        run_batch(image, NC5, few, Options(), lanes=False)
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        print(f"  same scenarios one by one, compiled engine, 1 process: "
+              f"{len(few) * scans * instrs / cpu / 1e6:,.1f} M scenario-instr/s CPU ({len(few)} scenarios in {wall:.2f} s)")
+        assert all(s.ok for s in scenarios) and stats.word_lanes == n
+
+
 def bench_compile() -> None:
     from gen import program
 
@@ -406,10 +454,10 @@ def bench_compile() -> None:
 
 def main() -> None:
     print(f"python {sys.version.split()[0]}, {os.cpu_count()} cores; CPU-time figures")
-    which = sys.argv[1:] or ["bool1000", "mixed", "batch", "compile"]
+    which = sys.argv[1:] or ["bool1000", "mixed", "batch", "words", "compile"]
     for name in which:
         {"bool1000": bench_bool1000, "mixed": bench_mixed, "batch": bench_batch,
-         "compile": bench_compile}[name]()
+         "words": bench_batch_words, "compile": bench_compile}[name]()
 
 
 if __name__ == "__main__":

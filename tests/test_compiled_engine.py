@@ -28,7 +28,9 @@ const = st.integers(-40000, 40000).map(lambda v: f"K{max(-32768, min(32767, v))}
 
 @st.composite
 def contact(draw, cls: str) -> str:
-    kind = draw(st.sampled_from(["", "I", "P", "F", "cmp"]))
+    kind = draw(st.sampled_from(["", "I", "P", "F", "cmp", "ix"]))
+    if kind == "ix":  # index-modified compares (NC5 contacts take no index)
+        return f"{cls}> D{draw(st.integers(0, 4))}V0 {draw(st.sampled_from(['K0', 'D1Z0']))}"
     if kind == "cmp":
         op = draw(st.sampled_from(["=", "<>", ">", "<", ">=", "<="]))
         d = "D" if draw(st.booleans()) and cls == "LD" else ""
@@ -55,7 +57,7 @@ def condition(draw) -> list[str]:
 
 @st.composite
 def action(draw) -> list[str]:
-    k = draw(st.integers(0, 15))
+    k = draw(st.integers(0, 17))
     if k <= 3:
         return [f"{draw(st.sampled_from(['OUT', 'SET', 'RST', 'PLS', 'PLF']))} {draw(coil)}"]
     if k == 4:
@@ -92,6 +94,27 @@ def action(draw) -> list[str]:
             f"CNT C{draw(st.integers(0, 1))} D{draw(st.integers(0, 3))}",
             f"DMUL D0 {draw(const)} D4",
         ]))]
+    if k == 15:  # index-modified operands, 32-bit V, timer words, presets and loop counts in D
+        return [draw(st.sampled_from([
+            f"MOV K{draw(st.integers(0, 3))} V0",
+            f"MOV K{draw(st.integers(-1, 2))} Z0",
+            f"MOV D{draw(st.integers(0, 4))}Z0 D{draw(st.integers(3, 7))}V0",
+            f"MOV {draw(const)} D{draw(st.integers(0, 6))}V0",
+            f"INC D{draw(st.integers(0, 4))}Z0",
+            f"ADD D0V0 K{draw(st.integers(-3, 3))} D1Z0",
+            f"DMOV D0V0 D{draw(st.sampled_from([2, 4]))}",
+            f"DADD D0 K{draw(st.integers(-99999, 99999))} D2V0",
+            f"DMOV K{draw(st.integers(-99999, 99999))} V1",
+            f"DMOV V1 D{draw(st.sampled_from([2, 4]))}",
+            f"FMUL D0V0 D0 D{draw(st.sampled_from([2, 4]))}",  # overflow to inf with D1=32639
+            "FADD D2V0 D4 D6",
+            f"TMR T{draw(st.integers(0, 1))} D{draw(st.integers(0, 2))}",
+            f"MOV T{draw(st.integers(0, 1))} D3",
+            f"MOV K{draw(st.integers(0, 3))} T{draw(st.integers(0, 1))}",
+            f"MOV K2M{draw(st.integers(0, 3))} D{draw(st.integers(0, 7))}",
+            f"MOV K{draw(st.integers(0, 9))} D0",
+            f"MUL D0 D1 D{draw(st.sampled_from([2, 4]))}",
+        ]))]
     return [f"MOV K{draw(st.integers(0, 3))} V0"]
 
 
@@ -119,7 +142,12 @@ def program(draw) -> str:
             main += [f"FOR K{draw(st.integers(0, 3))}"] + body + ["NEXT"]
         elif shape == 2:
             main += [draw(contact("LD")), "CALL P2"]
+        elif shape == 3:  # a loop counted by a register
+            body = [x for _ in range(draw(st.integers(1, 2))) for x in draw(rung())]
+            main += [f"FOR D{draw(st.integers(0, 2))}"] + body + ["NEXT"]
     sub = [x for _ in range(draw(st.integers(1, 2))) for x in draw(rung())]
+    if draw(st.integers(0, 3)) == 0:  # the subroutine calls itself: the 6th level raises an alarm
+        sub += [draw(contact("LD")), "CALL P2"]
     text = main + ["FEND", "P2:"] + sub + ["SRET", "END"]
     # labels must be unique: renumber the CJ targets
     out, n = [], 10
@@ -139,9 +167,11 @@ def stimulus(draw) -> str:
     lines = []
     for _ in range(draw(st.integers(0, 12))):
         scan = draw(st.integers(0, 30))
-        dev = draw(st.sampled_from([f"X{i}" for i in range(6)] + ["V0", "D0", "M3"]))
-        if dev == "V0":
+        dev = draw(st.sampled_from([f"X{i}" for i in range(6)] + ["V0", "Z0", "D0", "D1", "M3"]))
+        if dev in ("V0", "Z0"):
             value = draw(st.integers(-1, 4))
+        elif dev == "D1":
+            value = draw(st.sampled_from([0, 1, 3, -128, 32639, 32640, 32767]))  # D0:f inf/NaN/huge
         elif dev == "D0":
             value = draw(st.integers(-5, 5))
         else:
@@ -172,7 +202,7 @@ def _run(image, stim: str, engine: str):
     return r, sim
 
 
-@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(program(), stimulus())
 def test_compiled_engine_matches_the_interpreter(il, stim):
     image = _image(il)

@@ -127,3 +127,77 @@ def test_batch_errors(project):
     r = run_mlc("sim", "p.il", "--stimulus", "tests/*.stim", cwd=project)
     assert r.code == 2 and "z_bad.stim:1:5: error[E601]" in r.err and "Traceback" not in r.err
     assert "batch: 8 scenarios" in r.out
+
+
+WORD_PROGRAM = """
+LD X0
+TMR T0 K3
+LD X1
+CNT C0 K4
+LD T0
+OUT Y0
+LD C0
+OUT Y1
+LD M100
+MOV K7 D0
+ADD D0 D1 D2
+SUB D2 K30000 D3
+MUL D2 K300 D4
+WAND D1 K255 D6
+INC D7
+LD> D2 K10
+OR= D8 K-1
+OUT M1
+LDP X2
+DADD D10 K70000 D10
+DMOV D10 D12
+CML D1 D14
+LD M1
+ANI X3
+SET Y2
+LD X3
+RST Y2
+LD< D10 K0
+OUT Y3
+END
+"""
+
+
+def test_word_lanes_match_single_runs(tmp_path, monkeypatch):
+    """Numpy word lanes: the same results (devices, expectations, reruns of failures) as one
+    run per scenario."""
+    monkeypatch.chdir(tmp_path)
+    import random
+
+    from mlctool.sim.batch import WordLaneProgram
+    from mlctool.sim.scan import load_program
+
+    image = image_of(WORD_PROGRAM)
+    assert WordLaneProgram(load_program(image, NC5)).ok
+    rnd = random.Random(7)
+    paths = []
+    for k in range(48):
+        lines = [f"{rnd.randrange(0, 300, 10)}ms X{rnd.randrange(4)}={rnd.randrange(2)}" for _ in range(6)]
+        lines += [f"{rnd.randrange(0, 300, 10)}ms {rnd.choice(['D1', 'D8'])}="
+                  f"{rnd.choice([0, 1, 5, -1, 32767, -32768])}" for _ in range(3)]
+        lines.append(f"{rnd.randrange(0, 100, 10)}ms M100={rnd.randrange(2)}")
+        lines.append(f"{rnd.randrange(0, 300, 10)}ms D10:d={rnd.randrange(-2**31, 2**31)}")
+        if k % 5 == 0:
+            lines.append(f"{rnd.randrange(0, 100, 10)}ms force D1={rnd.randrange(-5, 5)}")
+            lines.append(f"{rnd.randrange(100, 300, 10)}ms release D1")
+        if k % 2:  # expectations that mostly fail (the failing lanes are run again on their own)
+            lines.append(f"{rnd.randrange(0, 300, 10)}ms expect Y0={rnd.randrange(2)} D7={rnd.randrange(0, 40)}")
+        (tmp_path / f"w{k:02}.stim").write_text("\n".join(lines) + "\nrun 300ms\n")
+        paths.append(f"w{k:02}.stim")
+    first, _ = run_batch(image, NC5, paths, Options(), lanes=False)
+    for k, sc in enumerate(first):  # expectations that hold: the single run's final values
+        if k % 2 == 0:
+            d = sc.result.devices
+            with open(paths[k], "a") as f:
+                f.write(f"290ms expect D2={d['D2']} D4={d['D4']} D5={d['D5']} D10:d={d['D10:d']} T0:w={d['T0:w']} "
+                        f"C0:w={d['C0:w']} Y2={d['Y2']} D14={d['D14']}\n")
+    lanes, stats = run_batch(image, NC5, paths, Options())
+    single, _ = run_batch(image, NC5, paths, Options(), lanes=False)
+    assert stats.word_lanes > 15 and stats.reruns > 5
+    assert [s.result for s in lanes] == [s.result for s in single]
+    assert [[d.message for d in s.diagnostics] for s in lanes] == [[d.message for d in s.diagnostics] for s in single]
