@@ -16,7 +16,7 @@ from mlctool.syntax.operands import format_operand
 
 def instr_text(ins: Instr) -> str:
     """An instruction as IL: mnemonic, operands as written (symbols kept), VRT table."""
-    if ins.spec.cls == "label":
+    if ins.spec.cls in ("label", "interrupt"):
         return f"{ins.texts[0] if ins.texts else format_operand(ins.operands[0])}:"
     words = [ins.spec.mnemonic, *ins.texts]
     words += [f"K{v}" for v in ins.table]

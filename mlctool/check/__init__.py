@@ -10,6 +10,7 @@ import dataclasses
 from dataclasses import dataclass, field
 
 from mlctool.check.blocks import check_blocks
+from mlctool.check.interrupts import check_interrupts
 from mlctool.check.labels import assign_named_labels
 from mlctool.check.lint import cross_module_coils, lint_module, referenced_labels, set_without_reset
 from mlctool.check.resolve import resolve
@@ -84,6 +85,7 @@ def check_texts(sources: list[SourceText], target: Target, config: Config | None
         diags += check_layout(m, target, {p: f for p, f in exported.items() if f != m.path}, calls,
                               broken[m.path])
         diags += check_blocks(m, target)
+        diags += check_interrupts(m, target)
         diags += lint_module(m, target, refs)
     # Each main module is its own program together with the libraries; independent main
     # programs checked in one call do not share coils.

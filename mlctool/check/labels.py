@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import re
 
+from mlctool.check.interrupts import pointer_named
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.syntax.operands import SYMBOL, OperandSyntaxError, parse_operand
 from mlctool.syntax.parser import ParsedFile
@@ -23,7 +24,7 @@ NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
 def is_label_name(text: str, target: Target) -> bool:
     """Could be a named label: letters, digits, _; not an operand (X1, K5, P3), not a mnemonic."""
-    if not NAME.fullmatch(text) or text.upper() in target.instructions:
+    if not NAME.fullmatch(text) or text.upper() in target.instructions or pointer_named(text, target):
         return False
     try:
         parse_operand(text, target.operand_syntax)

@@ -101,15 +101,16 @@ def lint_module(module: Module, target: Target, referenced: set[int]) -> list[Di
             if p not in referenced and p not in module.exports:
                 out.append(_at(ins, None, "W404", f"P{p} is never the target of CJ or CALL"))
 
-    # unreachable: after FEND or SRET, until the next label
+    # unreachable: after FEND, SRET or IRET, until the next label or interrupt pointer
     dead = False
     for ins in instrs:
-        if ins.spec.cls == "label":
+        if ins.spec.cls in ("label", "interrupt"):
             dead = False
         elif dead and ins.spec.op not in ("end", "fend", "nop"):
-            out.append(_at(ins, None, "W406", f"{ins.mnemonic} is never executed: it follows FEND/SRET and no label"))
+            out.append(_at(ins, None, "W406", f"{ins.mnemonic} is never executed: it follows FEND/SRET/IRET "
+                           "and no label"))
             dead = False  # one warning per dead stretch
-        if ins.spec.op in ("fend", "sret"):
+        if ins.spec.op in ("fend", "sret", "iret"):
             dead = True
     return out
 

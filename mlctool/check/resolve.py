@@ -8,6 +8,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from mlctool.check.interrupts import pointer_named
 from mlctool.check.labels import is_label_name
 from mlctool.check.tables import parse_row, table_kinds
 from mlctool.diagnostics import Diagnostic, Span, diag
@@ -105,6 +106,11 @@ class _Resolver:
         return True
 
     def label(self, st: Statement, w: Word) -> None:
+        pointer = pointer_named(w.text, self.t)
+        if pointer is not None:  # an interrupt pointer: a label class of its own (I numbers)
+            spec = next(s for s in self.t.instructions.values() if s.cls == "interrupt")
+            self.emit(st, spec, (Operand("I", number=pointer.number),), (pointer.name,))
+            return
         m = _LABEL.fullmatch(w.text)
         if not m and w.text.upper() in self.names:
             self.emit(st, self.label_spec, (Operand("P", number=self.names[w.text.upper()]),), (w.text,))
@@ -154,7 +160,7 @@ class _Resolver:
         variants = self.t.variants_of(name)
         mnemonic = _Arg(-1, name)
         if not variants:
-            if _LABEL.fullmatch(name) and not texts:
+            if (_LABEL.fullmatch(name) or pointer_named(name, self.t)) and not texts:
                 return None, (), (), True
             missing = self.t.unavailable.get(name.upper())
             if missing is not None:

@@ -97,7 +97,7 @@ def check_rungs(module: Module, target: Target, broken: frozenset[int] = frozens
                 blocks = 0
             driven = True
             acc = True
-        elif cls in ("free", "label"):
+        elif cls in ("free", "label", "interrupt"):
             close(ins)
         elif cls == "bus":  # STL: a new rail whose result exists; a load after it starts a rung
             close(ins)

@@ -24,7 +24,7 @@ from mlctool.program import Instr
 from mlctool.targets.model import InstrSpec, Target
 
 CONTACT_CLASSES = ("load", "and", "or")  # a contact's class picks its LD/AND/OR form
-ROW_CLASSES = ("label", "free")  # drawn as rows of their own; they end a rung
+ROW_CLASSES = ("label", "interrupt", "free")  # drawn as rows of their own; they end a rung
 
 
 class LadderError(Exception):

@@ -115,7 +115,7 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
                 continue
             ops.append(decode_operand(op, spec.width, target, text, as_bits))
         step = Step(ins, k, tuple(ops), spec.width, ins.steps, ins.table,
-                    new_rung=spec.cls == "load" and prev_cls in ("output", "free", "label", "bus"))
+                    new_rung=spec.cls == "load" and prev_cls in ("output", "free", "label", "interrupt", "bus"))
         op = spec.op
         if op in semantics.CONTACTS:
             contact = semantics.CONTACTS[op]

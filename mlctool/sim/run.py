@@ -17,6 +17,7 @@ from mlctool.program import Image
 from mlctool.sim.compile import scanner
 from mlctool.sim.decode import Program, program_devices
 from mlctool.sim.extension import extension
+from mlctool.sim.fx.interrupts import Interrupts
 from mlctool.sim.pulses import Train, add_train, drive_inputs
 from mlctool.sim.pin_window import PinWindow
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, load_program
@@ -171,6 +172,9 @@ class Simulation:
         for e in st.events:
             self.by_scan.setdefault(e.scan_index(period_us), []).append(e)
         self.alarm_names = {e.alarm for e in st.events if e.kind == "alarm"}
+        # interrupt routines (VS 2-12): served between scans, interleaved with the stimulus
+        has_pointers = any(s.ins.spec.cls == "interrupt" for s in self.prog.steps)
+        self.irq = self.m.interrupts = Interrupts(self.prog, target) if has_pointers else None
 
     def writer_of(self, view: DeviceView) -> str:
         keys = ([(view.gdev, view.number + i) for i in range(4 * view.digits)] if view.view == "group"
@@ -245,13 +249,16 @@ class Simulation:
             for model in self.models:
                 model.step(self.io, m.now_us, self.period)
             events = self.by_scan.get(k, ())
-            for e in events:
-                if e.kind not in ("expect", "alarm"):
-                    self.apply(e)
-            if m.pulse_trains:
-                drive_inputs(m)
-            self.apply_forces()
             try:
+                if self.irq is not None:  # stimulus lines in time order with the routines they request
+                    self.irq.before_scan(self, k, events)
+                else:
+                    for e in events:
+                        if e.kind not in ("expect", "alarm"):
+                            self.apply(e)
+                if m.pulse_trains:
+                    drive_inputs(m)
+                self.apply_forces()
                 self.scan(self.watchdog)
             except Fault as f:
                 fault = self._fault(f, k)

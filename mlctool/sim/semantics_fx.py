@@ -241,3 +241,7 @@ FX_ACTIONS.update({**SHIFT_ACTIONS, **DATA_ACTIONS, **FLOAT_ACTIONS, **STRING_AC
 # Run by scan.system_relays before every scan; each does nothing on a target without its
 # settings (the calendar: target.toml `rtc`; high-speed counters: `high_speed_counters`).
 BEFORE_SCAN = (refresh, catch_up)
+from mlctool.sim.fx.interrupts import INTERRUPT_ACTIONS  # noqa: E402  IRET/EI/DI, pointers (2-12)
+FX_ACTIONS.update(INTERRUPT_ACTIONS)
+from mlctool.sim.fx.bfm import BFM_ACTIONS  # noqa: E402  FROM/TO on a simulated buffer memory (6-9)
+FX_ACTIONS.update(BFM_ACTIONS)

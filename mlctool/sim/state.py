@@ -99,6 +99,10 @@ class Machine:
         self.pulse_trains: dict[tuple[str, int], list] = {}
         self.hsc: dict = {}  # high-speed counters and their compare points (sim/fx/hsc.py)
         self.ext: dict = {}  # state of the target's simulation extension (sim/extension.py)
+        self.interrupts = None  # sim/fx/interrupts.py Interrupts of a program with interrupt pointers
+        # special-module buffer memory (sim/fx/bfm.py): (slot, register) -> raw 16-bit word; the
+        # modules' own memory, so a power cycle of the PLC keeps it (as inputs X keep theirs)
+        self.bfm: dict[tuple[int, int], int] = {}
         self.pin_window = None  # sim/pin_window.py PinWindow: pulse pins inside a window (kept over power)
         self.image = None  # the linked program (Image): data kept beside the code (.table rows)
         self.scans_done = 0  # scans completed since power-on (first-scan relays)  # 1 ms timers skipped by CJ: contact held until OUT runs
@@ -158,6 +162,8 @@ class Machine:
         self.fx_state.clear()
         self.hsc.clear()
         self.ext.clear()  # target hardware (pulse axes ...) restarts from power-on
+        if self.interrupts is not None:  # enabled, nothing pending
+            self.interrupts.reset()
         self.scans_done = 0
         n = len(self.t_running)
         self.t_running = bytearray(n)
@@ -172,6 +178,9 @@ class Machine:
 _NAME = re.compile(r"(?:K(?P<n>[0-9]+)(?P<gdev>[A-Z])(?P<gnum>[0-9]+)|(?P<dev>[A-Z])(?P<num>[0-9]+))"
                    r"(?::(?P<view>[A-Za-z]+))?")
 _KIND_ORDER = "XYMSATCDRVZK"
+BFM = "BFM"  # DeviceView kind of a special module's buffer register: number = slot x BFM_SLOT + register
+BFM_SLOT = 1 << 16
+_BFM_NAME = re.compile(r"BFM(?P<slot>[0-9]+)#(?P<reg>[0-9]+)(?::(?P<view>[A-Za-z]+))?")
 
 
 class NameError_(ValueError):
@@ -191,6 +200,9 @@ class DeviceView:
 
     @property
     def name(self) -> str:
+        if self.kind == BFM:  # BFM2#5, BFM2#5:d
+            slot, reg = divmod(self.number, BFM_SLOT)
+            return f"BFM{slot}#{reg}" + ("" if self.view == "w" else f":{self.view}")
         num = device_number(self.number, self.radix)
         if self.view == "group":
             return f"K{self.digits}{self.gdev}{num}"
@@ -218,6 +230,13 @@ class DeviceView:
     # -- access
     def read(self, m: Machine) -> int | float:
         k, n, v = self.kind, self.number, self.view
+        if k == BFM:
+            slot, reg = divmod(n, BFM_SLOT)
+            raw = m.bfm.get((slot, reg), 0)
+            if v in ("d", "f"):
+                raw |= m.bfm.get((slot, reg + 1), 0) << 16
+                return s32(raw) if v == "d" else bits_f32(raw)
+            return raw if v == "h" else s16(raw)
         if v == "bit":
             return m.bits[k][n]
         if v == "group":
@@ -236,6 +255,13 @@ class DeviceView:
 
     def write(self, m: Machine, value: int | float) -> None:
         k, n, v = self.kind, self.number, self.view
+        if k == BFM:
+            slot, reg = divmod(n, BFM_SLOT)
+            raw = f32_bits(float(value)) if v == "f" else int(value) & 0xFFFFFFFF
+            m.bfm[(slot, reg)] = raw & 0xFFFF
+            if v in ("d", "f"):
+                m.bfm[(slot, reg + 1)] = raw >> 16
+            return
         if v == "bit":
             m.bits[k][n] = 1 if value else 0
         elif v == "group":
@@ -276,8 +302,32 @@ def _number(digits: str, dev, text: str) -> int:
     return int(digits, dev.radix)
 
 
+def _bfm_name(text: str, target: Target) -> DeviceView:
+    """`BFM2#5` (register 5 of the module in slot 2), views :h, :d, :f (VS 6-9 FROM/TO)."""
+    table = target.settings.get("buffer_memory")
+    if not table:
+        raise NameError_(f"{text!r}: target {target.name} has no special-module buffer memory")
+    m = _BFM_NAME.fullmatch(text.strip().upper())
+    if not m:
+        raise NameError_(f"{text!r} is not a buffer register (e.g. BFM1#0, BFM2#10:d)")
+    from mlctool.sim.fx.bfm import last_register, slots  # the slot count of the model
+    slot, reg, view = int(m["slot"]), int(m["reg"]), (m["view"] or "w").lower()
+    top = slots(target)
+    if not 1 <= slot <= top:
+        raise NameError_(f"{text!r}: module slots are 1-{top} on model {target.model}" if top else
+                         f"{text!r}: model {target.model} has no special modules")
+    last = last_register(target) - (1 if view in ("d", "f") else 0)
+    if not 0 <= reg <= last:
+        raise NameError_(f"{text!r}: buffer registers are #0-#{last_register(target)}")
+    if view not in ("w", "h", "d", "f"):
+        raise NameError_(f"{text!r}: buffer registers take the views :h, :d, :f")
+    return DeviceView(BFM, slot * BFM_SLOT + reg, view)
+
+
 def parse_device_name(text: str, target: Target) -> DeviceView:
     """`D0:f` -> DeviceView. Raises NameError_ with a message for E602."""
+    if text.strip().upper().startswith(BFM):
+        return _bfm_name(text, target)
     m = _NAME.fullmatch(text.strip().upper())
     if not m:
         raise NameError_(f"{text!r} is not a device name (e.g. X0, T0:w, D0:d, K4M0)")

@@ -1,0 +1,125 @@
+"""Vigor VS interrupts (2-12, 2-15-1, 6-2 FNC 03-05 IRET/EI/DI) and special-module buffer
+memory (6-9 FNC 78/79 FROM/TO): checker rules and the simulator, from the manual's examples."""
+
+from __future__ import annotations
+
+from test_vs_sim_fx import VS, run
+
+from mlctool.check import check_texts
+from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.syntax.source import SourceText
+
+ROUTINE_X0 = "FEND\nIX0P:\nLD M9000\nINC D0\nIRET\n"
+
+
+def codes(text: str, model: str | None = None) -> list[tuple[str, int]]:
+    target = VS if model is None else VS.for_model(model) if hasattr(VS, "for_model") else VS
+    r = check_texts([SourceText("t.il", text)], target)
+    return sorted((d.code, d.span.line) for d in r.diagnostics if d.severity == "error")
+
+
+def test_interrupt_pointers_are_their_own_label_class():
+    # a pointer line is the instruction I (class "interrupt"), numbered apart from P
+    # ITA01 is I601 and P601 a P label: no collision; IX0P is no named label (no free P used)
+    ok = ("LD X20\nCJ P601\nP601:\nLD M9000\nOUT Y1\nFEND\nIX0P:\nLD M9000\nSET Y0\nIRET\n"
+          "ITA01:\nLD M9000\nINC D0\nIRET\nIHC3:\nIRET\nIHHC2:\nIRET\nEND\n")
+    assert codes(ok) == []
+
+
+def test_interrupt_layout_errors_are_e908():
+    bad = ("IX2P:\nLD M9000\nOUT Y1\nFEND\n"       # 1: before FEND (and no IRET before FEND)
+           "IX0P:\nLD M9000\nSET Y0\n"            # 5: no IRET before the next pointer
+           "IX0F:\nIRET\n"                        # 8: IX0P and IX0F both
+           "IRET\n"                               # 10: IRET closing nothing
+           "ITB05:\nIRET\nITB05:\nIRET\n"         # 13: written twice
+           "END\n")
+    got = codes(bad)
+    assert ("E908", 1) in got and ("E908", 5) in got and ("E908", 8) in got
+    assert ("E908", 10) in got and ("E908", 13) in got
+    assert all(c == "E908" or c == "E313" for c, _ in got), got
+    # names outside the families' units are no pointers: ITA00 / IX8P read as named labels
+    assert codes("FEND\nITA100:\nIRET\nEND\n") != []
+
+
+def test_routines_run_on_input_edges_and_disable_relay():
+    # 6-2 FNC 03-05 example: IX0P on X0 rising, IX1F on X1 falling; X20 drives M9050, which
+    # disables the requests of X0 (dropped, not remembered)
+    il = ("LD X20\nOUT M9050\nFEND\nIX0P:\nLD M9000\nINC D0\nIRET\n"
+          "IX1F:\nLD M9000\nINC D1\nIRET\n")
+    run(il, "0ms X1=1\n5ms X0=1\n10ms expect D0=1 D1=0\n13ms X0=0\n14ms X0=1\n15ms X1=0\n"
+            "20ms expect D0=2 D1=1\n30ms X20=1\n35ms X0=0\n36ms X0=1\n"
+            "40ms expect D0=2 M9050=1\n50ms X20=0\n60ms expect D0=2\n")
+
+
+def test_routine_state_is_kept_between_interrupts():
+    # 2-12: a device driven in an interrupt routine keeps its state until the next interrupt
+    run("LD M9000\nMOV K0 D5\nFEND\nIX0P:\nLD X21\nOUT Y0\nIRET\n",
+        "0ms X21=1\n5ms X0=1\n10ms expect Y0=1\n15ms X21=0\n30ms expect Y0=1\n"
+        "35ms X0=0\n36ms X0=1\n40ms expect Y0=0\n")
+
+
+def test_timer_interrupt_every_5ms_and_its_disable_relay():
+    # 2-12 ITA05: every 5 ms of virtual time from RUN, two per 10 ms scan; M9058 disables ITA
+    run("LD X20\nOUT M9058\nFEND\nITA05:\nLD M9000\nINC D0\nIRET\n",
+        "0ms expect D0=0\n10ms expect D0=2\n100ms expect D0=20\n100ms X20=1\n"
+        "200ms expect D0=20\n")
+
+
+def test_pulse_train_edges_request_routines():
+    # every rising edge of a 1 kHz train requests IX0P; the falling edges of a 500 Hz train IX1F
+    run(ROUTINE_X0 + "IX1F:\nLD M9000\nINC D1\nIRET\n",
+        "0ms X0 pulses 1kHz until 10ms\n0ms X1 pulses 500Hz until 10ms\n"
+        "10ms expect D0=10 D1=5\n50ms expect D0=10 D1=5\n")
+
+
+def test_di_remembers_requests_until_ei():
+    # 6-2: requests between DI and EI are remembered and served at EI (once per pointer);
+    # while X20 skips the EI the request waits; at EI the routine runs inside the scan
+    il = ("LD X20\nCJ P1\nEI\nLD M9000\nMOV D0 D1\nP1:\nDI\n" + ROUTINE_X0)
+    run(il, "0ms X20=1\n5ms X0=1\n7ms X0=0\n8ms X0=1\n20ms expect D0=0\n"
+            "30ms X20=0\n30ms expect D0=1 D1=1\n50ms expect D0=1\n")
+
+
+def test_external_interrupt_delay_fixed_form():
+    # 2-15-1: `LD M9163 / MOV K25 D9163` right after the pointer delays the routine 25 ms
+    run("FEND\nIX0P:\nLD M9163\nMOV K25 D9163\nLD M9000\nMOV T0 D1\nINC D0\nIRET\n",
+        "3ms X0=1\n20ms expect D0=0\n30ms expect D0=1\n")
+
+
+def test_iret_outside_a_routine_is_a_fault():
+    import os
+    import tempfile
+    from pathlib import Path
+
+    from mlctool.asm import program_from_paths
+    from mlctool.sim.run import Simulation, plan_scans
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "t.il")
+        Path(path).write_text("LD X0\nCALL P1\nFEND\nP1:\nIRET\nEND\n", encoding="utf-8")
+        image, _, _ = program_from_paths([path], VS)
+    if image is None:  # the checker already refuses it (E908)
+        return
+    st, _ = parse_stimulus_text("t.stim", "0ms X0=1\n", VS)
+    r = Simulation(image, VS, st, [], 10_000, [], False).run(plan_scans(st, 10_000, None, None))
+    assert r.fault is not None and "IRET" in r.fault.message
+
+
+def test_from_to_on_the_simulated_buffer_memory():
+    # 6-9 FNC 78 examples: FROM K2 K5 D0 K4 reads BFM#5-#8 of module 2 into D0-D3;
+    # DFROM K1 K4 D100 K2 reads #4-#7 as two pairs; TO writes; module K17: operation error
+    il = ("LD X20\nFROM K2 K5 D0 K4\nLD X21\nDFROM K1 K4 D100 K2\nLD X22\nTO K3 K0 D10 K2\n"
+          "LD X23\nMOV K17 D60\nFROM D60 K0 D50 K1\n")
+    run(il, "0ms BFM2#5=11 BFM2#6=-2 BFM2#8=H7FFF BFM1#4:d=70000 BFM1#6:d=-5 D10=7 D11=8\n"
+            "10ms X20=1 X21=1 X22=1\n"
+            "20ms expect D0=11 D1=-2 D2=0 D3=32767 D100:d=70000 D102:d=-5 BFM3#0=7 BFM3#1=8\n"
+            "30ms X23=1\n40ms expect alarm OPERATION_ERROR\n", alarms=True)
+
+
+def test_bfm_names_in_the_stimulus_are_checked():
+    cases = {"0ms BFM0#1=1": 5, "0ms X0=1 BFM17#0=1": 10, "0ms BFM1#32768=2": 5,
+             "0ms BFM1=3": 5, "10ms expect BFM1#3:w=1 BFM1#2:x=1": 24}
+    for text, col in cases.items():
+        _, diags = parse_stimulus_text("t.stim", text, VS)
+        assert [(d.code, d.span.col) for d in diags] == [("E602", col)], (text, diags)
+    _, diags = parse_stimulus_text("t.stim", "0ms BFM1#0=70000", VS)
+    assert [(d.code, d.span.col) for d in diags] == [("E601", 5)]
