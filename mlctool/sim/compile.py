@@ -802,15 +802,17 @@ class _Gen:
         self.settle(i)
         self.exit_checks(s)
         self.flush(i)
-        self.emit(f"m.acc = a; m.pc = {i}", i)
-        ref_call = f"S{i}.run(m, S{i})"
+        self.emit("m.acc = a", i)
+        ref_call = f"m.pc = {i}; S{i}.run(m, S{i})"  # fault and alarm paths: the routine itself
         if op in ("fend", "end"):
-            self.emit(f"if m.calls or m.fors: {ref_call}", i)
+            self.emit("if m.calls or m.fors:", i)
+            self.emit(ref_call, i, 2)
             self.emit("return -1", i)
         elif op == "for" and s.target >= 0 and (type(s.ops[0]) is ConstRef and s.ops[0].ix is None
                                                 or _word(s.ops[0]) and s.ops[0].ix is None):
             self.emit("fs = m.fors", i)
-            self.emit(f"if len(fs) >= {self.for_depth}: {ref_call}", i)
+            self.emit(f"if len(fs) >= {self.for_depth}:", i)
+            self.emit(ref_call, i, 2)
             self.emit(f"n = {self.value(s.ops[0], i, 0)}", i)
             self.emit(f"fs.append([{i}, {s.target}, n if n > 1 else 1])", i)
             self.emit(f"return {j + 1}", i)
@@ -829,13 +831,16 @@ class _Gen:
         elif op == "call" and s.target in self.block_of:
             self.emit(f"if a and len(m.calls) < {self.call_depth}:", i)
             self.emit(f"m.calls.append({i + 1}); return {self.block_of[s.target]}", i, 2)
-            self.emit(f"if a: {ref_call}", i)  # the 6th level: the routine raises the alarm
+            self.emit("if a:", i)  # the 6th level: the routine raises the alarm
+            self.emit(ref_call, i, 2)
             self.emit(f"return {j + 1}", i)
         elif op == "sret":
-            self.emit(f"if not m.calls: {ref_call}", i)
+            self.emit("if not m.calls:", i)
+            self.emit(ref_call, i, 2)
             self.emit("return BLK.get(m.calls.pop(), NB)", i)
         else:
-            self.emit(f"r = {ref_call}", i)
+            self.emit(f"m.pc = {i}", i)
+            self.emit(f"r = S{i}.run(m, S{i})", i)
             self.emit(f"if r is None: return {j + 1}", i)
             self.emit("return -1 if r == -1 else BLK[r]", i)
 
@@ -876,7 +881,12 @@ class Scanner:
         self.g = g
         self._rebind()
         exec(code.code, g)  # noqa: S102 - our own generated code
-        self.fns: list[Callable] = [g[f"b{j}"] for j in range(len(code.starts))]
+        self.fns: list[Callable] = [g[f"b{j}"] for j in range(len(code.starts))] + [self._past_end]
+        self.bsteps = [*code.block_steps, 0]
+
+    def _past_end(self, m: Machine) -> int:
+        """The block after the last one: control ran off the program."""
+        raise Fault("execution ran past the last instruction without END", self.prog.steps[-1])
 
     def _rebind(self) -> None:
         m, g = self.m, self.g
@@ -925,23 +935,16 @@ class Scanner:
         if _before_scan is not None:
             _before_scan(m)
         fns = self.fns
-        bsteps = self.code.block_steps
-        nb = len(fns)
+        bsteps = self.bsteps
         j = 0
         ex = 0
         try:
-            while True:
-                n = bsteps[j]
-                if ex + n > watchdog:
-                    self._interp(self.code.starts[j], ex, watchdog)
+            while j >= 0:
+                ex += bsteps[j]
+                if ex > watchdog:
+                    self._interp(self.code.starts[j], ex - bsteps[j], watchdog)
                     break
-                ex += n
                 j = fns[j](m)
-                if j < 0:
-                    break
-                if j == nb:
-                    raise Fault("execution ran past the last instruction without END",
-                                self.prog.steps[-1])
         except SimFault as e:
             raise Fault(e.message, self._fault_step(e)) from None
         end_of_scan(m)
