@@ -235,9 +235,14 @@ from mlctool.sim.fx.hsc import HSC_ACTIONS, catch_up  # noqa: E402
 from mlctool.sim.fx.pid import PID_ACTIONS  # noqa: E402
 from mlctool.sim.fx.shift import SHIFT_ACTIONS  # noqa: E402
 from mlctool.sim.fx.strings import STRING_ACTIONS  # noqa: E402
+from mlctool.sim.fx.ascii_codes import ASCII_ACTIONS  # noqa: E402
+from mlctool.sim.fx.scale import SCALE_ACTIONS  # noqa: E402
+from mlctool.sim.fx.tables import TABLE_ACTIONS  # noqa: E402
+from mlctool.sim.fx.timing import TIMING_ACTIONS  # noqa: E402
 
 FX_ACTIONS.update({**SHIFT_ACTIONS, **DATA_ACTIONS, **FLOAT_ACTIONS, **STRING_ACTIONS, **CLOCK_ACTIONS,
-                   **PID_ACTIONS, **HSC_ACTIONS, **CONVERT_ACTIONS})
+                   **PID_ACTIONS, **HSC_ACTIONS, **CONVERT_ACTIONS, **TABLE_ACTIONS, **ASCII_ACTIONS,
+                   **SCALE_ACTIONS, **TIMING_ACTIONS})
 # Run by scan.system_relays before every scan; each does nothing on a target without its
 # settings (the calendar: target.toml `rtc`; high-speed counters: `high_speed_counters`).
 BEFORE_SCAN = (refresh, catch_up)

@@ -106,6 +106,14 @@ class Machine:
         self.pin_window = None  # sim/pin_window.py PinWindow: pulse pins inside a window (kept over power)
         self.image = None  # the linked program (Image): data kept beside the code (.table rows)
         self.scans_done = 0  # scans completed since power-on (first-scan relays)  # 1 ms timers skipped by CJ: contact held until OUT runs
+        self.power_on_values()
+
+    def power_on_values(self) -> None:
+        """Registers the PLC sets at power-on (target.toml `[power_on] words`, e.g. the VS RND
+        seed D9160 = K1, 6-16); none on a target without the table."""
+        for name, value in self.target.settings.get("power_on", {}).get("words", {}).items():
+            kind, number = name[0], int(name[1:])
+            self.words[kind][number] = value & 0xFFFF
 
     # -- timers and counters
     def is_c32(self, n: int) -> bool:
@@ -158,6 +166,7 @@ class Machine:
         for lo, values, contacts in keep_c:
             self.cval[lo:lo + len(values)] = values
             self.bits["C"][lo:lo + len(contacts)] = contacts
+        self.power_on_values()  # after the latched areas: the PLC sets these whatever they held
         self.stl_leaving.clear()
         self.fx_state.clear()
         self.hsc.clear()
