@@ -263,3 +263,12 @@ def test_destr_deval_float_strings():
         "10ms X0=1 X1=1 X2=1\n10ms expect D0:h=H202D D1:h=H2E31 D2:h=H3332 D3:h=H3634 D4=0\n"
         "10ms expect D30:h=H2020 D31:h=H2E31 D32:h=H3332 D33:h=H4535 D34:h=H302B D35:h=H0032\n"
         "10ms expect D100:f=-123.456 M9020=0")
+
+
+# ------------------------------------------------------------------ 6-7
+
+def test_ref_reff_are_accepted_without_effect():
+    # FNC 50/51: REF X0 K8, REF Y0 K8, REFF K1 run (no E905) and change nothing; the program
+    # around them still sees the stimulus's inputs
+    run("LD X0\nREF X0 K8\nLD X0\nREF Y0 K8\nLD X0\nREFF K1\nLD X0\nOUT Y1\n",
+        "10ms X0=1\n10ms expect Y1=1 Y0=0")

@@ -239,10 +239,11 @@ from mlctool.sim.fx.ascii_codes import ASCII_ACTIONS  # noqa: E402
 from mlctool.sim.fx.scale import SCALE_ACTIONS  # noqa: E402
 from mlctool.sim.fx.tables import TABLE_ACTIONS  # noqa: E402
 from mlctool.sim.fx.timing import TIMING_ACTIONS  # noqa: E402
+from mlctool.sim.fx.io_refresh import IO_REFRESH_ACTIONS  # noqa: E402
 
 FX_ACTIONS.update({**SHIFT_ACTIONS, **DATA_ACTIONS, **FLOAT_ACTIONS, **STRING_ACTIONS, **CLOCK_ACTIONS,
                    **PID_ACTIONS, **HSC_ACTIONS, **CONVERT_ACTIONS, **TABLE_ACTIONS, **ASCII_ACTIONS,
-                   **SCALE_ACTIONS, **TIMING_ACTIONS})
+                   **SCALE_ACTIONS, **TIMING_ACTIONS, **IO_REFRESH_ACTIONS})
 # Run by scan.system_relays before every scan; each does nothing on a target without its
 # settings (the calendar: target.toml `rtc`; high-speed counters: `high_speed_counters`).
 BEFORE_SCAN = (refresh, catch_up)

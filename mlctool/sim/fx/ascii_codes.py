@@ -15,7 +15,7 @@ from mlctool.sim.fx.common import (
     count, op_error, read_block, read_string, relay, set_flags, write_block, write_string,
     NoTerminator,
 )
-from mlctool.sim.state import Machine, f32_bits, s16, s32, to_f32
+from mlctool.sim.state import Machine, f32_bits, to_f32
 
 HEX_DIGITS = "0123456789ABCDEF"
 F32_MAX = float.fromhex("0x1.fffffep127")
