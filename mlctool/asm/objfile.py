@@ -171,11 +171,12 @@ class _Strings:
 # ------------------------------------------------------------------ encode
 
 def _operand(w: _Writer, s: _Strings, op: Operand) -> None:
-    # flags: 1 index, 2 float value, 4 string value, 8 bit of a word (the bit follows)
+    # flags: 1 index, 2 float value, 4 string value, 8 bit of a word (the bit follows), 16 unit
+    # word (its unit's string follows: U1G3); operands without a bit or unit encode as before
     is_str = isinstance(op.value, str)
     w.uint(s(op.kind))
     w.uint((1 if op.index else 0) | (2 if isinstance(op.value, float) else 0) | (4 if is_str else 0)
-           | (8 if op.is_bit_of_word else 0))
+           | (8 if op.is_bit_of_word else 0) | (16 if op.unit else 0))
     w.uint(op.number)
     if isinstance(op.value, float):
         w.f64(op.value)
@@ -190,6 +191,8 @@ def _operand(w: _Writer, s: _Strings, op: Operand) -> None:
         w.uint(op.index[1])
     if op.is_bit_of_word:
         w.uint(op.bit)
+    if op.unit:
+        w.uint(s(op.unit))
 
 
 def encode(obj: ObjectFile) -> bytes:
@@ -343,9 +346,10 @@ class _Decoder:
         decimals = r.uint()
         index = (self.str(r), r.uint()) if flags & 1 else None
         bit = r.uint() if flags & 8 else 0
+        unit = self.str(r) if flags & 16 else ""
         dev = self.target.devices.get(kind[2:] if kind.startswith("Kn") else kind)
         radix = dev.radix if dev is not None else 10  # how the target writes the number (octal X/Y)
-        return Operand(kind, number, value, digits, index, decimals, bit, radix)
+        return Operand(kind, number, value, digits, index, decimals, bit, radix, unit)
 
 
 def _validate(k: int, spec, operands, texts, table, steps) -> None:

@@ -254,7 +254,9 @@ class _Resolver:
             self.report(w, "E210", f"{spec.mnemonic} writes its {o.role} operand; {w.text} is "
                      + ("a constant" if op.is_const else "an input"))
             return False
-        if op.kind not in o.kinds:
+        if dev is not None and (dev.unit_prefix or op.unit) and not self.unit_word_ok(spec, o, op, dev, w):
+            return False
+        if op.kind not in o.kinds and not (op.unit and dev.like in o.kinds):
             allowed = " ".join(sorted(o.kinds))
             self.report(w, "E204", f"{spec.mnemonic} operand {o.role} cannot be {_kind_name(op)}",
                      f"allowed: {allowed} ({spec.section})")
@@ -327,6 +329,28 @@ class _Resolver:
                      f"{w.text} would occupy {dev.name_of(first)}-{dev.name_of(last)}, past {dev.name_of(dev.hi)}")
             return False
         self.check_areas(w, o, dev, first, last)
+        return True
+
+    def unit_word_ok(self, spec: InstrSpec, o: OperandSpec, op: Operand, dev, w) -> bool:
+        """A unit word (VS UnG) names its unit (U1G3, not G3), a unit of the model, and stands
+        only where an application instruction takes its `like` device (docs/vs.md)."""
+        lo, hi = dev.units
+        name = f"{dev.unit_prefix}n{dev.name}"
+        if not op.unit:
+            self.report(w, "E203", f"{w.text!r}: {dev.name} is written with its unit: {name} "
+                        f"({dev.unit_prefix}1{dev.name}{op.number}, {dev.section})")
+            return False
+        if hi < lo:
+            self.report(w, "E205", f"{w.text}: there are no {name} units on model {self.t.model} ({dev.section})")
+            return False
+        if not lo <= op.unit_number <= hi:
+            self.report(w, "E205", f"{w.text}: unit {op.unit} outside {dev.unit_prefix}{lo}-{dev.unit_prefix}{hi}"
+                        + (f" on model {self.t.model}" if self.t.model else ""))
+            return False
+        if spec.api is None or dev.like not in o.kinds:
+            self.report(w, "E204", f"{spec.mnemonic} operand {o.role} cannot be {name} buffer memory {w.text}",
+                        f"{name} stands where an application instruction takes {dev.like} ({dev.section})")
+            return False
         return True
 
     def extent(self, spec: InstrSpec, o: OperandSpec, op: Operand) -> int:

@@ -170,7 +170,7 @@ def program_devices(prog: Program) -> set[DeviceView]:
 
 
 def _views(target: Target, spec, o_spec, op, all_ops) -> list[DeviceView]:
-    if op.is_const or op.kind == "P":
+    if op.is_const or op.kind == "P" or op.unit:  # U1G3: module memory, not a PLC device (5-1: not monitored)
         return []
     dev = target.devices[op.device]
     if dev.kind == "pointer":  # N (MC levels), Q (tables)

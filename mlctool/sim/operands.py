@@ -204,6 +204,10 @@ def decode_operand(op: Operand, width: int, target: Target, text: str, as_bits: 
     if op.is_const:
         return ConstRef(op, width, text)
     dev = target.devices[op.device]
+    if op.unit:  # U1G3: register 3 of m.words["U1G"], the unit's buffer memory (sim/unit_words.py)
+        ref = WordRef(op, width, dev.hi, text)
+        ref.kind = f"{op.unit}{op.kind}"
+        return ref
     if op.is_group:
         return GroupRef(op, width, dev.hi, text)
     if dev.kind == "bit" or as_bits:

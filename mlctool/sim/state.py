@@ -11,6 +11,7 @@ import re
 import struct
 from dataclasses import dataclass
 
+from mlctool.sim.unit_words import UnitWords, unit_word_arrays
 from mlctool.syntax.operands import device_number
 from mlctool.targets.model import Target
 
@@ -62,7 +63,7 @@ class Machine:
         self.bits = {k: bytearray(v.hi + 1) for k, v in d.items() if v.kind == "bit"}
         self.bits["T"] = bytearray(d["T"].hi + 1)  # timer contacts
         self.bits["C"] = bytearray(d["C"].hi + 1)  # counter contacts
-        self.words = {k: [0] * (v.hi + 1) for k, v in d.items() if v.kind == "word"}
+        self.words = {k: [0] * (v.hi + 1) for k, v in d.items() if v.kind == "word" and not v.unit_prefix}
         self.words["T"] = [0] * (d["T"].hi + 1)  # timer present values (unsigned)
         self.cval = [0] * (d["C"].hi + 1)  # C0-C63 unsigned 16-bit, C64-C79 signed 32-bit
         self.c32_lo, _ = target.settings["counters32"]
@@ -103,6 +104,7 @@ class Machine:
         # special-module buffer memory (sim/fx/bfm.py): (slot, register) -> raw 16-bit word; the
         # modules' own memory, so a power cycle of the PLC keeps it (as inputs X keep theirs)
         self.bfm: dict[tuple[int, int], int] = {}
+        self.words.update(unit_word_arrays(d, self.bfm))  # U1G3 operands: the same registers
         self.pin_window = None  # sim/pin_window.py PinWindow: pulse pins inside a window (kept over power)
         self.image = None  # the linked program (Image): data kept beside the code (.table rows)
         self.scans_done = 0  # scans completed since power-on (first-scan relays)  # 1 ms timers skipped by CJ: contact held until OUT runs
@@ -154,7 +156,8 @@ class Machine:
             if not devs.get(k) or not devs[k].input:
                 self.bits[k][:] = bytes(len(self.bits[k]))
         for k in self.words:
-            self.words[k] = [0] * len(self.words[k])
+            if not isinstance(self.words[k], UnitWords):  # module memory, kept like self.bfm
+                self.words[k] = [0] * len(self.words[k])
         self.cval = [0] * len(self.cval)
         for k, lo, data in keep_bits:
             self.bits[k][lo:lo + len(data)] = data

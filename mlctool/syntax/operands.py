@@ -30,6 +30,12 @@ class OperandSyntax:
     float_exponent: bool = False  # E1.0235+2 (mantissa, signed decimal exponent)
     strings: bool = False  # "ABC" string constants
     bit_of_word: frozenset[str] = frozenset()  # word kinds with bit operands D0.F
+    # words of a numbered unit, written prefix + unit + kind + number: ("U", "G") for the VS
+    # special-module buffer memory U1G3 (unit 1, BFM#3); only the word number is indexable
+    unit_words: frozenset[tuple[str, str]] = frozenset()
+    # other names of devices (the manual's mnemonics): (prefix, kind, base, count); EC1D6 is
+    # ("EC1D", "D", 9260, 20) -> D9266. Read as the device itself; listings write the device.
+    aliases: tuple[tuple[str, str, int, int], ...] = ()
 
 
 DEFAULT_SYNTAX = OperandSyntax()
@@ -46,6 +52,7 @@ class Operand:
     decimals: int = 0  # digits after the point of an F constant as written
     bit: int = 0  # bit number of a bit-of-word operand (D0.F: 15)
     radix: int = 10  # how the device number is written (8 for octal X/Y)
+    unit: str = ""  # unit of a unit word as written (U1G3: "U1"); "" for every other operand
 
     @property
     def is_const(self) -> bool:
@@ -54,6 +61,11 @@ class Operand:
     @property
     def is_float(self) -> bool:
         return self.kind in FLOAT_KINDS
+
+    @property
+    def unit_number(self) -> int:
+        """1 for U1G3; 0 when the operand has no unit."""
+        return int(self.unit[1:]) if self.unit else 0
 
     @property
     def is_group(self) -> bool:
@@ -87,6 +99,7 @@ _FLOAT = r"(?P<val>[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))"
 _EXPONENT = r"(?:(?P<exp>[+-][0-9]+))?"
 _DEV = re.compile(r"(?P<dev>[A-Z])(?P<num>[0-9]+)" + _INDEX)
 _BIT_OF_WORD = re.compile(r"(?P<dev>[A-Z])(?P<num>[0-9]+)\.(?P<bit>[0-9A-F])")
+_UNIT_WORD = re.compile(r"(?P<u>[A-Z])(?P<un>[0-9]+)(?P<dev>[A-Z])(?P<num>[0-9]+)" + _INDEX)
 _STRING = re.compile(r'"(?P<val>[^"]*)"')
 MAX_STRING = 32  # longest string constant any target takes (VS $+: 32 characters)
 
@@ -105,6 +118,17 @@ def _number(digits: str, kind: str, syntax: OperandSyntax, text: str) -> tuple[i
     return int(digits), 10
 
 
+def _alias(t: str, syntax: OperandSyntax, text: str) -> Operand | None:
+    """EC1D6 -> D9266: a mnemonic of the target's for a device (longest prefix first)."""
+    for prefix, kind, base, count in syntax.aliases:
+        if t.startswith(prefix) and (m := re.fullmatch(r"(?P<num>[0-9]+)" + _INDEX, t[len(prefix):])):
+            n = int(m["num"])
+            if n >= count:
+                raise OperandSyntaxError(f"{text!r}: {prefix}0-{prefix}{count - 1} only")
+            return Operand(kind, number=base + n, index=_index(m))
+    return None
+
+
 @lru_cache(maxsize=65536)
 def parse_operand(text: str, syntax: OperandSyntax = DEFAULT_SYNTAX) -> Operand:
     """Parse one operand as written (case-insensitive). Raises OperandSyntaxError."""
@@ -115,6 +139,10 @@ def parse_operand(text: str, syntax: OperandSyntax = DEFAULT_SYNTAX) -> Operand:
     t = text.upper()
     if len(t) > 40:
         raise OperandSyntaxError("operand is too long")
+    if syntax.unit_words and (m := _UNIT_WORD.fullmatch(t)) and (m["u"], m["dev"]) in syntax.unit_words:
+        return Operand(m["dev"], number=int(m["num"]), index=_index(m), unit=f'{m["u"]}{int(m["un"])}')
+    if syntax.aliases and (op := _alias(t, syntax, text)) is not None:
+        return op
     # K20V0 is the constant K20 modified by V0 (3.4's example), not a bit group of "V"
     if (m := _GROUP.fullmatch(t)) and m["dev"] not in _INDEX_REGS:
         number, radix = _number(m["num"], m["dev"], syntax, text)
@@ -178,6 +206,8 @@ def format_operand(op: Operand) -> str:
         return f"K{op.digits}{op.device}{device_number(op.number, op.radix)}{ix}"
     if op.is_bit_of_word:
         return f"{op.device}{op.number}.{op.bit:X}"
+    if op.unit:
+        return f"{op.unit}{op.kind}{op.number}{ix}"
     return f"{op.kind}{device_number(op.number, op.radix)}{ix}"
 
 

@@ -40,6 +40,12 @@ class DeviceKind:
     width16_only: bool = False
     radix: int = 10  # 8: numbered in octal (X0-X7, X10 ...); index offsets still count ordinals
     bit_of_word: bool = False  # D0.5 bit operands exist (the manual's D.b column)
+    # words of numbered units (VS UnG: the buffer memory of special module n): the unit's
+    # letter, the units of the model, and the device kind whose operand places they may take
+    # in application instructions (the manual's UnG column sits with D,R: `like = "D"`)
+    unit_prefix: str = ""
+    units: tuple[int, int] = (0, -1)
+    like: str = ""
 
     def name_of(self, number: int) -> str:
         """A device as the manual writes it: X10 for ordinal 8 of an octal kind."""
@@ -303,6 +309,7 @@ def load_target(name: str, model: str | None = None) -> Target:
             areas=tuple(_area(a) for a in v.get("areas", ()) if not model or model in a.get("models", [model])),
             section=v["section"], input=v.get("input", False), width16_only=v.get("width16_only", False),
             radix=v.get("radix", 10), bit_of_word=v.get("bit_of_word", False),
+            unit_prefix=v.get("unit_prefix", ""), units=_units(v, model), like=v.get("like", ""),
         )
     entries = tomllib.loads((folder / "instructions.toml").read_text("utf-8"))["instr"]
     instrs, variants = _instructions(entries, settings.get("step_convention"))
@@ -313,6 +320,11 @@ def load_target(name: str, model: str | None = None) -> Target:
         variants = {k: v for k, v in variants.items() if k not in unavailable}
     return Target(settings["name"], settings["title"], settings["manual"], settings["capacity"],
                   devices, instrs, settings, model, variants, unavailable)
+
+
+def _units(v: dict, model: str | None) -> tuple[int, int]:
+    lo, hi = v.get("model_units", {}).get(model or "", v.get("units", (0, -1)))
+    return int(lo), int(hi)
 
 
 @cache
@@ -326,6 +338,9 @@ def _syntax_of(name: str, model: str | None) -> OperandSyntax:
         float_exponent=bool(o.get("float_exponent", False)),
         strings=bool(o.get("strings", False)),
         bit_of_word=frozenset(k for k, d in t.devices.items() if d.bit_of_word),
+        unit_words=frozenset((d.unit_prefix, k) for k, d in t.devices.items() if d.unit_prefix),
+        aliases=tuple(sorted(((a["prefix"].upper(), a["kind"], int(a["base"]), int(a["count"]))
+                              for a in o.get("aliases", ())), key=lambda a: -len(a[0]))),
     )
 
 
