@@ -7,7 +7,7 @@ import pytest
 
 from conftest import SAMPLES, run_mlc
 
-VS_SAMPLES = ["fountain", "cj_skip", "index"]
+VS_SAMPLES = ["fountain", "cj_skip", "index", "fountain_modes", "container_fill", "traffic_light"]
 
 
 @pytest.mark.parametrize("name", VS_SAMPLES)
@@ -26,6 +26,9 @@ def test_sample_cites_the_manual_and_passes_its_stimulus(name, tmp_path):
     ("fountain", "OUT  T1 K100", "OUT  T1 K50"),       # outer jets 5 s instead of 10 s
     ("cj_skip", "CJ   P63", "OUT  M0"),                 # no jump to END
     ("index", "MOV  K10 Z0", "MOV  K8 Z0"),            # X10, not X12
+    ("fountain_modes", "LD   X2\n", "LD   X1\n"),      # single step switched by the wrong input
+    ("container_fill", "ANI  M1\n", "ANI  M9001\n"),  # no mask: the filled container starts S11 again
+    ("traffic_light", "OUT  T6 K100", "OUT  T6 K80"),  # A green 8 s, not the chart's 10 s
 ])
 def test_stimulus_catches_a_wrong_program(name, wrong, right, tmp_path):
     il = tmp_path / f"{name}.il"
