@@ -62,6 +62,50 @@ def count(m, kind: str, number: int, after: int, upto: int) -> int:
     return sum(n for _, _, n in edges(m, kind, number, after, upto))
 
 
+@dataclass(slots=True)
+class Quadrature:
+    """An A/B pair (`X0/X1 pulses 1kHz`; a negative frequency turns the other way): A is a
+    50 % train from start_us, B the same train a quarter period later (sign +1: A leads,
+    the forward/up direction of 2-7-3) or three quarters later (sign -1: B leads).
+
+    A/B counters count the pair's counting events, never its single edges: x1 one per cycle
+    (B rising while A is On, or B falling while A is On when turning back), x2 both B edges,
+    x4 every edge of A and B; the events of a cycle are evenly spaced from a quarter period
+    (x1, x2) or from the start (x4), so they are counted with a Train of period T/x."""
+    a: tuple[str, int]
+    b: tuple[str, int]
+    start_us: int
+    period_us: Fraction | None
+    end_us: int | None
+    sign: int
+
+    def counts(self, per_cycle: int, after: int, upto: int) -> int:
+        if self.period_us is None:
+            return 0
+        first = self.start_us + (0 if per_cycle == 4 else self.period_us / 4)
+        tr = Train(first, self.period_us / per_cycle, self.end_us)
+        return self.sign * max(0, tr.edges_upto(upto) - tr.edges_upto(after))
+
+
+def add_quadrature(m, pair: Quadrature) -> None:
+    """The pair's A and B level trains (what scans, interrupts and 1-phase counters see) and
+    its counting record; a later pair on the same inputs ends the earlier one."""
+    for old in m.quadrature.setdefault((pair.a, pair.b), []):
+        if old.end_us is None or old.end_us > pair.start_us:
+            old.end_us = max(old.start_us, pair.start_us)
+    m.quadrature[(pair.a, pair.b)].append(pair)
+    t = pair.period_us
+    add_train(m, *pair.a, Train(pair.start_us, t, pair.end_us))
+    lag = None if t is None else (t / 4 if pair.sign > 0 else 3 * t / 4)
+    add_train(m, *pair.b, Train(pair.start_us + (lag or 0), t, pair.end_us))
+
+
+def quadrature_count(m, a: tuple[str, int], b: tuple[str, int], per_cycle: int,
+                     after: int, upto: int) -> int:
+    """Signed A/B counts in (after, upto]; inputs not driven as a pair count nothing."""
+    return sum(q.counts(per_cycle, after, upto) for q in m.quadrature.get((a, b), ()))
+
+
 def drive_inputs(m) -> None:
     """Before a scan: every input with a train takes the train's level at the scan's start."""
     for (kind, number), trains in m.pulse_trains.items():

@@ -18,7 +18,7 @@ from mlctool.sim.compile import scanner
 from mlctool.sim.decode import Program, program_devices
 from mlctool.sim.extension import extension
 from mlctool.sim.fx.interrupts import Interrupts
-from mlctool.sim.pulses import Train, add_train, drive_inputs
+from mlctool.sim.pulses import Quadrature, Train, add_quadrature, add_train, drive_inputs
 from mlctool.sim.pin_window import PinWindow
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, load_program
 from mlctool.sim.state import DeviceView, Machine
@@ -204,8 +204,14 @@ class Simulation:
             for view, _ in e.assigns:
                 self.forces.pop(view, None)
         elif e.kind == "pulses":
-            view, (start, period, end) = e.assigns[0]
-            add_train(self.m, view.kind, view.number, Train(start, period, end))
+            view, (start, period, end, *pair) = e.assigns[0]
+            if pair:  # an A/B phase pair: both trains and the pair's counting record
+                b, sign = pair
+                add_quadrature(self.m, Quadrature((view.kind, view.number), (b.kind, b.number),
+                                                  start, period, end, sign))
+                self._mark(b, e.line)
+            else:
+                add_train(self.m, view.kind, view.number, Train(start, period, end))
             self._mark(view, e.line)
 
     def _mark(self, view: DeviceView, line: int) -> None:

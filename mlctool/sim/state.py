@@ -98,6 +98,7 @@ class Machine:
         # input pulse trains of the stimulus (sim/pulses.py): (kind, number) -> trains; the
         # hardware's, so a power cycle keeps them
         self.pulse_trains: dict[tuple[str, int], list] = {}
+        self.quadrature: dict[tuple, list] = {}  # A/B pairs (pulses.Quadrature), likewise kept
         self.hsc: dict = {}  # high-speed counters and their compare points (sim/fx/hsc.py)
         self.ext: dict = {}  # state of the target's simulation extension (sim/extension.py)
         self.interrupts = None  # sim/fx/interrupts.py Interrupts of a program with interrupt pointers

@@ -283,15 +283,25 @@ class _Parser:
     def pulses(self, ev: Event, toks: list[tuple[str, int]], off: int) -> None:
         """`X0 pulses 1kHz [until TIME | for TIME]`: a pulse train on an input (sim/pulses.py)."""
         form = "expected `DEV pulses FREQUENCY [until TIME | for TIME]`, e.g. X0 pulses 1kHz until 500ms"
-        view = self.view(toks[0][0], off)
-        dev = self.target.devices.get(view.kind)
-        if view.view != "bit" or dev is None or not dev.input:
-            raise StimError(f"{toks[0][0]}: pulse trains drive inputs (e.g. X0)", off)
+        # `A/B pulses [-]FREQ`: an A/B phase pair (pulses.Quadrature); minus: B leads A
+        names = toks[0][0].split("/")
+        if len(names) > 2 or not all(names):
+            raise StimError(f"{toks[0][0]}: expected DEV or an A/B pair (e.g. X0/X1)", off)
+        views = [self.view(name, off) for name in names]
+        for name, view in zip(names, views):
+            dev = self.target.devices.get(view.kind)
+            if view.view != "bit" or dev is None or not dev.input:
+                raise StimError(f"{name}: pulse trains drive inputs (e.g. X0)", off)
+        if len(views) == 2 and (views[0].kind, views[0].number) == (views[1].kind, views[1].number):
+            raise StimError(f"{toks[0][0]}: A and B must be two inputs", off)
+        view = views[0]
         if len(toks) not in (3, 5):
             raise StimError(form, min(len(toks) - 1, 3) + off)
         if ev.time_us is None:
             raise StimError("a pulse train starts at a time (e.g. 0ms), not at a scan number", 0)
-        hz = self.at(off + 2, lambda: parse_frequency(toks[2][0]))
+        freq = toks[2][0]
+        sign = -1 if freq.startswith("-") and len(views) == 2 else 1
+        hz = self.at(off + 2, lambda: parse_frequency(freq[1:] if sign < 0 else freq))
         end = None
         if len(toks) == 5:
             word = toks[3][0].lower()
@@ -303,7 +313,7 @@ class _Parser:
                 raise StimError(f"{toks[4][0]}: the train must end after it starts", off + 4)
         period = None if hz == 0 else Fraction(1_000_000) / hz
         ev.kind = "pulses"
-        ev.assigns = [(view, (ev.time_us, period, end))]
+        ev.assigns = [(view, (ev.time_us, period, end) + ((views[1], sign) if len(views) == 2 else ()))]
 
     def view(self, name: str, offset: int) -> DeviceView:
         try:

@@ -22,7 +22,8 @@ from mlctool.sim import semantics as base
 from mlctool.sim.fx.common import op_error
 from mlctool.sim.operands import CounterRef
 from mlctool.sim.pulses import count as count_edges
-from mlctool.sim.pulses import edges
+from mlctool.sim.pulses import quadrature_count
+from mlctool.sim.fx.hhsc import catch_up_hardware, dhhcmv
 from mlctool.sim.state import Machine, SimFault, s32
 
 MAX_COMPARES = 8  # DHSCS/DHSCR/DHSZ/DHSCT executed together (6-7)
@@ -45,17 +46,40 @@ def is_high_speed(m: Machine, n: int) -> bool:
     return bool(t) and t["counters"][0] <= n <= t["counters"][1]
 
 
+def _input(name: str | None) -> tuple[str, int] | None:
+    return None if name is None else (name[0], int(name[1:], 8))
+
+
+def _wiring(m: Machine, n: int) -> dict | None:
+    """The counter's inputs from the table (2-7-1, mode 1): 1-phase `inputs` (U/D), 2-phase
+    `two_phase` [U, D], A/B `ab_phase` [A, B]; optional hardware `reset` and `start` inputs."""
+    t = _table(m)
+    key = str(n)
+    for kind, table in (("one", "inputs"), ("two", "two_phase"), ("ab", "ab_phase")):
+        pins = t.get(table, {}).get(key)
+        if pins is not None:
+            pins = [pins] if isinstance(pins, str) else pins
+            return {"kind": kind, "pins": [_input(p) for p in pins],
+                    "reset": _input(t.get("reset", {}).get(key)),
+                    "start": _input(t.get("start", {}).get(key))}
+    return None
+
+
 def coil(m: Machine, s, n: int) -> None:
     """OUT C235 K..: enables counting of the input's pulses (2-7 "software start")."""
-    inp = _table(m)["inputs"].get(str(n))
-    if inp is None:
-        raise SimFault(f"C{n}: the input assignment of this high-speed counter is not simulated "
-                       f"(simulated: {', '.join('C' + k for k in _table(m)['inputs'])})")
+    wiring = _wiring(m, n)
+    if wiring is None:
+        raise SimFault(f"C{n}: the input assignment of this high-speed counter is not simulated")
     c = _counters(m).setdefault(n, {})
     # the state the program leaves counts the pulses until its next execution: enable,
     # preset and the direction relay as of now (a relay changed later acts from then on)
-    c.update(on=bool(m.acc), preset=s.ops[1].get(m), input=(inp[0], int(inp[1:], 8)),
-             direction=_direction(m, n))
+    c.update(wiring, on=bool(m.acc), preset=s.ops[1].get(m), direction=_direction(m, n))
+    c.setdefault("levels", _levels(m, c))
+
+
+def _levels(m: Machine, c: dict) -> dict:
+    """The hardware reset/start inputs as this scan sees them: they hold until the next scan."""
+    return {pin: m.bits[pin[0]][pin[1]] for pin in (c["reset"], c["start"]) if pin}
 
 
 def _direction(m: Machine, n: int) -> int:
@@ -66,23 +90,45 @@ def _direction(m: Machine, n: int) -> int:
     return -1 if m.bits["M"][base_relay + k] else 1
 
 
+def _net(m: Machine, c: dict, after: int, upto: int) -> int:
+    """Signed counts of the interval: 1-phase by the direction relay, 2-phase U minus D,
+    A/B phase x1 from the stimulus's A/B pairs (pulses.Quadrature)."""
+    pins = c["pins"]
+    if c["kind"] == "one":
+        return c["direction"] * count_edges(m, *pins[0], after, upto)
+    if c["kind"] == "two":
+        return count_edges(m, *pins[0], after, upto) - count_edges(m, *pins[1], after, upto)
+    return quadrature_count(m, pins[0], pins[1], 1, after, upto)
+
+
 def catch_up(m: Machine) -> None:
-    """Before a scan: the counts since the previous scan (edges in (last, now])."""
+    """Before a scan: the counts since the previous scan (edges in (last, now]). The hardware
+    start input gates and the reset input holds the counter at 0 by the level the previous
+    scan saw (DECISION: input levels change at scan starts, 2-7-1 examples); a reset input
+    On now clears after the interval's counts (value 0, contact Off)."""
+    catch_up_hardware(m)
     if not _table(m):
         return
     last = m.hsc.get("last_us", -1)
     m.hsc["last_us"] = m.now_us
+    monitor = m.target.settings.get("counter_direction_base")
     for n, c in sorted(_counters(m).items()):
-        if not c["on"]:
-            continue
-        runs = edges(m, *c["input"], last, m.now_us)
-        total = sum(k for _, _, k in runs)
-        if total:
-            _count(m, n, c, total)
+        was = c["levels"]
+        gated = (c["start"] is not None and not was.get(c["start"])) or \
+            (c["reset"] is not None and was.get(c["reset"]))
+        if c["on"] and not gated:
+            net = _net(m, c, last, m.now_us)
+            if net:
+                _count(m, n, c, abs(net), 1 if net > 0 else -1)
+                if c["kind"] != "one" and monitor is not None:  # M9246-M9255: On = counting down
+                    m.bits["M"][monitor + n - m.c32_lo] = 1 if net < 0 else 0
+        if c["reset"] is not None and m.bits[c["reset"][0]][c["reset"][1]]:
+            m.cval[n] = 0
+            m.bits["C"][n] = 0
+        c["levels"] = _levels(m, c)
 
 
-def _count(m: Machine, n: int, c: dict, total: int) -> None:
-    d = c["direction"]
+def _count(m: Machine, n: int, c: dict, total: int, d: int) -> None:
     points = [(idx, p) for idx, p in sorted(_compares(m).items()) if p["counter"] == n]
     v = s32(m.cval[n])
     seen_reset = None  # remaining count at the last self-reset: the cycle repeats after it
@@ -183,5 +229,5 @@ def counter_coil(m: Machine, s) -> None:
 
 HSC_ACTIONS = {
     "cnt": counter_coil, "dhscs": _register("set"), "dhscr": _register("reset"),
-    "dhsz": _register("zone"), "spd": spd,
+    "dhsz": _register("zone"), "spd": spd, "dhhcmv": dhhcmv,
 }

@@ -1,0 +1,95 @@
+"""Vigor VS high-speed counters with reset/start inputs, 2-phase and A/B phase (2-7-1 to
+2-7-3, mode 1 assignment) and the hardware counters HHSC1/2 with DHHCMV (2-15-4, 6-16 FNC
+189): the pages' examples on stimulus pulse trains and A/B pairs, counted analytically."""
+
+from __future__ import annotations
+
+from test_vs_sim_fx import VS, run
+
+from mlctool.sim.stimulus import parse_stimulus_text
+
+
+def test_one_phase_with_hardware_reset_c242():
+    # 2-7-1: X20 drives M9242 (direction), X21 RST C242, X22 the software start, X2 counts,
+    # X3 the hardware reset, preset D1:D0. A reset input On clears after the interval's
+    # counts and holds 0 while the previous scan saw it On
+    run("LD X20\nOUT M9242\nLD X21\nRST C242\nLD X22\nOUT C242 D0\n",
+        "0ms D0:d=100 X22=1\n0ms X2 pulses 1kHz until 300ms\n90ms expect C242:d=90 C242=0\n"
+        "100ms expect C242:d=100 C242=1\n150ms X3=1\n150ms expect C242:d=0 C242=0\n"
+        "160ms expect C242:d=0\n170ms X3=0\n170ms expect C242:d=0\n180ms expect C242:d=10\n"
+        "200ms X20=1\n200ms expect C242:d=30\n250ms expect C242:d=-20\n"
+        "260ms X21=1\n260ms expect C242:d=0\n")
+
+
+def test_one_phase_with_hardware_start_c244():
+    # 2-7-1: C244 counts X0 only while X22 (software) and X6 (hardware start) are On; X1 resets
+    run("LD X20\nOUT M9244\nLD X21\nRST C244\nLD X22\nOUT C244 K200\n",
+        "0ms X22=1\n0ms X0 pulses 1kHz until 500ms\n50ms X6=1\n50ms expect C244:d=0\n"
+        "100ms expect C244:d=50\n150ms X6=0\n200ms expect C244:d=100 C244=0\n"
+        "250ms X6=1\n350ms expect C244:d=200 C244=1\n360ms X1=1\n360ms expect C244:d=0 C244=0\n")
+
+
+def test_two_phase_c246_counts_up_and_down():
+    # 2-7-2: X21 starts C246 (preset K-5), X0 rising +1, X1 rising -1, M9246 shows down;
+    # contact On from -5 up
+    run("LD X21\nOUT C246 K-5\nLD X20\nRST C246\n",
+        "0ms X21=1\n0ms X0 pulses 1kHz until 100ms\n105ms X1 pulses 2kHz until 205ms\n"
+        "100ms expect C246:d=99 C246=1 M9246=0\n150ms expect C246:d=8 C246=1 M9246=1\n"
+        "160ms expect C246:d=-12 C246=0\n210ms expect C246:d=-101\n"
+        "220ms X20=1\n220ms expect C246:d=0\n")
+
+
+def test_two_phase_c248_hardware_reset():
+    # 2-7-2: C248 on X3 (up) / X4 (down), X5 the hardware reset, preset D1:D0
+    run("LD X21\nOUT C248 D0\n",
+        "0ms X21=1 D0:d=50\n0ms X3 pulses 1kHz until 100ms\n60ms expect C248:d=60 C248=1\n"
+        "70ms X5=1\n70ms expect C248:d=0 C248=0\n100ms X5=0\n120ms expect C248:d=0\n")
+
+
+def test_ab_phase_c251_follows_the_encoder():
+    # 2-7-3: A X0, B X1: A On and B rising +1, A On and B falling -1 (x1); `X0/X1 pulses
+    # -500Hz` turns the other way; single trains on A and B are no pair and count nothing
+    run("LD X21\nOUT C251 K-5\nLD X20\nRST C251\n",
+        "0ms X21=1\n0ms X0/X1 pulses 1kHz until 100ms\n100ms X0/X1 pulses -500Hz until 300ms\n"
+        "100ms expect C251:d=100 C251=1 M9251=0\n200ms expect C251:d=50 M9251=1\n"
+        "300ms expect C251:d=0\n400ms X0 pulses 1kHz until 500ms\n400ms X1 pulses 1kHz until 500ms\n"
+        "510ms expect C251:d=0\n")
+
+
+def test_ab_phase_c255_reset_and_start_inputs():
+    # 2-7-3: C255 on X3 (A) / X4 (B), X5 hardware reset, X7 hardware start, preset K-200
+    run("LD X21\nOUT C255 K-200\n",
+        "0ms X21=1\n0ms X3/X4 pulses -1kHz until 400ms\n100ms expect C255:d=0\n"
+        "100ms X7=1\n200ms expect C255:d=-100 C255=1 M9255=1\n300ms X5=1\n300ms expect C255:d=0\n")
+
+
+def test_ab_pair_syntax():
+    _, diags = parse_stimulus_text("t.stim", "0ms X0/X1 pulses 1kHz\n10ms X3/X4 pulses -2kHz for 5ms", VS)
+    assert not diags
+    for bad, words in (("0ms X0/X0 pulses 1kHz", "two inputs"), ("0ms X0/Y1 pulses 1kHz", "inputs"),
+                       ("0ms X0/ pulses 1kHz", "A/B pair"), ("0ms X0 pulses -1kHz", "frequency")):
+        _, diags = parse_stimulus_text("t.stim", bad, VS)
+        assert [d.code for d in diags] == ["E601"] and words in diags[0].message, (bad, diags)
+
+
+def test_ab_pair_levels_are_a_quarter_period_apart():
+    # the scans see A and B: at 40 Hz (25 ms) A On 0-12.5 ms, B On 6.25-18.75 ms
+    run("LD X0\nOUT Y0\nLD X1\nOUT Y1\n",
+        "0ms X0/X1 pulses 40Hz until 1s\n0ms expect Y0=1 Y1=0\n10ms expect Y0=1 Y1=1\n"
+        "20ms expect Y0=0 Y1=0\n30ms expect Y0=1 Y1=0\n")
+
+
+def test_dhhcmv_and_hardware_counter_modes():
+    # 2-15-4 / 6-16 FNC 189 example: X10 sets HHSC1 to A/B x1 (MOVP K4 D9224), DHHCMV D9226 D0
+    # reads it at once, DHHCMVP K0 D9226 clears it, DHHCMVP K1000 D9230 writes the set value;
+    # HHSC2 in mode 3 (2-phase X3 up, X4 down; the 2 kHz train's first edge at 100 ms counts
+    # before the 100 ms scan) read with DHHCMV D9228 D2; then mode 6 (x4)
+    run("LDI X10\nMOVP K0 D9224\nLD X10\nMOVP K4 D9224\nLD X12\nMOV K6 D9224\n"
+        "LD M9000\nMOV K3 D9225\nLD M9000\nDHHCMV D9226 D0\nLD X11\nDHHCMVP K0 D9226\n"
+        "LD M9002\nDHHCMVP K1000 D9230\nLD M9000\nDHHCMV D9228 D2\nLD M9000\nDHHCMV K70000 D20\n",
+        "0ms X10=1\n0ms X0/X1 pulses 1kHz until 1s\n"
+        "0ms X3 pulses 1kHz until 100ms\n0ms X4 pulses 500Hz until 100ms\n"
+        "100ms expect D0:d=100 D9226:d=100 D9230:d=1000 M9196=0 D2:d=49 M9197=0 D20:d=70000\n"
+        "100ms X4 pulses 2kHz until 150ms\n"
+        "150ms X11=1\n150ms expect D0:d=150 D9226:d=0\n200ms expect D0:d=50 D2:d=-50 M9197=1\n"
+        "300ms X10=0 X12=1\n400ms expect D0:d=550 D9226:d=550\n")
