@@ -10,8 +10,11 @@ instruction) and generates one Python function per block in which
 - every other instruction calls the reference routine of semantics.py (`step.run`), and
   program flow (CJ, CALL, SRET, FOR, NEXT, FEND, END) calls the flow routines of scan.py at
   the end of its block, so the semantics are the interpreter's by construction;
-- the writer of each device (for failure messages) is recorded as the interpreter does; writes
-  that always happen are batched into one dict update per block.
+- the writer of each device (for failure messages) is recorded lazily: each group of writes
+  with known devices stores one stamp when it runs (`R[g] = ws`, ws numbering block executions);
+  `Writers`, the machine's writer dict while the engine runs it, works out the interpreter's
+  records from the stamps when it is read (writes the engine cannot name at compile time, and
+  every write from outside the generated code, are kept with their stamps in `spill`).
 
 Faults name the same step as the interpreter (mapped from the generated line). The watchdog
 is checked per block: a block that would pass the limit is run by the interpreter loop from
@@ -44,7 +47,7 @@ from mlctool.sim.state import Machine, SimFault, s16, s32, to_f32
 ENGINES = ("compiled", "interp")
 DEFAULT_ENGINE = "compiled"
 ENGINE_ENV = "MLC_SIM_ENGINE"
-COMPILER_VERSION = "3"
+COMPILER_VERSION = "4"
 
 FLOW_OPS = frozenset({"cj", "call", "sret", "fend", "end", "for", "next"})
 RUNG_CLASSES = frozenset({"load", "and", "or", "anb", "orb", "mps", "mrd", "mpp", "inv"})
@@ -70,11 +73,16 @@ _FF = array.array("f", [0.0])
 _FI = memoryview(_FF).cast("B").cast("I")
 
 
-def _fault(m: Machine, writers: dict | None, ref, extent: int) -> None:
+def _fault(m: Machine, writers: dict | None, ref, extent: int, q: int = 0, pos: float = 0) -> None:
     """An index-modified operand outside its device: the writer records deferred so far are
     applied (the interpreter had made them), then Ref.addr raises the interpreter's fault."""
     if writers:
-        m.writer.update(writers)
+        w = m.writer
+        if isinstance(w, Writers):
+            for k, v in writers.items():
+                w.spill[k] = (q, pos, v)
+        else:  # pragma: no cover - the engine always runs with Writers
+            w.update(writers)
     ref.addr(m, extent)
     raise SimFault(f"{ref.text}: address out of range")  # pragma: no cover - addr raised
 
@@ -86,6 +94,82 @@ def _drop_loops(m: Machine, target: int) -> None:
         fors.pop()
 
 
+_INF = float("inf")
+
+
+class Writers(dict):
+    """`Machine.writer` while a compiled Scanner runs the machine: the interpreter's records
+    (device -> index of its last writing instruction, or -line of a stimulus line), made lazy.
+
+    The generated code stores, per group of writes whose devices it knows, the stamp of the
+    block execution that ran it (`marks[g] = ws`; groups are numbered in code order, so
+    (stamp, group) orders them); other writes (index-modified destinations, reference routines,
+    the stimulus, the interpreter fallback) go through `__setitem__` into `spill` with the
+    position `at` (the generated code sets it before a reference routine; between scans it is
+    after the last block). Reading the dict applies what happened since the last read, in
+    order, so it holds exactly what the interpreter's dict holds."""
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __init__(self, base: dict, groups: list[dict]):
+        if isinstance(base, Writers):
+            base.resolve()
+        super().__init__(base)
+        self.groups = groups  # record group -> {device: instruction index}
+        self.marks = [0] * len(groups)  # stamp of each group's last execution (0: never)
+        self.spill: dict = {}  # device -> (stamp, position, writer)
+        self.k = 0  # last stamp given to a block execution
+        self.mat = 0  # stamps <= mat are applied
+        self.at = [0, _INF]  # (stamp, position) of writes made through __setitem__
+
+    def resolve(self) -> None:
+        spill = self.spill
+        if self.k == self.mat and not spill:
+            return
+        mat, groups = self.mat, self.groups
+        ev = [(s, g, None) for g, s in enumerate(self.marks) if s > mat]
+        ev += [(s, p, (key, v)) for key, (s, p, v) in spill.items()]
+        ev.sort(key=lambda e: (e[0], e[1]))
+        put, update = dict.__setitem__, dict.update
+        for _, g, kv in ev:
+            if kv is None:
+                update(self, groups[g])
+            else:
+                put(self, kv[0], kv[1])
+        spill.clear()
+        self.mat = self.k
+
+    def __setitem__(self, key, value) -> None:
+        at = self.at
+        self.spill[key] = (at[0], at[1], value)
+
+    def update(self, *args, **kw) -> None:
+        for key, value in dict(*args, **kw).items():
+            self[key] = value
+
+    def _read(name: str):  # noqa: N805 - builds the read methods
+        base = getattr(dict, name)
+
+        def method(self, *args, **kw):
+            self.resolve()
+            return base(self, *args, **kw)
+        method.__name__ = name
+        return method
+
+    for _name in ("__getitem__", "__contains__", "__iter__", "__len__", "__eq__", "__ne__", "__repr__",
+                  "get", "keys", "values", "items", "copy", "pop", "setdefault", "popitem"):
+        locals()[_name] = _read(_name)
+    del _name, _read
+
+    def __delitem__(self, key) -> None:
+        self.resolve()
+        dict.__delitem__(self, key)
+
+    def clear(self) -> None:
+        self.resolve()
+        dict.clear(self)
+
+
 class Unsupported(Exception):
     """The program needs the reference interpreter."""
 
@@ -95,7 +179,8 @@ class Code:
 
     def __init__(self, key: str, code: CodeType, filename: str, starts: list[int],
                  block_steps: list[int], linemap: list[int], source: str,
-                 consts: dict[str, dict] | None = None, used: frozenset[str] = frozenset()):
+                 consts: dict[str, dict] | None = None, used: frozenset[str] = frozenset(),
+                 groups: list[dict] | None = None):
         self.key = key
         self.code = code
         self.filename = filename
@@ -105,6 +190,7 @@ class Code:
         self.source = source
         self.consts = consts or {}  # U<n>: constant writer records (dict updates)
         self.used = used  # machine containers the code reads (G_<name>)
+        self.groups = groups or []  # writer record groups (Writers.groups)
 
 
 _CACHE: OrderedDict[str, Code | None] = OrderedDict()
@@ -172,7 +258,8 @@ class _Gen:
         self.filename = f"<mlc-compiled {key[:16]}>"
         self.lines: list[str] = []
         self.linemap: list[int] = []
-        self.consts: dict[str, dict] = {}  # U<n>: writer records applied by one dict update
+        self.consts: dict[str, dict] = {}  # U<n>: writer records deferred before a fault
+        self.groups: list[dict] = []  # writer record groups: `R[g] = ws` when one runs
         self.all_used: set[str] = set()
         settings = prog.target.settings
         self.c32_lo = settings["counters32"][0]
@@ -210,14 +297,15 @@ class _Gen:
         source = "\n".join(self.lines) + "\n"
         code = compile(source, self.filename, "exec")
         return Code(self.key, code, self.filename, starts, block_steps, self.linemap, source,
-                    self.consts, frozenset(self.all_used))
+                    self.consts, frozenset(self.all_used), self.groups)
 
     # -- one block
     def block(self, j: int, block: list[Step], nblocks: int) -> None:
         first = block[0].index
-        self.emit(f"def b{j}(m):", first, 0)
+        self.emit(f"def b{j}(m, ws):", first, 0)
         header_at = len(self.lines)
         self.used: set[str] = set()
+        self.block_marks = False
         self.pending: dict[tuple[str, int], int] = {}
         self.gopen, self.gpend = False, {}
         self.known: dict[tuple[str, int], int] = {}  # words of the open group holding a constant
@@ -242,6 +330,8 @@ class _Gen:
             self.emit("m.acc = a", block[-1].index)
             self.emit(f"return {j + 1}", block[-1].index)
         header = [f"{name} = G_{name}" for name in sorted(self.used - {"now"})]
+        if self.block_marks:
+            header.append("R = G_R")
         if "now" in self.used:
             header.append("now = m.now_us")
         self.all_used |= self.used
@@ -277,7 +367,7 @@ class _Gen:
         self.emit(f"{x} = {ref.num} + {iv}", i, depth)
         done = dict(self.pending)
         done.update(self.gpend)
-        self.emit(f"if {x} < 0 or {x} > {ref.hi - extent + 1}: FLT(m, {self.const(done)}, O{i}_{j}, {extent})",
+        self.emit(f"if {x} < 0 or {x} > {ref.hi - extent + 1}: FLT(m, {self.const(done)}, O{i}_{j}, {extent}, ws, {self.pos()})",
                   i, depth)
         return x
 
@@ -393,7 +483,7 @@ class _Gen:
                 self.learn([(ref.kind, n)], None if c is None else [c & 0xFFFF])
                 self.gwrite([(ref.kind, n)], i)
             else:
-                self.emit(f"W[({ref.kind!r}, {n})] = {i}", i, 2)
+                self.emit(f"SP[({ref.kind!r}, {n})] = (ws, {self.pos()}, {i})", i, 2)
             return
         hi = f"{self.use('wZ')}[{n}]" if ref.kind == "V" else f"{arr}[{n1}]"
         if c is not None:
@@ -409,7 +499,8 @@ class _Gen:
             self.gwrite([(ref.kind, n), hi_key], i)
         else:
             hk = "'Z'" if ref.kind == "V" else repr(ref.kind)
-            self.emit(f"W[({ref.kind!r}, {n})] = {i}; W[({hk}, {n1 if ref.kind != 'V' else n})] = {i}",
+            p = self.pos()
+            self.emit(f"SP[({ref.kind!r}, {n})] = SP[({hk}, {n1 if ref.kind != 'V' else n})] = (ws, {p}, {i})",
                       i, 2)
 
     # -- writer tracking
@@ -456,11 +547,17 @@ class _Gen:
             self.gpend = {}
 
     def emit_records(self, d: dict, i: int, depth: int) -> None:
-        if len(d) == 1:
-            (k, v), = d.items()
-            self.emit(f"W[{k!r}] = {v}", i, depth)
-        else:
-            self.emit(f"W.update({self.const(d)})", i, depth)
+        self.emit(self.mark(d), i, depth)
+
+    def mark(self, d: dict) -> str:
+        """The statement recording that a group of writes ran (Writers)."""
+        self.groups.append(dict(d))
+        self.block_marks = True
+        return f"R[{len(self.groups) - 1}] = ws"
+
+    def pos(self) -> float:
+        """The position of a write outside the groups: after the groups emitted so far."""
+        return len(self.groups) - 0.5
 
     def defer_writer(self, key, i: int) -> None:
         self.pending.pop(key, None)
@@ -480,7 +577,7 @@ class _Gen:
             raise Unsupported(f"no compiled form for {s.ins.mnemonic}")
         i = s.index
         self.flush(i)
-        self.emit(f"m.acc = a; m.pc = {i}", i)
+        self.emit(f"m.acc = a; m.pc = {i}; AT[0] = ws; AT[1] = {self.pos()}", i)
         self.emit(f"S{i}.run(m, S{i})", i)
         self.emit("a = m.acc", i)
 
@@ -655,7 +752,7 @@ class _Gen:
         self.direct(("T", n), i)
         self.emit(f"{ts}[{n}] = 1", i)
         self.emit("if a:", i)
-        self.emit(f"W[('T', {n})] = {i}; pr = {preset}; {tp}[{n}] = pr", i, 2)
+        self.emit(f"{self.mark({('T', n): i})}; pr = {preset}; {tp}[{n}] = pr", i, 2)
         self.emit(f"if {tr}[{n}]:", i, 2)
         self.emit(f"q, {tf}[{n}] = divmod(now - {tl}[{n}] + {tf}[{n}], {base}); {tl}[{n}] = now", i, 3)
         self.emit(f"v = {wt}[{n}]", i, 3)
@@ -754,7 +851,7 @@ class _Gen:
             pr = "pr"
             self.emit(f"pe = {e}[{i}]; {e}[{i}] = 1 if a else 0; v = {cv}[{n}]; pr = {preset}", i)
         self.emit(f"if a and not pe and v < {pr}:", i)
-        self.emit(f"v += 1; {cv}[{n}] = v; W[('C', {n})] = {i}", i, 2)
+        self.emit(f"v += 1; {cv}[{n}] = v; {self.mark({('C', n): i})}", i, 2)
         self.emit(f"if v >= {pr} and not {bc}[{n}]:", i)
         self.emit(f"m.c_pending[{n}] = 1", i, 2)
 
@@ -803,7 +900,8 @@ class _Gen:
         self.exit_checks(s)
         self.flush(i)
         self.emit("m.acc = a", i)
-        ref_call = f"m.pc = {i}; S{i}.run(m, S{i})"  # fault and alarm paths: the routine itself
+        # fault and alarm paths: the routine itself
+        ref_call = f"m.pc = {i}; AT[0] = ws; AT[1] = {self.pos()}; S{i}.run(m, S{i})"
         if op in ("fend", "end"):
             self.emit("if m.calls or m.fors:", i)
             self.emit(ref_call, i, 2)
@@ -839,7 +937,7 @@ class _Gen:
             self.emit(ref_call, i, 2)
             self.emit("return BLK.get(m.calls.pop(), NB)", i)
         else:
-            self.emit(f"m.pc = {i}", i)
+            self.emit(f"m.pc = {i}; AT[0] = ws; AT[1] = {self.pos()}", i)
             self.emit(f"r = S{i}.run(m, S{i})", i)
             self.emit(f"if r is None: return {j + 1}", i)
             self.emit("return -1 if r == -1 else BLK[r]", i)
@@ -870,8 +968,8 @@ class Scanner:
             self._bind()
 
     def _bind(self) -> None:
-        code, m, prog = self.code, self.m, self.prog
-        g: dict = {"__builtins__": __builtins__, "W": m.writer, "T01": _T01, "FF": _FF, "FI": _FI,
+        code, prog = self.code, self.prog
+        g: dict = {"__builtins__": __builtins__, "T01": _T01, "FF": _FF, "FI": _FI,
                    "FLT": _fault, "JMP": _drop_loops, "NB": len(code.starts),
                    "BLK": {st: j for j, st in enumerate(code.starts)}, **code.consts}
         for s in prog.steps:
@@ -884,7 +982,7 @@ class Scanner:
         self.fns: list[Callable] = [g[f"b{j}"] for j in range(len(code.starts))] + [self._past_end]
         self.bsteps = [*code.block_steps, 0]
 
-    def _past_end(self, m: Machine) -> int:
+    def _past_end(self, m: Machine, ws: int) -> int:
         """The block after the last one: control ran off the program."""
         raise Fault("execution ran past the last instruction without END", self.prog.steps[-1])
 
@@ -896,7 +994,10 @@ class Scanner:
             g["G_w" + k] = arr
         for name, attr in _CONTAINERS.items():
             g["G_" + name] = getattr(m, attr)
-        g["W"] = m.writer
+        w = m.writer
+        if not isinstance(w, Writers) or w.groups is not self.code.groups:
+            w = m.writer = Writers(w, self.code.groups)
+        g["W"], g["G_R"], g["SP"], g["AT"] = w, w.marks, w.spill, w.at
         if self._stale is None:
             self._stale = self._stale_check()
 
@@ -936,17 +1037,24 @@ class Scanner:
             _before_scan(m)
         fns = self.fns
         bsteps = self.bsteps
+        w = self.g["W"]
+        k = w.k  # stamp of the next block execution (Writers)
         j = 0
         ex = 0
         try:
             while j >= 0:
                 ex += bsteps[j]
+                k += 1
                 if ex > watchdog:
+                    w.at[:] = k, _INF
                     self._interp(self.code.starts[j], ex - bsteps[j], watchdog)
                     break
-                j = fns[j](m)
+                j = fns[j](m, k)
         except SimFault as e:
             raise Fault(e.message, self._fault_step(e)) from None
+        finally:
+            w.k = k
+            w.at[:] = k, _INF  # writes between scans: after this scan's
         end_of_scan(m)
 
     def _check_instrumented(self) -> None:
