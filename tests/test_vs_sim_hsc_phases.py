@@ -93,3 +93,22 @@ def test_dhhcmv_and_hardware_counter_modes():
         "100ms X4 pulses 2kHz until 150ms\n"
         "150ms X11=1\n150ms expect D0:d=150 D9226:d=0\n200ms expect D0:d=50 D2:d=-50 M9197=1\n"
         "300ms X10=0 X12=1\n400ms expect D0:d=550 D9226:d=550\n")
+
+
+# ------------------------------------------------------------------ 6-9 / 6-10 I/O conversions
+
+def test_segd_decodes_to_seven_segments():
+    # 6-9 FNC 73 example: SEGD D0 K2Y20 on X20: the low 4 bits of D0 as segments a-g on Y20-Y27;
+    # a word destination keeps its high byte
+    run("LD X20\nSEGD D0 K2Y20\nLD X20\nSEGD D1 D2\n",
+        "0ms D0:h=H1237 D1=11 D2:h=HAB00\n10ms X20=1\n10ms expect K2Y20=39 D2:h=HAB7C\n"
+        "20ms D0=8\n20ms expect K2Y20=127\n")
+
+
+def test_prun_copies_in_octal():
+    # 6-10 FNC 81 example: PRUN K4X20 K4M0 on X0 (X20-X27 -> M0-M7, X30-X37 -> M10-M17, M8/M9
+    # unchanged), PRUNP K4M0 K4Y20 on X1 (back, M8/M9 skipped)
+    run("LD X0\nPRUN K4X20 K4M0\nLDP X1\nPRUN K4M0 K4Y20\n",
+        "0ms M8=1 M9=1 X20=1 X27=1 X30=1 X37=1\n10ms X0=1\n"
+        "10ms expect M0=1 M7=1 M10=1 M17=1 M8=1 M9=1 M1=0 M11=0\n"
+        "20ms X1=1\n20ms expect Y20=1 Y27=1 Y30=1 Y37=1 Y21=0 Y31=0 Y26=0 Y36=0\n")
