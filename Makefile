@@ -28,12 +28,23 @@ demo: $(STAMP)
 	cd samples/project && ../../$(BIN)/mlc build && ../../$(BIN)/mlc test --coverage --coverage-dir ../../out --junit ../../out/project-junit.xml
 	@echo "project built into samples/project/build/; test and coverage reports in out/"
 
-bench: $(STAMP)
-	$(BIN)/python bench/check_speed.py
-	$(BIN)/python bench/build_speed.py
-	# the simulator's peers, for bench/sim_speed.py only (not test dependencies)
-	$(BIN)/pip install --quiet awlsim pyrung
-	$(BIN)/python bench/sim_speed.py
+# the benchmarks run in their own venv: the simulator's peers (awlsim, pyrung) are not test
+# dependencies, and pyrung's pyclickplc pins an older pymodbus than mlctool needs
+BENCH_VENV := .venv-bench
+BENCH_BIN := $(BENCH_VENV)/bin
+BENCH_STAMP := $(BENCH_VENV)/.installed
+
+$(BENCH_STAMP): pyproject.toml
+	$(PY) -m venv $(BENCH_VENV)
+	$(BENCH_BIN)/pip install --quiet --upgrade pip
+	$(BENCH_BIN)/pip install --quiet awlsim pyrung
+	$(BENCH_BIN)/pip install --quiet -e .
+	touch $(BENCH_STAMP)
+
+bench: $(BENCH_STAMP)
+	$(BENCH_BIN)/python bench/check_speed.py
+	$(BENCH_BIN)/python bench/build_speed.py
+	$(BENCH_BIN)/python bench/sim_speed.py
 
 clean:
-	rm -rf $(VENV) out .pytest_cache
+	rm -rf $(VENV) $(BENCH_VENV) out .pytest_cache

@@ -111,12 +111,14 @@ class Writers(dict):
 
     __hash__ = None  # type: ignore[assignment]
 
-    def __init__(self, base: dict, groups: list[dict]):
+    def __init__(self, base: dict, groups: list[dict], dyn: list[tuple] = ()):
         if isinstance(base, Writers):
             base.resolve()
         super().__init__(base)
         self.groups = groups  # record group -> {device: instruction index}
         self.marks = [0] * len(groups)  # stamp of each group's last execution (0: never)
+        self.dyn_specs = dyn  # index-modified store -> (position, ((kind, offset), ...), writer)
+        self.dyn = [{} for _ in dyn]  # index-modified store -> {address: stamp}
         self.spill: dict = {}  # device -> (stamp, position, writer)
         self.k = 0  # last stamp given to a block execution
         self.mat = 0  # stamps <= mat are applied
@@ -129,6 +131,10 @@ class Writers(dict):
         mat, groups = self.mat, self.groups
         ev = [(s, g, None) for g, s in enumerate(self.marks) if s > mat]
         ev += [(s, p, (key, v)) for key, (s, p, v) in spill.items()]
+        for (p, parts, v), d in zip(self.dyn_specs, self.dyn):
+            for addr, s in d.items():
+                ev += [(s, p, ((kind, addr + off), v)) for kind, off in parts]
+            d.clear()
         ev.sort(key=lambda e: (e[0], e[1]))
         put, update = dict.__setitem__, dict.update
         for _, g, kv in ev:
@@ -180,7 +186,7 @@ class Code:
     def __init__(self, key: str, code: CodeType, filename: str, starts: list[int],
                  block_steps: list[int], linemap: list[int], source: str,
                  consts: dict[str, dict] | None = None, used: frozenset[str] = frozenset(),
-                 groups: list[dict] | None = None):
+                 groups: list[dict] | None = None, dyn: list[tuple] | None = None):
         self.key = key
         self.code = code
         self.filename = filename
@@ -191,6 +197,7 @@ class Code:
         self.consts = consts or {}  # U<n>: constant writer records (dict updates)
         self.used = used  # machine containers the code reads (G_<name>)
         self.groups = groups or []  # writer record groups (Writers.groups)
+        self.dyn = dyn or []  # index-modified stores (Writers.dyn_specs)
 
 
 _CACHE: OrderedDict[str, Code | None] = OrderedDict()
@@ -260,6 +267,8 @@ class _Gen:
         self.linemap: list[int] = []
         self.consts: dict[str, dict] = {}  # U<n>: writer records deferred before a fault
         self.groups: list[dict] = []  # writer record groups: `R[g] = ws` when one runs
+        self.dyn: list[tuple] = []  # index-modified stores: `DY<n>[address] = ws`
+        self.subpos = 0
         self.all_used: set[str] = set()
         settings = prog.target.settings
         self.c32_lo = settings["counters32"][0]
@@ -297,7 +306,7 @@ class _Gen:
         source = "\n".join(self.lines) + "\n"
         code = compile(source, self.filename, "exec")
         return Code(self.key, code, self.filename, starts, block_steps, self.linemap, source,
-                    self.consts, frozenset(self.all_used), self.groups)
+                    self.consts, frozenset(self.all_used), self.groups, self.dyn)
 
     # -- one block
     def block(self, j: int, block: list[Step], nblocks: int) -> None:
@@ -483,7 +492,7 @@ class _Gen:
                 self.learn([(ref.kind, n)], None if c is None else [c & 0xFFFF])
                 self.gwrite([(ref.kind, n)], i)
             else:
-                self.emit(f"SP[({ref.kind!r}, {n})] = (ws, {self.pos()}, {i})", i, 2)
+                self.emit(f"{self.dyn_store(((ref.kind, 0),), i)}[{n}] = ws", i, 2)
             return
         hi = f"{self.use('wZ')}[{n}]" if ref.kind == "V" else f"{arr}[{n1}]"
         if c is not None:
@@ -498,10 +507,8 @@ class _Gen:
             self.learn([(ref.kind, n), hi_key], None if c is None else words)
             self.gwrite([(ref.kind, n), hi_key], i)
         else:
-            hk = "'Z'" if ref.kind == "V" else repr(ref.kind)
-            p = self.pos()
-            self.emit(f"SP[({ref.kind!r}, {n})] = SP[({hk}, {n1 if ref.kind != 'V' else n})] = (ws, {p}, {i})",
-                      i, 2)
+            parts = ((ref.kind, 0), ("Z", 0) if ref.kind == "V" else (ref.kind, 1))
+            self.emit(f"{self.dyn_store(parts, i)}[{n}] = ws", i, 2)
 
     # -- writer tracking
     def cond(self, keys, i: int, kinds: tuple[str, ...] = ()) -> None:
@@ -552,12 +559,20 @@ class _Gen:
     def mark(self, d: dict) -> str:
         """The statement recording that a group of writes ran (Writers)."""
         self.groups.append(dict(d))
+        self.subpos = 0
         self.block_marks = True
         return f"R[{len(self.groups) - 1}] = ws"
 
+    def dyn_store(self, parts: tuple, i: int) -> str:
+        """The dict recording the addresses an index-modified store wrote (Writers.dyn)."""
+        self.dyn.append((self.pos(), parts, i))
+        return f"DY{len(self.dyn) - 1}"
+
     def pos(self) -> float:
-        """The position of a write outside the groups: after the groups emitted so far."""
-        return len(self.groups) - 0.5
+        """The position of a write outside the groups: after the groups emitted so far and the
+        other writes since the last of them."""
+        self.subpos += 1
+        return len(self.groups) - 1 + self.subpos / (1 << 20)
 
     def defer_writer(self, key, i: int) -> None:
         self.pending.pop(key, None)
@@ -996,8 +1011,10 @@ class Scanner:
             g["G_" + name] = getattr(m, attr)
         w = m.writer
         if not isinstance(w, Writers) or w.groups is not self.code.groups:
-            w = m.writer = Writers(w, self.code.groups)
+            w = m.writer = Writers(w, self.code.groups, self.code.dyn)
         g["W"], g["G_R"], g["SP"], g["AT"] = w, w.marks, w.spill, w.at
+        for n, d in enumerate(w.dyn):
+            g[f"DY{n}"] = d
         if self._stale is None:
             self._stale = self._stale_check()
 
