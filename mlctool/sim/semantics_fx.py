@@ -253,5 +253,7 @@ from mlctool.sim.fx.bfm import BFM_ACTIONS  # noqa: E402  FROM/TO on a simulated
 FX_ACTIONS.update(BFM_ACTIONS)
 from mlctool.sim.fx.pulse_out import PULSE_OUTPUT_ACTIONS  # noqa: E402  PLSY, PWM, PLSR (6-7)
 FX_ACTIONS.update(PULSE_OUTPUT_ACTIONS)
+from mlctool.sim.fx.scan_io import SCAN_IO_ACTIONS  # noqa: E402  MTR, DSW (6-7, 6-9)
+FX_ACTIONS.update(SCAN_IO_ACTIONS)
 from mlctool.sim.fx.io_devices import IO_DEVICE_ACTIONS  # noqa: E402  SEGD, PRUN (6-9, 6-10)
 FX_ACTIONS.update(IO_DEVICE_ACTIONS)
