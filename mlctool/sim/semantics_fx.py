@@ -223,37 +223,11 @@ FX_ACTIONS = {
     "cmp": cmp3, "zcp": zcp, "xch": xch, "bmov": bmov, "fill": fill, "swap": swap,
     "flt": flt, "int": int_, "sum": sum_bits, "fcmp3": base.fcmp,
 }
-from mlctool.sim.fx_mbus import MBUS_ACTIONS  # noqa: E402  Modbus master MBUS (FNC 149)
-FX_ACTIONS.update(MBUS_ACTIONS)
+# The rest of the FX family lives in mlctool/sim/fx/, one module per manual chapter; they use
+# the routines above, so they are merged here, after this module's own table exists.
+from mlctool.sim.fx import before_scan_hooks, family_actions  # noqa: E402
 
-# The rest of the FX family (shift registers, data, floats, strings, clock): mlctool/sim/fx/.
-from mlctool.sim.fx.clock import CLOCK_ACTIONS, refresh  # noqa: E402
-from mlctool.sim.fx.convert import CONVERT_ACTIONS  # noqa: E402
-from mlctool.sim.fx.data import DATA_ACTIONS  # noqa: E402
-from mlctool.sim.fx.floats import FLOAT_ACTIONS  # noqa: E402
-from mlctool.sim.fx.hsc import HSC_ACTIONS, catch_up  # noqa: E402
-from mlctool.sim.fx.pid import PID_ACTIONS  # noqa: E402
-from mlctool.sim.fx.shift import SHIFT_ACTIONS  # noqa: E402
-from mlctool.sim.fx.strings import STRING_ACTIONS  # noqa: E402
-from mlctool.sim.fx.ascii_codes import ASCII_ACTIONS  # noqa: E402
-from mlctool.sim.fx.scale import SCALE_ACTIONS  # noqa: E402
-from mlctool.sim.fx.tables import TABLE_ACTIONS  # noqa: E402
-from mlctool.sim.fx.timing import TIMING_ACTIONS  # noqa: E402
-from mlctool.sim.fx.io_refresh import IO_REFRESH_ACTIONS  # noqa: E402
-
-FX_ACTIONS.update({**SHIFT_ACTIONS, **DATA_ACTIONS, **FLOAT_ACTIONS, **STRING_ACTIONS, **CLOCK_ACTIONS,
-                   **PID_ACTIONS, **HSC_ACTIONS, **CONVERT_ACTIONS, **TABLE_ACTIONS, **ASCII_ACTIONS,
-                   **SCALE_ACTIONS, **TIMING_ACTIONS, **IO_REFRESH_ACTIONS})
+FX_ACTIONS.update(family_actions())
 # Run by scan.system_relays before every scan; each does nothing on a target without its
 # settings (the calendar: target.toml `rtc`; high-speed counters: `high_speed_counters`).
-BEFORE_SCAN = (refresh, catch_up)
-from mlctool.sim.fx.interrupts import INTERRUPT_ACTIONS  # noqa: E402  IRET/EI/DI, pointers (2-12)
-FX_ACTIONS.update(INTERRUPT_ACTIONS)
-from mlctool.sim.fx.bfm import BFM_ACTIONS  # noqa: E402  FROM/TO on a simulated buffer memory (6-9)
-FX_ACTIONS.update(BFM_ACTIONS)
-from mlctool.sim.fx.pulse_out import PULSE_OUTPUT_ACTIONS  # noqa: E402  PLSY, PWM, PLSR (6-7)
-FX_ACTIONS.update(PULSE_OUTPUT_ACTIONS)
-from mlctool.sim.fx.scan_io import SCAN_IO_ACTIONS  # noqa: E402  MTR, DSW (6-7, 6-9)
-FX_ACTIONS.update(SCAN_IO_ACTIONS)
-from mlctool.sim.fx.io_devices import IO_DEVICE_ACTIONS  # noqa: E402  SEGD, PRUN (6-9, 6-10)
-FX_ACTIONS.update(IO_DEVICE_ACTIONS)
+BEFORE_SCAN = before_scan_hooks()

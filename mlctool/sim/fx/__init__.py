@@ -1,8 +1,53 @@
-"""FX-family routines (Vigor VS) beyond semantics_fx.py, one small module per manual chapter
-(shift, data, floats, strings, clock); semantics_fx merges their tables into its own (keyed
-by `op`, like semantics.py).
+"""FX-family routines (Vigor VS) beyond semantics_fx.py, one small module per manual chapter;
+semantics_fx merges their tables into its own (keyed by `op`, like semantics.py).
 
 Importing any of them loads semantics first: semantics -> semantics_fx -> these modules is
-the one import order that has no cycle."""
+the one import order that has no cycle. A new family module is added to FAMILIES.
+"""
+
+from __future__ import annotations
+
+import importlib
 
 from mlctool.sim import semantics  # noqa: F401
+
+# module -> its table of op -> routine
+FAMILIES = {
+    "mlctool.sim.fx.shift": "SHIFT_ACTIONS",
+    "mlctool.sim.fx.data": "DATA_ACTIONS",
+    "mlctool.sim.fx.floats": "FLOAT_ACTIONS",
+    "mlctool.sim.fx.strings": "STRING_ACTIONS",
+    "mlctool.sim.fx.clock": "CLOCK_ACTIONS",
+    "mlctool.sim.fx.pid": "PID_ACTIONS",
+    "mlctool.sim.fx.hsc": "HSC_ACTIONS",
+    "mlctool.sim.fx.convert": "CONVERT_ACTIONS",
+    "mlctool.sim.fx.tables": "TABLE_ACTIONS",
+    "mlctool.sim.fx.ascii_codes": "ASCII_ACTIONS",
+    "mlctool.sim.fx.scale": "SCALE_ACTIONS",
+    "mlctool.sim.fx.timing": "TIMING_ACTIONS",
+    "mlctool.sim.fx.io_refresh": "IO_REFRESH_ACTIONS",
+    "mlctool.sim.fx_mbus": "MBUS_ACTIONS",  # Modbus master MBUS (FNC 149)
+    "mlctool.sim.fx.interrupts": "INTERRUPT_ACTIONS",  # IRET/EI/DI, pointers (2-12)
+    "mlctool.sim.fx.bfm": "BFM_ACTIONS",  # FROM/TO on a simulated buffer memory (6-9)
+    "mlctool.sim.fx.pulse_out": "PULSE_OUTPUT_ACTIONS",  # PLSY, PWM, PLSR (6-7)
+    "mlctool.sim.fx.scan_io": "SCAN_IO_ACTIONS",  # MTR, DSW (6-7, 6-9)
+    "mlctool.sim.fx.io_devices": "IO_DEVICE_ACTIONS",  # SEGD, PRUN (6-9, 6-10)
+}
+
+# routines run before every scan (module, name)
+BEFORE_SCAN = (("mlctool.sim.fx.clock", "refresh"), ("mlctool.sim.fx.hsc", "catch_up"))
+
+
+def family_actions() -> dict:
+    out: dict = {}
+    for module, table in FAMILIES.items():
+        actions = getattr(importlib.import_module(module), table)
+        clash = set(out) & set(actions)
+        if clash:
+            raise RuntimeError(f"{module}: ops already defined by another family: {sorted(clash)}")
+        out.update(actions)
+    return out
+
+
+def before_scan_hooks() -> tuple:
+    return tuple(getattr(importlib.import_module(m), name) for m, name in BEFORE_SCAN)
