@@ -137,7 +137,7 @@ def _gx(w: _Writer, text: str, delimiter: str) -> None:
                 cols = found
             continue  # the program-name and "PLC Information:" rows before the header
 
-        def cell(name: str, row=row) -> str:
+        def cell(name: str, row=row, cols=cols) -> str:
             i = cols.get(name)
             return row[i] if i is not None and i < len(row) else ""
 

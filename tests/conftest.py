@@ -74,7 +74,6 @@ def sim_engine(request):
         yield None
         return
     import simkit
-
     from mlctool.sim.compile import ENGINE_ENV
 
     old_env, old = os.environ.get(ENGINE_ENV), simkit.ENGINE

@@ -8,10 +8,10 @@ import shutil
 from pathlib import Path
 
 import pytest
-from conftest import SAMPLES, run_mlc
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from conftest import SAMPLES, run_mlc
 from mlctool.asm import program_from_paths
 from mlctool.asm.objfile import MAGIC, ObjectError, decode
 from mlctool.targets import load_target

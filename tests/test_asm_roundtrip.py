@@ -10,10 +10,10 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import SAMPLES, run_mlc
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from conftest import SAMPLES, run_mlc
 from mlctool.asm.encode import directives_of, object_from_module
 from mlctool.asm.listing import unit_il
 from mlctool.asm.objfile import decode, encode

@@ -13,6 +13,7 @@ import tomllib
 from pathlib import Path
 
 import pytest
+
 from conftest import ROOT, SAMPLES, run_mlc
 
 MANUAL = ROOT.parent / "shared" / "manuals" / "000_a33d4a328dc57a96.txt"

@@ -9,6 +9,7 @@ import json
 import re
 
 import pytest
+
 from conftest import SAMPLES, SIM_ENGINES, run_mlc
 
 NC5 = SAMPLES / "nc5"

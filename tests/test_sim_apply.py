@@ -6,6 +6,7 @@ import math
 import struct
 
 import pytest
+
 from simkit import Bench, passed, simulate
 
 

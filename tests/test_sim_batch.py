@@ -7,10 +7,10 @@ import json
 import xml.etree.ElementTree as ET
 
 import pytest
-from conftest import run_mlc
-from simkit import NC5, image_of
 
+from conftest import run_mlc
 from mlctool.sim.batch import Options, run_batch
+from simkit import NC5, image_of
 
 PROGRAM = """
 LD X0

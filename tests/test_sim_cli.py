@@ -9,6 +9,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
+
 from conftest import SAMPLES, run_mlc
 
 NC5 = SAMPLES / "nc5"

@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-from simkit import NC5, passed, simulate
-
 from mlctool.devices import MODELS, ModelIO
 from mlctool.sim.state import Machine
+from simkit import NC5, passed, simulate
 
 
 def test_conveyor_moves_parts_only_while_the_motor_runs():

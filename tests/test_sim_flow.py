@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
-from simkit import Bench, passed, simulate
-
 from mlctool.sim.scan import Fault
+from simkit import Bench, passed, simulate
 
 
 def test_cj_example_1_skips_the_middle_part():

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
+
 from simkit import Bench
 
 W16 = st.integers(-(2**15), 2**15 - 1)

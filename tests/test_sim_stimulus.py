@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import pytest
-from simkit import NC5, passed, simulate
 
 from mlctool.sim.stimulus import parse_stimulus_text, parse_time
+from simkit import NC5, passed, simulate
 
 
 def diags_of(text: str):

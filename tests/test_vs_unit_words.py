@@ -85,7 +85,15 @@ def test_simulation_reads_and_writes_the_stimulus_buffer_memory():
 
 
 def test_index_past_the_buffer_memory_is_a_fault_not_a_traceback():
-    from test_vs_sim_fx import Path, Simulation, os, parse_stimulus_text, plan_scans, program_from_paths, tempfile
+    from test_vs_sim_fx import (
+        Path,
+        Simulation,
+        os,
+        parse_stimulus_text,
+        plan_scans,
+        program_from_paths,
+        tempfile,
+    )
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "t.il")
         Path(path).write_text("LD M9000\nMOV K32767 Z0\nMOV K1 U1G1Z0\nEND\n", encoding="utf-8")

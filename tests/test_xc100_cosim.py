@@ -12,8 +12,6 @@ import sys
 import tempfile
 from pathlib import Path
 
-import pytest
-
 from mlctool.asm import program_from_paths
 from mlctool.check import check_texts
 from mlctool.devices.xc100.registers import read_words

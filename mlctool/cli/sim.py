@@ -21,8 +21,8 @@ from mlctool.sim.batch import Options
 from mlctool.sim.compile import ENGINE_ENV, ENGINES
 from mlctool.sim.decode import unsimulated
 from mlctool.sim.extension import extension
-from mlctool.sim.pin_window import EDGE_LIMIT, parse_window
 from mlctool.sim.output import json_value, run_diagnostics, summary, to_json
+from mlctool.sim.pin_window import EDGE_LIMIT, parse_window
 from mlctool.sim.run import DEFAULT_SCAN_US, RunResult, Simulation, build_models, plan_scans
 from mlctool.sim.scan import DEFAULT_WATCHDOG
 from mlctool.sim.state import NameError_, parse_device_name

@@ -214,7 +214,7 @@ def before_scan(m: Machine) -> None:
         for p, slot in enumerate(st.slots):
             if slot.used and slot.pin_mode:
                 pulses.open_window(trace, st.pin_levels, p, slot.pin_mode, slot.axis.dir > 0)
-    for p, slot in enumerate(st.slots):
+    for slot in st.slots:
         _advance(m, st, slot)
     for g, gs in enumerate(st.groups):
         _advance_group(m, st, gs)

@@ -18,8 +18,8 @@ from mlctool.sim.compile import scanner
 from mlctool.sim.decode import Program, program_devices
 from mlctool.sim.extension import extension
 from mlctool.sim.fx.interrupts import Interrupts
-from mlctool.sim.pulses import Quadrature, Train, add_quadrature, add_train, drive_inputs
 from mlctool.sim.pin_window import PinWindow
+from mlctool.sim.pulses import Quadrature, Train, add_quadrature, add_train, drive_inputs
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, load_program
 from mlctool.sim.state import DeviceView, Machine
 from mlctool.sim.stimulus import Check, Event, Stimulus

@@ -224,8 +224,9 @@ def line_settings(dev: c.Xc100) -> LineSettings:
 
 
 def _framer(dev: c.Xc100):
-    from mlctool.devices.xc100.server import XC100Decoder  # pymodbus: only for linked models
     from pymodbus.framer import FramerAscii, FramerRTU
+
+    from mlctool.devices.xc100.server import XC100Decoder  # pymodbus: only for linked models
 
     cls = FramerRTU if dev.boot[0x0A04] else FramerAscii
     return cls(XC100Decoder(True))
