@@ -33,6 +33,7 @@ import hashlib
 import math
 import os
 import re
+import sys
 from collections import OrderedDict
 from collections.abc import Callable
 from types import CodeType
@@ -47,7 +48,7 @@ from mlctool.sim.state import Machine, SimFault, s16, s32, to_f32
 ENGINES = ("compiled", "interp")
 DEFAULT_ENGINE = "compiled"
 ENGINE_ENV = "MLC_SIM_ENGINE"
-COMPILER_VERSION = "4"
+COMPILER_VERSION = "5"
 
 FLOW_OPS = frozenset({"cj", "call", "sret", "fend", "end", "for", "next"})
 RUNG_CLASSES = frozenset({"load", "and", "or", "anb", "orb", "mps", "mrd", "mpp", "inv"})
@@ -63,6 +64,8 @@ _before_scan = getattr(_scan, "system_relays", None)
 
 
 _T01 = bytes.maketrans(b"\x00\x01", b"01")  # device bits -> binary digits (Kn groups)
+_GATHER = 0x0102040810204080  # (x * _GATHER) >> 56: the low bits of x's 8 bytes, byte k at bit k
+_LITTLE = sys.byteorder == "little"  # the 'Q' views of the bit stores read bytes little-endian first
 
 
 # Single-precision conversions without struct calls: one 4-byte buffer seen as a float (FF)
@@ -431,8 +434,18 @@ class _Gen:
             return raw if unsigned else _s32(raw)
         if type(ref) is GroupRef and ref.ix is None and ref.kind in ("X", "Y", "M", "A") \
                 and ref.num + ref.n - 1 <= ref.hi:
-            arr, a, n = self.use("b" + ref.kind), ref.num, ref.n
-            expr = f"int({arr}[{a + n - 1}:{a - 1 if a else ''}:-1].translate(T01), 2)"
+            a, n = ref.num, ref.n
+            if _LITTLE and a % 8 == 0 and n % 8 == 0 and a + n <= (ref.hi + 1) // 8 * 8:
+                # 8 device bytes (0/1) at a time as one unsigned 64-bit word of the bit store
+                # (a 'Q' view of the bytearray); the multiply gathers byte k's low bit into bit
+                # 56 + k (no carries: each partial product lands apart), the shift and mask keep them
+                q = self.use("q" + ref.kind)
+                parts = [f"{q}[{a // 8 + c}] * {_GATHER} >> {56 - 8 * c} & {255 << 8 * c}"
+                         for c in range(n // 8)]
+                expr = f"({' | '.join(parts)})" if len(parts) > 1 else f"({parts[0]})"
+            else:
+                arr = self.use("b" + ref.kind)
+                expr = f"int({arr}[{a + n - 1}:{a - 1 if a else ''}:-1].translate(T01), 2)"
             if n == w and not unsigned:  # K4 in 16-bit and K8 in 32-bit are signed (GroupRef.get)
                 return _s16(expr) if w == 16 else _s32(expr)
             return expr
@@ -800,7 +813,8 @@ class _Gen:
         if op == "mov":
             src = self.value(ops[0], i, 0, 2, unsigned=True)
             masked = s.width == 16 and (_word(ops[0]) and (ops[0].width == 16 or ops[0].kind == "Z")
-                                        or type(ops[0]) is ConstRef)
+                                        or type(ops[0]) is ConstRef
+                                        or type(ops[0]) is GroupRef and ops[0].n <= 16)  # unsigned read
         elif op in ("inc", "dec"):
             src = f"({self.value(ops[0], i, 0, 2, unsigned=True)} {'+' if op == 'inc' else '-'} 1)"
         elif op == "cml":
@@ -1005,6 +1019,8 @@ class Scanner:
         m, g = self.m, self.g
         for k, arr in m.bits.items():
             g["G_b" + k] = arr
+            if "q" + k in self.code.used:  # Kn reads 8 aligned bits at a time (value())
+                g["G_q" + k] = memoryview(arr)[:len(arr) // 8 * 8].cast("Q")
         for k, arr in m.words.items():
             g["G_w" + k] = arr
         for name, attr in _CONTAINERS.items():
@@ -1027,6 +1043,8 @@ class Scanner:
                 tests.append(f"m.{_CONTAINERS[name]} is not G_{name}")
             elif name[0] == "b" and name[1:] in self.m.bits:
                 tests.append(f"m.bits[{name[1:]!r}] is not G_{name}")
+            elif name[0] == "q" and name[1:] in self.m.bits:  # the view of a replaced store
+                tests.append(f"G_{name}.obj is not m.bits[{name[1:]!r}]")
             elif name[0] == "w" and name[1:] in self.m.words:
                 tests.append(f"m.words[{name[1:]!r}] is not G_{name}")
         exec(f"def _stale(m):\n    return {' or '.join(tests)}\n", self.g)  # noqa: S102
