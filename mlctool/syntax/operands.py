@@ -16,7 +16,7 @@ FLOAT_KINDS = frozenset({"F", "E"})
 BIT_OF_WORD = ".b"  # kind suffix of a bit-of-word operand: D0.5 has kind "D.b"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)  # identity hash: a cheap lru_cache key
 class OperandSyntax:
     """What a target's operands may look like beyond the common core (from its manual).
 

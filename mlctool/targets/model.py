@@ -76,7 +76,10 @@ class OperandSpec:
 
     def allowed(self, kind: str) -> tuple[tuple[int, int], ...] | None:
         """Device-number ranges this operand allows for `kind` (None: the device's range)."""
-        return next((r for k, r in self.ranges if k == kind), None)
+        for k, r in self.ranges:
+            if k == kind:
+                return r
+        return None
 
     @property
     def writes(self) -> bool:
