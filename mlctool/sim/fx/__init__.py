@@ -32,6 +32,7 @@ FAMILIES = {
     "mlctool.sim.fx.pulse_out": "PULSE_OUTPUT_ACTIONS",  # PLSY, PWM, PLSR (6-7)
     "mlctool.sim.fx.scan_io": "SCAN_IO_ACTIONS",  # MTR, DSW (6-7, 6-9)
     "mlctool.sim.fx.io_devices": "IO_DEVICE_ACTIONS",  # SEGD, PRUN (6-9, 6-10)
+    "mlctool.sim.fx.keypad_display": "KEYPAD_DISPLAY_ACTIONS",  # TKY, HKY, SEGL, PR (6-9)
 }
 
 # routines run before every scan (module, name)

@@ -1,7 +1,7 @@
 """I/O conversions of the VS family that need no peripheral: PRUN (6-10 FNC 81, octal copy)
-and SEGD (6-9 FNC 73, 7-segment decode). MTR/DSW: scan_io.py; TKY, HKY,
-SEGL and communication (PR, RS, LINK, CPUL, DBRD, DBWR,
-DTRD) are not simulated yet: E905 (docs/vs.md "Not yet")."""
+and SEGD (6-9 FNC 73, 7-segment decode). MTR/DSW: scan_io.py; TKY, HKY, SEGL, PR:
+keypad_display.py; communication (RS, LINK, CPUL, DBRD, DBWR, DTRD) is not simulated yet:
+E905 (docs/vs.md "Not yet")."""
 
 from __future__ import annotations
 
