@@ -112,3 +112,25 @@ def test_prun_copies_in_octal():
         "0ms M8=1 M9=1 X20=1 X27=1 X30=1 X37=1\n10ms X0=1\n"
         "10ms expect M0=1 M7=1 M10=1 M17=1 M8=1 M9=1 M1=0 M11=0\n"
         "20ms X1=1\n20ms expect Y20=1 Y27=1 Y30=1 Y37=1 Y21=0 Y31=0 Y26=0 Y36=0\n")
+
+
+def test_dhsct_page_example_table_of_six_rows():
+    # 6-21 FNC 280's program: C235 counts X0 0-1000 round (DHSCR K1000 C235 C235); the table
+    # D0-D17 (100 -> H1, 200 -> H6, 300 -> HA, 400 -> HC, 500 -> H8, 600 -> H5) drives Y4-Y7
+    # at each value reached; D9162 the row, M9162 one scan after the last row
+    il = ("LD M9002\nMOV H5 K1Y4\nLD M9000\nOUT C235 K1000\nDHSCR K1000 C235 C235\n"
+          "DHSCT D0 K6 C235 Y4 K4\n")
+    table = " ".join(f"D{3 * k}:d={100 * (k + 1)} D{3 * k + 2}={v}"
+                     for k, v in enumerate((1, 6, 10, 12, 8, 5)))
+    run(il, f"0ms {table}\n0ms expect K1Y4=5 D9162=0\n5ms X0 pulses 1kHz until 2000ms\n"
+            "100ms expect K1Y4=5 D9162=0\n110ms expect K1Y4=1 D9162=1\n250ms expect K1Y4=6 D9162=2\n"
+            "350ms expect K1Y4=10\n450ms expect K1Y4=12\n550ms expect K1Y4=8 D9162=5\n"
+            "600ms expect M9162=0\n610ms expect K1Y4=5 D9162=0 M9162=1\n620ms expect M9162=0\n"
+            "1150ms expect K1Y4=1 D9162=1 C235:d=146\n")
+
+
+def test_dhsct_off_clears_the_row_counter_keeps_outputs():
+    il = "LD M9000\nOUT C235 K1000\nLD X10\nDHSCT D0 K2 C235 Y4 K2\n"
+    run(il, "0ms D0:d=10 D2=3 D3:d=20 D5=0 X10=1\n5ms X0 pulses 1kHz until 500ms\n"
+            "10ms expect Y4=0 D9162=0\n20ms X10=0\n20ms expect D9162=0 Y4=1 Y5=1\n"
+            "60ms expect Y4=1 Y5=1 D9162=0\n")  # 10 reached at 14 ms; 20 (at 24 ms) no more

@@ -19,7 +19,7 @@ the counts of the interval. Writing a counter (DMOV) compares nothing (2-7, 6-7)
 from __future__ import annotations
 
 from mlctool.sim import semantics as base
-from mlctool.sim.fx.common import op_error
+from mlctool.sim.fx.common import op_error, special
 from mlctool.sim.operands import CounterRef
 from mlctool.sim.pulses import count as count_edges
 from mlctool.sim.pulses import quadrature_count
@@ -109,6 +109,8 @@ def catch_up(m: Machine) -> None:
     catch_up_hardware(m)
     if not _table(m):
         return
+    if m.hsc.pop("table_done", False):  # M9162 was On for the scan after the last row
+        m.bits["M"][special(m, "hsct_done")] = 0
     last = m.hsc.get("last_us", -1)
     m.hsc["last_us"] = m.now_us
     monitor = m.target.settings.get("counter_direction_base")
@@ -131,12 +133,14 @@ def catch_up(m: Machine) -> None:
 def _count(m: Machine, n: int, c: dict, total: int, d: int) -> None:
     points = [(idx, p) for idx, p in sorted(_compares(m).items()) if p["counter"] == n]
     v = s32(m.cval[n])
+    tables = any(p["kind"] == "table" for _, p in points)
     seen_reset = None  # remaining count at the last self-reset: the cycle repeats after it
     while total:
         hit = None
         for idx, p in points:
-            if p["kind"] in ("set", "reset"):
-                steps = (p["value"] - v) * d
+            if p["kind"] in ("set", "reset", "table"):
+                target = p["rows"][p["row"]][0] if p["kind"] == "table" else p["value"]
+                steps = (target - v) * d
                 if 1 <= steps <= total and (hit is None or steps < hit[0]):
                     hit = (steps, p)
         if hit is None:
@@ -147,12 +151,15 @@ def _count(m: Machine, n: int, c: dict, total: int, d: int) -> None:
         v = s32(v + d * steps)
         total -= steps
         m.bits["C"][n] = 1 if v >= c["preset"] else 0
-        if p["kind"] == "set":
+        if p["kind"] == "table":
+            _table_row_reached(m, p)
+        elif p["kind"] == "set":
             p["dest"].setbit(m, 1)
         elif isinstance(p["dest"], CounterRef) and p["dest"].addr(m) == n:
             v = 0  # self-reset: value 0, contact Off (6-7 DHSCR)
             m.bits["C"][n] = 0
-            if seen_reset is not None and seen_reset > total:
+            # whole cycles leave the same state only without a DHSCT table's row to advance
+            if seen_reset is not None and seen_reset > total and not tables:
                 total %= seen_reset - total  # whole cycles leave the same state
             seen_reset = total
         else:
@@ -185,6 +192,61 @@ def _register(kind: str):
         value = (ops[0].get(m), ops[1].get(m)) if kind == "zone" else ops[0].get(m)
         points[s.index] = {"kind": kind, "value": value, "counter": n, "dest": ops[-1]}
     return run
+
+
+# ------------------------------------------------------------------ DHSCT (6-21 FNC 280)
+
+def _table_row_reached(m: Machine, p: dict) -> None:
+    """The row's output state goes to D..D+n-1 at once, D9162 counts the row; after the last
+    row D9162 is 0 again, M9162 On for one scan and the table starts over from row 1."""
+    rows = p["rows"]
+    state_word = rows[p["row"]][1]
+    for k in range(p["bits"]):
+        p["dest"].setbit(m, bool((state_word >> k) & 1), k)
+    p["row"] += 1
+    if p["row"] == len(rows):
+        p["row"] = 0
+        done = special(m, "hsct_done")
+        if done is not None:
+            m.bits["M"][done] = 1
+            m.hsc["table_done"] = True  # catch_up turns it Off before the next scan
+    row_register = special(m, "hsct_row")
+    if row_register is not None:
+        m.words["D"][row_register] = p["row"]
+
+
+def dhsct(m: Machine, s) -> None:
+    """DHSCT S1 m S2 D n: a table of m rows from S1 (compare value S1+3k+1:S1+3k, output state
+    S1+3k+2) against the counter S2, row by row; a compare point like DHSCS (active while the
+    condition is On, one of the 8). The rows are read at each execution (DECISION: a row
+    changed while counting applies from the next execution); the row reached is the
+    simulator's, shown in D9162. Off: stops, D9162 = 0, the outputs keep their states."""
+    points = _compares(m)
+    row_register = special(m, "hsct_row")
+    if not m.acc:
+        if points.pop(s.index, None) is not None and row_register is not None:
+            m.words["D"][row_register] = 0
+        return
+    table, rows_ref, counter, dest, bits_ref = s.ops
+    rows, bits, n = rows_ref.get(m), bits_ref.get(m), counter.addr(m)
+    if not (1 <= rows <= 16 and 1 <= bits <= 16):
+        op_error(m, s, f"m = {rows}, n = {bits}: both must be 1-16")
+        return
+    if not is_high_speed(m, n):
+        op_error(m, s, f"C{n} is not a high-speed counter")
+        return
+    if s.index not in points and len(points) >= MAX_COMPARES:
+        op_error(m, s, f"more than {MAX_COMPARES} high-speed compares active at once")
+        return
+    words = m.words[table.kind]
+    a = table.addr(m)
+    if a + 3 * rows > len(words):
+        op_error(m, s, f"a table of {rows} rows from {table.kind}{a} runs past the device range")
+        return
+    entries = [(s32(words[a + 3 * k] | words[a + 3 * k + 1] << 16), words[a + 3 * k + 2])
+               for k in range(rows)]
+    p = points.setdefault(s.index, {"kind": "table", "row": 0})
+    p.update(rows=entries, counter=n, dest=dest, bits=bits, row=p["row"] % rows)
 
 
 def spd(m: Machine, s) -> None:
@@ -229,5 +291,5 @@ def counter_coil(m: Machine, s) -> None:
 
 HSC_ACTIONS = {
     "cnt": counter_coil, "dhscs": _register("set"), "dhscr": _register("reset"),
-    "dhsz": _register("zone"), "spd": spd, "dhhcmv": dhhcmv,
+    "dhsz": _register("zone"), "dhsct": dhsct, "spd": spd, "dhhcmv": dhhcmv,
 }
