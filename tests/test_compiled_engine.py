@@ -116,6 +116,11 @@ def action(draw) -> list[str]:
             f"MOV K{draw(st.integers(0, 9))} D0",
             f"MUL D0 D1 D{draw(st.sampled_from([2, 4]))}",
         ]))]
+    if k == 16:  # index values held across writes to V/Z in one group and reference routines
+        return [f"MOV D{draw(st.integers(0, 4))}V0 D5",
+                draw(st.sampled_from(["MOV K2 V0", "FMOV K1 V0", "DMOV K65537 V0", "MOV K1 Z0", "MOV K1 D0",
+                                      "MOV K1M0Z0 V0", "MOV K2M0 Z0"])),
+                f"ADD D{draw(st.integers(0, 3))}V0 D1Z0 D6", "DMOV D0V0 D2"]
     return [f"MOV K{draw(st.integers(0, 3))} V0"]
 
 

@@ -48,7 +48,7 @@ from mlctool.sim.state import Machine, SimFault, s16, s32, to_f32
 ENGINES = ("compiled", "interp")
 DEFAULT_ENGINE = "compiled"
 ENGINE_ENV = "MLC_SIM_ENGINE"
-COMPILER_VERSION = "5"
+COMPILER_VERSION = "6"
 
 FLOW_OPS = frozenset({"cj", "call", "sret", "fend", "end", "for", "next"})
 RUNG_CLASSES = frozenset({"load", "and", "or", "anb", "orb", "mps", "mrd", "mpp", "inv"})
@@ -321,6 +321,9 @@ class _Gen:
         self.pending: dict[tuple[str, int], int] = {}
         self.gopen, self.gpend = False, {}
         self.known: dict[tuple[str, int], int] = {}  # words of the open group holding a constant
+        self.ixc: dict[tuple, str] = {}  # index register value -> local holding it (index())
+        self.ix_dirty = False  # the open group wrote V/Z: no index values hoisted before it
+        self.gopen_at = 0  # line of the open group's `if a:`
         self.blocks: list[str] = []  # symbolic ANB/ORB block stack: names of locals
         self.stack: list[str] = []  # symbolic MPS stack
         self.tmp = 0
@@ -372,16 +375,44 @@ class _Gen:
         lets Ref.addr raise its message. Returns the local holding the address."""
         x = self.new_tmp("x")
         n = ref.ixn
-        if ref.width == 32 and ref.ix == "V":
+        wide = ref.width == 32 and ref.ix == "V"
+        if wide:
             iv = _s32(f"({self.use('wZ')}[{n}] << 16 | {self.use('wV')}[{n}])")
         else:
             iv = _s16(f"{self.use('w' + ref.ix)}[{n}]")
+        iv = self.ix_value((ref.ix, n, wide), iv, i, depth)
         self.emit(f"{x} = {ref.num} + {iv}", i, depth)
         done = dict(self.pending)
         done.update(self.gpend)
         self.emit(f"if {x} < 0 or {x} > {ref.hi - extent + 1}: FLT(m, {self.const(done)}, O{i}_{j}, {extent}, ws, {self.pos()})",
                   i, depth)
         return x
+
+    def ix_value(self, key: tuple, expr: str, i: int, depth: int) -> str:
+        """The signed value of an index register, held in a local from where it was first
+        read in the block until a V/Z write or a reference routine (ix_clobber): computed on
+        the spot at depth 1, or on a line inserted before the open group's `if a:` (reading
+        V/Z cannot fault, and nothing in the group wrote V/Z before, else ix_dirty)."""
+        name = self.ixc.get(key)
+        if name is not None:
+            return name
+        if depth == 2 and self.ix_dirty:
+            return expr
+        name = self.new_tmp("iv")
+        if depth == 1:
+            self.emit(f"{name} = {expr}", i)
+        else:
+            self.lines.insert(self.gopen_at, f"    {name} = {expr}")
+            self.linemap.insert(self.gopen_at, i)
+            self.gopen_at += 1
+        self.ixc[key] = name
+        return name
+
+    def ix_clobber(self) -> None:
+        """V/Z may change from here on: index values are read again."""
+        self.ixc = {}
+        if self.gopen:
+            self.ix_dirty = True
 
     def const(self, d: dict) -> str:
         if not d:
@@ -491,7 +522,7 @@ class _Gen:
         else:
             src = self.new_tmp("v")
             self.emit(f"{src} = {expr}", i, 2)  # the source is read before the destination's address
-            expr, masked = src, False
+            expr = src
             n = self.index(ref, i, j, 2, 1 if one or ref.kind == "V" else 2)
             n1 = f"{n} + 1"
             hi_key = None
@@ -539,8 +570,12 @@ class _Gen:
         elif any(k in self.pending for k in keys):
             self.flush(i)
         if not self.gopen:
+            self.gopen_at = len(self.lines)
             self.emit("if a:", i)
             self.gopen = True
+            self.ix_dirty = False
+        if "V" in kinds or "Z" in kinds or keys is not None and any(k[0] in ("V", "Z") for k in keys):
+            self.ix_clobber()
 
     def direct(self, key, i: int) -> None:
         """Before a writer record written on the spot (outside any group)."""
@@ -605,6 +640,7 @@ class _Gen:
             raise Unsupported(f"no compiled form for {s.ins.mnemonic}")
         i = s.index
         self.flush(i)
+        self.ix_clobber()
         self.emit(f"m.acc = a; m.pc = {i}; AT[0] = ws; AT[1] = {self.pos()}", i)
         self.emit(f"S{i}.run(m, S{i})", i)
         self.emit("a = m.acc", i)
