@@ -199,6 +199,33 @@ class BitRef(Ref):
         return self.bit(m)
 
 
+class WordBitRef(Ref):
+    """D0.5 / R5.3: one bit of a 16-bit word (VS 3-1, 5-1) as a contact, coil, SET or RST
+    operand. Writing it changes only that bit; the writer record is the word's. Index
+    modification addresses the word (DECISION: D0Z0.5 is not in the IL grammar, so only an
+    unindexed word reaches here; addr still range-checks like any word)."""
+
+    __slots__ = ("bitno",)
+
+    def __init__(self, op: Operand, width: int, hi: int, text: str):
+        super().__init__(op, width, hi, text)
+        self.kind = op.device  # the word's device: D for D0.5
+        self.bitno = op.bit
+
+    def bit(self, m: Machine, k: int = 0) -> int:
+        return (m.words[self.kind][self.addr(m)] >> (self.bitno + k)) & 1
+
+    def setbit(self, m: Machine, v: int, k: int = 0) -> None:
+        a = self.addr(m)
+        mask = 1 << (self.bitno + k)
+        w = m.words[self.kind]
+        w[a] = (w[a] | mask) if v else (w[a] & ~mask & 0xFFFF)
+        m.writer[(self.kind, a)] = m.pc
+
+    def get(self, m: Machine) -> int:
+        return self.bit(m)
+
+
 def decode_operand(op: Operand, width: int, target: Target, text: str, as_bits: bool) -> Ref:
     """`as_bits`: the instruction uses a T/C operand as its contact (LD T0) rather than data."""
     if op.is_const:
@@ -210,6 +237,8 @@ def decode_operand(op: Operand, width: int, target: Target, text: str, as_bits: 
         return ref
     if op.is_group:
         return GroupRef(op, width, dev.hi, text)
+    if op.is_bit_of_word:
+        return WordBitRef(op, width, dev.hi, text)
     if dev.kind == "bit" or as_bits:
         return BitRef(op, width, dev.hi, text)
     if dev.kind == "counter":

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import operator
 
-from mlctool.sim.operands import BitRef, ConstRef
+from mlctool.sim.operands import BitRef, ConstRef, WordBitRef
 from mlctool.sim.state import Machine, f32_bits, s32, to_f32
 
 ARITH_ALARM = "MLC_ARITH_ERROR"  # named by 4.3 API-16 (DIV by 0)
@@ -125,8 +125,11 @@ def set_(m: Machine, s) -> None:
 
 
 def rst(m: Machine, s) -> None:
-    """2.2 RST: Y/M/A Off; T/C value 0 and contact Off; D/V/Z 0."""
+    """2.2 RST: Y/M/A Off; T/C value 0 and contact Off; D/V/Z 0; a word's bit (D0.5) Off."""
     if m.acc:
+        if isinstance(s.ops[0], WordBitRef):  # only that bit, never the whole word
+            s.ops[0].setbit(m, 0)
+            return
         clear(m, s.ops[0], s.ops[0].addr(m))
 
 
