@@ -123,3 +123,44 @@ def test_bfm_names_in_the_stimulus_are_checked():
         assert [(d.code, d.span.col) for d in diags] == [("E602", col)], (text, diags)
     _, diags = parse_stimulus_text("t.stim", "0ms BFM1#0=70000", VS)
     assert [(d.code, d.span.col) for d in diags] == [("E601", 5)]
+
+
+# -- high-speed counter interrupts: IHC0-IHC7 from DHSCS (6-7 FNC 53), IHHC1/IHHC2 (2-15-4)
+
+IHC_PROGRAM = ("LD M9000\nOUT C254 K2147483647\nDHSCS K100 C254 IHC0\nFEND\n"
+               "IHC0:\nLD M9000\nINC D0\nMOV D9 D1\nIRET\n"
+               "ITA10:\nLD M9000\nINC D9\nIRET\n")  # D9 counts 10 ms ticks: D1 dates the request
+
+
+def test_dhscs_takes_an_ihc_pointer_as_d():
+    assert codes(IHC_PROGRAM + "END\n") == []
+    bad = "LD M9000\nDHSCS K5 C235 IX1P\nDHSCS K5 C235 ITA10\nDHSCS K5 C235 Y0\nFEND\nIX1P:\nIRET\nEND\n"
+    assert codes(bad) == [("E205", 2), ("E205", 3)]
+    r = check_texts([SourceText("t.il", bad)], VS)
+    assert "takes IHC0-IHC7, not IX1P" in next(d.message for d in r.diagnostics if d.code == "E205")
+
+
+def test_ihc_routine_runs_at_the_pulse_that_meets_the_compare():
+    # the manual's 6-7 example (C254 = 100 jumps to IHC0) on the 1-phase C235 (X0) at 1 kHz,
+    # compare value 95: the 95th count is the edge at 95 ms, between two scans
+    il = IHC_PROGRAM.replace("C254", "C235").replace("K100", "K95")
+    run(il, "0ms X0 pulses 1kHz for 300ms\n"
+            "85ms expect D0=0\n"
+            "105ms expect D0=1 D1=9\n"  # at 95 ms: after ITA10's 9th tick, before its 10th
+            "400ms expect D0=1 D9=40 C235:d=299\n")  # once: the count passes 95 only once
+
+
+def test_ihc_requests_are_dropped_while_m9061_is_on():
+    il = IHC_PROGRAM.replace("C254", "C235")
+    run(il, "0ms X0 pulses 1kHz for 300ms\n0ms M9061=1\n400ms expect D0=0\n")
+
+
+def test_ihhc1_at_the_hardware_counters_set_value():
+    # 2-15-4 example, 1-phase mode: set value 1005 (DHHCMV writes the circuit at once)
+    il = ("LD M9002\nMOVP K1 D9224\nDHHCMVP K0 D9226\nDHHCMV K1005 D9230\nFEND\n"
+          "IHHC1:\nLD M9000\nINC D0\nMOV D9 D1\nIRET\n"
+          "IHHC2:\nLD M9000\nINC D2\nIRET\n"
+          "ITA10:\nLD M9000\nINC D9\nIRET\n")
+    # 10 kHz from 0 ms: count 1005 at 100.5 ms (the edge at 0 ms is before the mode is set)
+    run(il, "0ms X0 pulses 10kHz for 300ms\n400ms expect D0=1 D1=10 D2=0 D9226:d=2999\n")
+    run(il, "0ms X0 pulses 10kHz for 300ms\n0ms M9062=1\n400ms expect D0=0 D9226:d=2999\n")

@@ -83,7 +83,9 @@ OPERANDS = {
     "REF": [op("D", "X Y", ranges={"X": [[0, 0], [8, 8]], "Y": [[0, 0]]}), n(lo=8, hi=16, kinds="K H")],
     "REFF": [n(lo=0, hi=60)],
     "MTR": [op("S", "X"), op("D1", "Y", "w"), op("D2", BD, "w"), n(lo=2, hi=8, kinds="K H")],
-    "DHSCS": [op("S1", WS), op("S2", "C", ranges=HSC), op("D", "Y", "w", ranges={"Y": [[0, 7]]})],
+    # D: Y0-Y7 or an interrupt pointer IHC0-IHC7 (I10-I80, target.toml [interrupts]) (6-7 note)
+    "DHSCS": [op("S1", WS), op("S2", "C", ranges=HSC),
+              op("D", "Y I", "w", ranges={"Y": [[0, 7]], "I": [[10, 80]]})],
     "DHSCR": [op("S1", WS), op("S2", "C", ranges=HSC), op("D", "Y C", "w", ranges={"Y": [[0, 7]], **HSC})],
     "DHSZ": [op("S1", WS), op("S2", WS), op("S", "C", ranges=HSC), op("D", BD, "w", bits=3)],
     "SPD": [op("S1", "X", ranges={"X": [[0, 7]]}), op("S2", WS), op("D", "T C D R V Z", "w", words=[3, 6])],

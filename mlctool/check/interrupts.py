@@ -59,6 +59,15 @@ def pointer_numbered(number: int, target: Target) -> Pointer | None:
     return None
 
 
+def source_pointer(target: Target, source: str, k: int) -> int | None:
+    """The I number of the k-th pointer (from 0) of the family fed by `source` ("hardware":
+    IHHC1 for the first hardware counter), None when the target has none."""
+    for fam in families(target):
+        if fam["source"] == source and fam["units"][0] + k <= fam["units"][1]:
+            return fam["base"] + fam["step"] * (fam["units"][0] + k)
+    return None
+
+
 def disable_relay(p: Pointer) -> int:
     """The special relay that disables this pointer's requests (M9050 + n for IXn ...)."""
     fam = p.family

@@ -8,7 +8,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from mlctool.check.interrupts import pointer_named
+from mlctool.check.interrupts import pointer_named, pointer_numbered
 from mlctool.check.labels import is_label_name
 from mlctool.check.tables import parse_row, table_kinds
 from mlctool.diagnostics import Diagnostic, Span, diag
@@ -187,6 +187,10 @@ class _Resolver:
             if pointer and a.text.upper() in self.names:  # a named label: its P number
                 operands.append(Operand("P", number=self.names[a.text.upper()]))
                 continue
+            interrupt = a.idx < n and "I" in spec.operands[a.idx].kinds and pointer_named(a.text, self.t)
+            if interrupt:  # DHSCS K5 C235 IHC0: the pointer's I number (target.toml [interrupts])
+                operands.append(Operand("I", number=interrupt.number))
+                continue
             try:
                 operands.append(parse_operand(a.text, self.syntax))
             except OperandSyntaxError as e:
@@ -290,7 +294,7 @@ class _Resolver:
             return False
         allowed = o.allowed(op.kind)
         if allowed and not any(lo <= op.number <= hi for lo, hi in allowed):
-            spans = ", ".join(f"{dev.name_of(lo)}-{dev.name_of(hi)}" for lo, hi in allowed)
+            spans = ", ".join(f"{_device_name(t, dev, lo)}-{_device_name(t, dev, hi)}" for lo, hi in allowed)
             self.report(w, "E205", f"{spec.mnemonic} operand {o.role} takes {spans}, not {w.text}")
             return False
         narrow = o.devices32 if width == 32 else o.devices16
@@ -442,6 +446,15 @@ def _spelling_hint(t: Target, name: str) -> tuple[str, ...]:
                 and s.mnemonic != name:
             return (f"the 32-bit form of {short.mnemonic} is written {s.mnemonic} on target {t.name}",)
     return ()
+
+
+def _device_name(t: Target, dev, number: int) -> str:
+    """As the manual writes it: X10 for an octal ordinal, IHC0 for an interrupt pointer's I number."""
+    if dev.name == "I":
+        p = pointer_numbered(number, t)
+        if p is not None:
+            return p.name
+    return dev.name_of(number)
 
 
 def _kind_name(op: Operand) -> str:

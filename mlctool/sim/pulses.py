@@ -106,6 +106,20 @@ def quadrature_count(m, a: tuple[str, int], b: tuple[str, int], per_cycle: int,
     return sum(q.counts(per_cycle, after, upto) for q in m.quadrature.get((a, b), ()))
 
 
+def time_of_count(net, after: int, upto: int, k: int) -> int:
+    """The first whole microsecond in (after, upto] by which `net(t)` (the signed counts of
+    (after, t]) has reached k counts: when the k-th count of the interval happened. DECISION:
+    for 2-phase and A/B counting, whose net count can go back, the first time it is reached."""
+    lo, hi = after + 1, upto
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if abs(net(mid)) >= k:
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
+
+
 def drive_inputs(m) -> None:
     """Before a scan: every input with a train takes the train's level at the scan's start."""
     for (kind, number), trains in m.pulse_trains.items():

@@ -37,6 +37,9 @@ FAMILIES = {
 
 # routines run before every scan (module, name)
 BEFORE_SCAN = (("mlctool.sim.fx.clock", "refresh"), ("mlctool.sim.fx.hsc", "catch_up"))
+# hardware that requests interrupts (IHC, IHHC) counts up to now before the interrupt queue of
+# the interval is built (fx/interrupts.py); counting again at the scan's start adds nothing
+INTERRUPT_SOURCES = (("mlctool.sim.fx.hsc", "catch_up"),)
 
 
 def family_actions() -> dict:
@@ -50,5 +53,5 @@ def family_actions() -> dict:
     return out
 
 
-def before_scan_hooks() -> tuple:
-    return tuple(getattr(importlib.import_module(m), name) for m, name in BEFORE_SCAN)
+def before_scan_hooks(hooks: tuple = BEFORE_SCAN) -> tuple:
+    return tuple(getattr(importlib.import_module(m), name) for m, name in hooks)

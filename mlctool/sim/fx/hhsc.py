@@ -12,14 +12,15 @@ start time (as inputs are read then). Modes (2-15-4 table): 0 off, 1 1-phase up 
 lost, On = down like M9196), 3 2-phase (U X0, D X1), 4/5/6 A/B phase x1/x2/x4 (X0 A,
 X1 B; from the stimulus's A/B pairs `X0/X1 pulses 1kHz`); HHSC2 on X3/X4. Another mode
 number counts nothing. RST does not clear them: DHHCMV writes the circuit at once.
-Not yet: the IHHC1/IHHC2 interrupts at the set value.
+A count that reaches the set value requests IHHC1/IHHC2 at its time (_set_value_reached).
 """
 
 from __future__ import annotations
 
+from mlctool.check.interrupts import source_pointer
 from mlctool.sim.operands import WordRef
 from mlctool.sim.pulses import count as count_edges
-from mlctool.sim.pulses import quadrature_count
+from mlctool.sim.pulses import quadrature_count, time_of_count
 from mlctool.sim.state import Machine, s32
 
 
@@ -74,10 +75,28 @@ def catch_up_hardware(m: Machine) -> None:
         hw["set"] = _get32(m, t["set_registers"][unit])
         net = _net(m, hw["mode"], pins, hw["levels"], last, m.now_us)
         if net:
+            _set_value_reached(m, unit, hw, pins, net, last)
             hw["count"] = s32(hw["count"] + net)
             m.bits["M"][t["direction_relays"][unit]] = 1 if net < 0 else 0
         hw["levels"] = {pins[1]: m.bits[pins[1][0]][pins[1][1]]}
         _put32(m, t["value_registers"][unit], hw["count"])
+
+
+def _set_value_reached(m: Machine, unit: int, hw: dict, pins, net: int, last: int) -> None:
+    """Present value = set value during this interval's counting (2-15-4): IHHC1/IHHC2 is
+    requested at the time of the count that reaches it (M9062/M9063 disable, in the queue).
+    DECISION: judged on the interval's net count (2-phase and A/B counts that go back and
+    forth within one interval are taken as their net); a count written by DHHCMV or a set
+    value written equal to the count requests nothing (no count reached it)."""
+    steps = (hw["set"] - hw["count"]) * (1 if net > 0 else -1)
+    if not 1 <= steps <= abs(net):
+        return
+    number = source_pointer(m.target, "hardware", unit)
+    if number is None:
+        return
+    levels = hw["levels"]
+    at = time_of_count(lambda t: _net(m, hw["mode"], pins, levels, last, t), last, m.now_us, steps)
+    m.hsc.setdefault("irq", []).append((at, number))
 
 
 def _which(m: Machine, ref, key: str) -> int | None:

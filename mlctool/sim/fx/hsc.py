@@ -11,7 +11,9 @@ On at value >= preset, judged at each count).
 Counting is analytic: the edges of a scan interval are counted, never stepped. Compare
 points of DHSCS/DHSCR (active while their condition was On at their last execution) act at
 the edge that makes the value equal to S1, in time order within the interval (the time of
-edge k of a train is t0 + k/f): DHSCS sets D (Y at once, not at END), DHSCR resets D (the
+edge k of a train is t0 + k/f): DHSCS sets D (Y at once, not at END) or, with an interrupt
+pointer IHC0-IHC7 as D (6-7), requests that routine at the edge's time through the
+interrupt queue (fx/interrupts.py; M9061 disables), DHSCR resets D (the
 counter itself: value 0, contact Off, counting goes on from 0). DHSZ judges the zone after
 the counts of the interval. Writing a counter (DMOV) compares nothing (2-7, 6-7).
 """
@@ -22,7 +24,7 @@ from mlctool.sim import semantics as base
 from mlctool.sim.fx.common import op_error, special
 from mlctool.sim.operands import CounterRef
 from mlctool.sim.pulses import count as count_edges
-from mlctool.sim.pulses import quadrature_count
+from mlctool.sim.pulses import quadrature_count, time_of_count
 from mlctool.sim.fx.hhsc import catch_up_hardware, dhhcmv
 from mlctool.sim.state import Machine, SimFault, s32
 
@@ -106,6 +108,7 @@ def catch_up(m: Machine) -> None:
     start input gates and the reset input holds the counter at 0 by the level the previous
     scan saw (DECISION: input levels change at scan starts, 2-7-1 examples); a reset input
     On now clears after the interval's counts (value 0, contact Off)."""
+    m.hsc["irq"] = []  # interrupt requests of this interval (IHC, IHHC), taken by the queue
     catch_up_hardware(m)
     if not _table(m):
         return
@@ -121,7 +124,8 @@ def catch_up(m: Machine) -> None:
         if c["on"] and not gated:
             net = _net(m, c, last, m.now_us)
             if net:
-                _count(m, n, c, abs(net), 1 if net > 0 else -1)
+                _count(m, n, c, abs(net), 1 if net > 0 else -1,
+                       lambda k, c=c: time_of_count(lambda t: _net(m, c, last, t), last, m.now_us, k))
                 if c["kind"] != "one" and monitor is not None:  # M9246-M9255: On = counting down
                     m.bits["M"][monitor + n - m.c32_lo] = 1 if net < 0 else 0
         if c["reset"] is not None and m.bits[c["reset"][0]][c["reset"][1]]:
@@ -130,10 +134,19 @@ def catch_up(m: Machine) -> None:
         c["levels"] = _levels(m, c)
 
 
-def _count(m: Machine, n: int, c: dict, total: int, d: int) -> None:
+def _interrupt(m: Machine, dest, at_us: int) -> None:
+    """DHSCS ... IHCn: the compare requests the interrupt at the count's time; the interrupt
+    queue (fx/interrupts.py) serves it before the next scan, in time order with the others."""
+    m.hsc.setdefault("irq", []).append((at_us, dest.num))
+
+
+def _count(m: Machine, n: int, c: dict, total: int, d: int, time_of=None) -> None:
+    """`time_of(k)`: the time of the interval's k-th count (for interrupt requests)."""
     points = [(idx, p) for idx, p in sorted(_compares(m).items()) if p["counter"] == n]
     v = s32(m.cval[n])
-    tables = any(p["kind"] == "table" for _, p in points)
+    # whole cycles may be skipped only when nothing but the counter's state depends on them
+    tables = any(p["kind"] == "table" or (p["kind"] == "set" and p["dest"].kind == "I") for _, p in points)
+    whole, done = total, 0
     seen_reset = None  # remaining count at the last self-reset: the cycle repeats after it
     while total:
         hit = None
@@ -150,9 +163,12 @@ def _count(m: Machine, n: int, c: dict, total: int, d: int) -> None:
         steps, p = hit
         v = s32(v + d * steps)
         total -= steps
+        done = whole - total
         m.bits["C"][n] = 1 if v >= c["preset"] else 0
         if p["kind"] == "table":
             _table_row_reached(m, p)
+        elif p["kind"] == "set" and p["dest"].kind == "I":
+            _interrupt(m, p["dest"], time_of(done) if time_of else m.now_us)
         elif p["kind"] == "set":
             p["dest"].setbit(m, 1)
         elif isinstance(p["dest"], CounterRef) and p["dest"].addr(m) == n:

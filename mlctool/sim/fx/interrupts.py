@@ -7,6 +7,8 @@ order, interleaved with the stimulus lines of that interval:
 - an input pointer (IX0P rising, IX0F falling) is requested by an edge of its input: a
   stimulus line that changes the input (at the line's time) or an edge of a pulse train on it;
 - a timer pointer ITAnn/ITBnn/ITCnn every nn ms of virtual time from RUN (time 0);
+- IHC0-IHC7 by a DHSCS compare met, IHHC1/IHHC2 by a hardware counter reaching its set
+  value, at the time of that count (fx/hsc.py, fx/hhsc.py leave them in m.hsc["irq"]);
 - the routine runs from its pointer to IRET at the request's time, with a fresh rung state;
   the interrupted scan state is kept (a routine served by EI runs inside the scan).
 
@@ -75,6 +77,14 @@ class Interrupts:
             for j in range(max(1, after // period + 1), now // period + 1):
                 queue.append((Fraction(j * period), 1, self._next(), "request", p.number))
         queue += [(t, 1, self._next(), "request", n) for t, n in self._train_edges(m, after, now)]
+        # high-speed counter requests (IHC from DHSCS, IHHC at the set value: fx/hsc.py, hhsc.py),
+        # counted before the scan; a pointer without a routine requests nothing (DECISION)
+        from mlctool.sim.fx import INTERRUPT_SOURCES, before_scan_hooks  # the package imports this module
+
+        for count_up in before_scan_hooks(INTERRUPT_SOURCES):
+            count_up(m)
+        queue += [(Fraction(t), 1, self._next(), "request", n) for t, n in m.hsc.pop("irq", ())
+                  if n in self.routines]
         queue += [(t, 1, self._next(), "due", n) for t, n in self.delayed]
         self.delayed = []
         heapq.heapify(queue)
