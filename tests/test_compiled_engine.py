@@ -307,3 +307,38 @@ def test_kn_group_reads_of_aligned_bits_match_the_interpreter():
         sa()
         sb()
         assert ma.words["D"][:12] == mb.words["D"][:12]
+
+
+def test_a_one_block_for_body_loops_in_its_block_like_the_interpreter():
+    """The body runs its iterations inside its block function (own stamps, steps counted):
+    faults, the watchdog step, devices, loop state and writers are the interpreter's."""
+    il = ("LD X0\nMOV K0 D1\nFOR D0\nLD X1\nINC D1\nMOV D1 D2V0\nMOV D1 Z0\nMOV K9 D65530Z0\nLD X2\n"
+          "FMOV K1 D3\nOUT Y0\nNEXT\nLD X0\nMOV D1 D4\nEND")  # D65530Z0 faults in iteration 6
+    image = image_of(il)
+    cases = [({"X0": 1, "X1": 1, "D0": 4}, 1000), ({"X1": 1, "X2": 1, "D0": 30}, 1000),
+             ({"X1": 1, "D0": 200, "V0": 0}, 1000), ({"X1": 1, "D0": 200}, 300),
+             ({"X1": 1, "D0": 20, "V0": 5}, 1000), ({"X0": 1, "X2": 1, "D0": 0}, 1000),
+             ({"X0": 1, "X2": 1, "D0": 40}, 1000), ({"X0": 1, "X1": 1, "D0": 5}, 1000)]
+    for setup, watchdog in cases:
+        found = []
+        for engine in ("compiled", "interp"):
+            prog = load_program(image, NC5)
+            m = Machine(NC5, len(prog.steps))
+            sc = Scanner(prog, m, engine)
+            for name, v in setup.items():
+                (m.bits["X"] if name[0] == "X" else m.words[name[0]])[int(name[1:])] = v
+            out = []
+            for n in range(3):
+                if n == 1:
+                    m.words["V"][0] = setup.get("V0", 0) + 30  # D2V0 past the body's writes
+                    m.words["D"][32] = 7
+                try:
+                    sc(watchdog)
+                    out.append(None)
+                except Fault as f:
+                    out.append((f.message, f.step.index))
+                out.append((m.words["D"][:40], bytes(m.bits["Y"][:2]), dict(m.writer), m.fors))
+            found.append(out)
+        assert found[0] == found[1], setup
+    prog = load_program(image, NC5)
+    assert "while True:" in Scanner(prog, Machine(NC5, len(prog.steps))).code.source

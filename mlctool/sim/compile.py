@@ -48,7 +48,7 @@ from mlctool.sim.state import Machine, SimFault, s16, s32, to_f32
 ENGINES = ("compiled", "interp")
 DEFAULT_ENGINE = "compiled"
 ENGINE_ENV = "MLC_SIM_ENGINE"
-COMPILER_VERSION = "6"
+COMPILER_VERSION = "7"
 
 FLOW_OPS = frozenset({"cj", "call", "sret", "fend", "end", "for", "next"})
 RUNG_CLASSES = frozenset({"load", "and", "or", "anb", "orb", "mps", "mrd", "mpp", "inv"})
@@ -305,6 +305,7 @@ class _Gen:
         for j in range(len(starts)):
             block = steps[bounds[j]:bounds[j + 1]]
             block_steps.append(sum(s.steps for s in block))
+            self.nsteps = block_steps[-1]
             self.block(j, block, len(starts))
         source = "\n".join(self.lines) + "\n"
         code = compile(source, self.filename, "exec")
@@ -314,8 +315,9 @@ class _Gen:
     # -- one block
     def block(self, j: int, block: list[Step], nblocks: int) -> None:
         first = block[0].index
-        self.emit(f"def b{j}(m, ws):", first, 0)
+        self.emit(f"def b{j}(m, ws, ex):", first, 0)
         header_at = len(self.lines)
+        self.self_loop = False
         self.used: set[str] = set()
         self.block_marks = False
         self.pending: dict[tuple[str, int], int] = {}
@@ -344,6 +346,10 @@ class _Gen:
             self.flush(block[-1].index)
             self.emit("m.acc = a", block[-1].index)
             self.emit(f"return {j + 1}", block[-1].index)
+        if self.self_loop:  # a FOR body of one block loops here (flow(), NEXT)
+            self.lines[header_at:] = ["    " + line for line in self.lines[header_at:]]
+            self.lines[header_at:header_at] = ["    w0 = ws", "    while True:"]
+            self.linemap[header_at:header_at] = [first, first]
         header = [f"{name} = G_{name}" for name in sorted(self.used - {"now"})]
         if self.block_marks:
             header.append("R = G_R")
@@ -979,6 +985,23 @@ class _Gen:
             self.emit(f"n = {self.value(s.ops[0], i, 0)}", i)
             self.emit(f"fs.append([{i}, {s.target}, n if n > 1 else 1])", i)
             self.emit(f"return {j + 1}", i)
+        elif op == "next" and s.target >= 0 and s.target + 1 in self.block_of \
+                and self.block_of[s.target + 1] == j:
+            # the body is this block: the next iteration runs here (block() wraps the block in
+            # `while True:`) with its own stamp (ws + 1) and its steps counted as the driver
+            # counts them; one that would pass the watchdog goes back to the driver, which runs
+            # it on the interpreter. LX tells the driver the stamp and steps reached.
+            self.self_loop = True
+            n = self.nsteps
+            self.emit("fs = m.fors", i)
+            self.emit(f"if fs and fs[-1][1] == {i}:", i)
+            self.emit("lp = fs[-1]; lp[2] -= 1", i, 2)
+            self.emit("if lp[2] > 0:", i, 2)
+            self.emit(f"if ex + {n} > WD: LX[0] = ws; LX[1] = ex; return {-2 - j}", i, 3)
+            self.emit(f"ws += 1; ex += {n}; LX[0] = ws; continue", i, 3)
+            self.emit("fs.pop()", i, 2)
+            self.emit(f"if ws == w0: return {j + 1}", i)
+            self.emit(f"LX[0] = ws; LX[1] = ex; return {-2 - (j + 1)}", i)
         elif op == "next" and s.target >= 0 and s.target + 1 in self.block_of:
             self.emit("fs = m.fors", i)
             self.emit(f"if fs and fs[-1][1] == {i}:", i)
@@ -1034,7 +1057,8 @@ class Scanner:
 
     def _bind(self) -> None:
         code, prog = self.code, self.prog
-        g: dict = {"__builtins__": __builtins__, "T01": _T01, "FF": _FF, "FI": _FI,
+        g: dict = {"__builtins__": __builtins__, "T01": _T01, "FF": _FF, "FI": _FI, "LX": [0, 0],
+                   "WD": DEFAULT_WATCHDOG,
                    "FLT": _fault, "JMP": _drop_loops, "NB": len(code.starts),
                    "BLK": {st: j for j, st in enumerate(code.starts)}, **code.consts}
         for s in prog.steps:
@@ -1047,7 +1071,7 @@ class Scanner:
         self.fns: list[Callable] = [g[f"b{j}"] for j in range(len(code.starts))] + [self._past_end]
         self.bsteps = [*code.block_steps, 0]
 
-    def _past_end(self, m: Machine, ws: int) -> int:
+    def _past_end(self, m: Machine, ws: int, ex: int) -> int:
         """The block after the last one: control ran off the program."""
         raise Fault("execution ran past the last instruction without END", self.prog.steps[-1])
 
@@ -1108,22 +1132,34 @@ class Scanner:
             _before_scan(m)
         fns = self.fns
         bsteps = self.bsteps
-        w = self.g["W"]
+        g = self.g
+        w = g["W"]
+        lx = g["LX"]
+        if g["WD"] != watchdog:
+            g["WD"] = watchdog
         k = w.k  # stamp of the next block execution (Writers)
         j = 0
         ex = 0
         try:
-            while j >= 0:
-                ex += bsteps[j]
-                k += 1
-                if ex > watchdog:
-                    w.at[:] = k, _INF
-                    self._interp(self.code.starts[j], ex - bsteps[j], watchdog)
+            while True:
+                while j >= 0:
+                    ex += bsteps[j]
+                    k += 1
+                    if ex > watchdog:
+                        w.at[:] = k, _INF
+                        self._interp(self.code.starts[j], ex - bsteps[j], watchdog)
+                        j = -1
+                        break
+                    j = fns[j](m, k, ex)
+                if j == -1:
                     break
-                j = fns[j](m, k)
+                k, ex = lx  # a FOR body looped in its block: the stamp and steps it reached
+                j = -2 - j
         except SimFault as e:
             raise Fault(e.message, self._fault_step(e)) from None
         finally:
+            if lx[0] > k:  # a fault in a looping block: its iterations took stamps
+                k = lx[0]
             w.k = k
             w.at[:] = k, _INF  # writes between scans: after this scan's
         end_of_scan(m)
