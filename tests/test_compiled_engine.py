@@ -8,7 +8,6 @@ import tempfile
 
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
-from simkit import NC5, image_of
 
 from mlctool.asm import program_from_paths
 from mlctool.sim.compile import Scanner, compile_program
@@ -16,6 +15,7 @@ from mlctool.sim.run import Simulation, plan_scans
 from mlctool.sim.scan import Fault, load_program
 from mlctool.sim.state import Machine
 from mlctool.sim.stimulus import parse_stimulus_text
+from simkit import NC5, image_of
 
 BIT_IN = [f"X{k}" for k in range(6)] + [f"M{k}" for k in range(8)] + ["T0", "T1", "C0", "C1", "Y0"]
 COILS = [f"Y{k}" for k in range(4)] + [f"M{k}" for k in range(8)] + ["M9", "M15", "M16", "M23"]
