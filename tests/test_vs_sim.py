@@ -286,11 +286,11 @@ def test_samples(name):
 def test_unsimulated_instruction_is_refused_up_front():
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "t.il")
-        # positioning (FNC 300-316) is not simulated by this target's own routines
-        Path(path).write_text("LD X0\nZRN K1000 K100 Y0 Y4\nEND\n", encoding="utf-8")
+        # jogging (FNC 301) is not simulated (ZRN, DRVR, DRVA, DVIT, PLSV are)
+        Path(path).write_text("LD X0\nJOGF K1000 K100 Y0 Y4\nEND\n", encoding="utf-8")
         image, _, _ = program_from_paths([path], VS)
     found = unsimulated(image)
-    assert [(d.code, d.span.line) for d in found] == [("E905", 2)] and "ZRN" in found[0].message
+    assert [(d.code, d.span.line) for d in found] == [("E905", 2)] and "JOGF" in found[0].message
 
 
 def test_coverage_table_matches_the_tests():

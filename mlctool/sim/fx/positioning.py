@@ -1,0 +1,374 @@
+"""Positioning on the pulse axes Y0-Y3 (8-3 FNC 300 ZRN, 303 DRVR, 304 DRVA, 307 DVIT, 311
+PLSV), on virtual time: each instruction plans one speed profile (mlctool/sim/motion.py,
+solved analytically) from the axis parameters and replans it when the page lets a value
+change; every execution reads the profile at the scan's time and writes the axis registers,
+the flags and the Y pin's level (On in the first half of each pulse period, as PLSY).
+
+Axis k (Y0 ... Y3) shares the relays and registers of the pulse outputs (target.toml
+`[pulse_outputs]`: M9340+20k busy, +1 outputting, +2 done, +3 abnormal end, +5/+6 stop
+relays; D9351:D9350+20k speed) plus target.toml `[positioning]`: the parameter registers
+(max speed, bias, accel/decel ms, origin, override, current position D9355:D9354) and the
+parts of the editor's positioning parameter form the program cannot see (home mode, DOG,
+interrupt and CLR signals, home and rotation direction).
+"""
+
+from __future__ import annotations
+
+import math
+
+from mlctool.sim import motion
+from mlctool.sim.fx.common import op_error, state
+from mlctool.sim.fx.pulse_out import (
+    ABNORMAL,
+    DECEL_STOP,
+    DONE,
+    OUTPUT,
+    STOP,
+    _acquire,
+    _max_hz,
+    _relay,
+    _release,
+    _set,
+    _set_pair,
+)
+from mlctool.sim.state import Machine, SimFault
+
+MICRO = 1_000_000
+
+
+def _cfg(m: Machine) -> dict:
+    return m.target.settings.get("positioning", {})
+
+
+def _register(m: Machine, axis: int, key: str) -> int:
+    c = _cfg(m)
+    return c["registers"] + c["step"] * axis + c[key]
+
+
+def _word(m: Machine, axis: int, key: str) -> int:
+    v = m.words["D"][_register(m, axis, key)]
+    return v - 0x10000 if v & 0x8000 else v
+
+
+def _pair(m: Machine, axis: int, key: str) -> int:
+    n = _register(m, axis, key)
+    v = m.words["D"][n] | (m.words["D"][n + 1] << 16)
+    return v - (1 << 32) if v & 0x80000000 else v
+
+
+def _set_position(m: Machine, axis: int, value: int) -> None:
+    n, v = _register(m, axis, "position"), value & 0xFFFFFFFF
+    m.words["D"][n], m.words["D"][n + 1] = v & 0xFFFF, v >> 16
+
+
+def _pin(m: Machine, key: str, axis: int) -> tuple[str, int] | None:
+    """A signal of the parameter form (`X10`, `M5`; "" = none), numbered in its radix."""
+    names = _cfg(m).get(key, [])
+    name = names[axis] if axis < len(names) else ""
+    if not name:
+        return None
+    kind = name[0]
+    return kind, int(name[1:], m.target.devices[kind].radix)
+
+
+def _level(m: Machine, pin: tuple[str, int] | None) -> int:
+    return m.bits[pin[0]][pin[1]] if pin else 0
+
+
+def _params(m: Machine, axis: int) -> dict:
+    """The axis parameters as the instruction reads them at its start, clamped as 8-1-1
+    says: max 1 .. the model's maximum, bias 0-20 kHz, ramps 0-32000 ms, override 1-30000
+    (else 1000). The ramp rates are (max - bias) / time."""
+    top = min(max(_pair(m, axis, "max_speed"), 1), _max_hz(m))
+    bias = min(max(_word(m, axis, "bias"), 0), 20_000, top)
+    rates = []
+    for key in ("accel_ms", "decel_ms"):
+        ms = min(max(_word(m, axis, key), 0), 32_000)
+        rates.append((top - bias) * 1000 / ms if ms and top > bias else math.inf)
+    return {"max": top, "bias": bias, "up": rates[0], "down": rates[1]}
+
+
+def _override(m: Machine, axis: int) -> int:
+    v = _word(m, axis, "override")
+    return v if 1 <= v <= 30_000 else 1000
+
+
+def _speed(m: Machine, axis: int, raw: int, p: dict, top: float | None = None) -> float:
+    """Run speed = |S| x override (D9348, 0.1 %), then clamped to bias .. max (DECISION:
+    the override applies before the clamp, so the axis never passes its maximum)."""
+    v = abs(raw) * _override(m, axis) / 1000
+    return float(min(max(v, p["bias"]), top if top is not None else p["max"]))
+
+
+def _direction_pin(m: Machine, s, direction: int) -> None:
+    """D2 On = motor forward; forward is the increasing direction unless the form says
+    "position increasing: motor reverse" (`reverse_rotation`)."""
+    forward = direction > 0
+    if _cfg(m).get("reverse_rotation", False):
+        forward = not forward
+    s.ops[-1].setbit(m, 1 if forward else 0)
+
+
+def _now(m: Machine, memo: dict) -> float:
+    return (m.now_us - memo["t0"]) / MICRO
+
+
+def _start(m: Machine, s, memo: dict, axis: int, direction: int) -> dict | None:
+    """Common start (condition OFF -> ON): take the axis, read the parameters, set the
+    direction pin. None when the axis is held by another instruction (not executed)."""
+    if not _acquire(m, s, axis):
+        return None
+    p = _params(m, axis)
+    for offset in (DONE, ABNORMAL):
+        _set(m, axis, offset, False)
+    memo.update(t0=m.now_us, dir=direction, pos0=_pair(m, axis, "position"), p=p,
+                ended=False, stopping=False, moved=0)
+    _direction_pin(m, s, direction)
+    return p
+
+
+def _finish(m: Machine, memo: dict, axis: int, y, done: bool) -> None:
+    memo["ended"] = True
+    _set_pair(m, axis, 0, 0)
+    _set(m, axis, OUTPUT, False)
+    _set(m, axis, DONE if done else ABNORMAL, True)
+    y.setbit(m, 0)
+
+
+def _advance(m: Machine, s, memo: dict, axis: int, replan=None) -> None:
+    """One execution of a running move: stop relays and the condition, the kind's own
+    replanning (`replan(t, x, v)`), then the registers, flags and pin at this instant."""
+    y = s.ops[-2]
+    p = memo["p"]
+    t = _now(m, memo)
+    x, v = motion.at(memo["prof"], t)
+    if not memo["stopping"]:
+        if _relay(m, axis, STOP):
+            memo["prof"], memo["stopping"], memo["abnormal"] = motion.halt(t, x), True, True
+        elif _relay(m, axis, DECEL_STOP) or not m.acc:
+            memo["prof"], memo["stopping"] = motion.stop(t, x, v, p["bias"], p["down"]), True
+            memo["abnormal"] = bool(m.acc)  # a stop relay, not the condition, ended it
+        elif replan is not None and not motion.ended(memo["prof"], t):
+            replan(t, x, v)
+        x, v = motion.at(memo["prof"], t)
+    pulses = int(x + motion.EPS)
+    memo["moved"] = pulses
+    if memo.get("home_at") is None:
+        _set_position(m, axis, memo["pos0"] + memo["dir"] * pulses)
+    prof = memo["prof"]
+    if motion.ended(prof, t):
+        reached = prof.stop_at is not None and pulses >= int(prof.stop_at + motion.EPS)
+        _finish(m, memo, axis, y, reached and not memo["stopping"])
+        if memo["stopping"] and not memo.get("abnormal"):
+            _set(m, axis, ABNORMAL, False)  # condition Off: neither done nor abnormal
+        return
+    _set_pair(m, axis, 0, int(v))
+    _set(m, axis, OUTPUT, True)  # the move is under way (at its start the speed is still 0)
+    y.setbit(m, 1 if v > 0 and (x - pulses) < 0.5 else 0)
+
+
+def _drive(m: Machine, s, begin, replan=None) -> None:
+    """The life of a positioning instruction: start at the condition's OFF -> ON (`begin`
+    plans the profile or refuses), run, and release the axis once the condition is Off and
+    the axis has stopped (a decelerating stop runs on with the condition Off)."""
+    y = s.ops[-2]
+    axis = y.addr(m)
+    memo = state(m, s, {})
+    if not memo:
+        if not m.acc:
+            return
+        if not begin(m, s, memo, axis):
+            memo.setdefault("refused", True)
+            return
+    if memo.get("refused"):
+        if not m.acc:
+            memo.clear()
+        return
+    if not memo["ended"]:
+        _advance(m, s, memo, axis, None if replan is None else
+                 lambda t, x, v: replan(m, s, memo, axis, t, x, v))
+    _clr_tick(m, memo, axis)
+    if not m.acc and memo["ended"]:
+        _clr_off(m, memo, axis)
+        _release(m, s, axis, y)
+        memo.clear()
+
+
+# ------------------------------------------------------------ speed changes (DRVR ... PLSV)
+
+def _speed_ref(s):
+    return s.ops[1] if len(s.ops) == 4 else s.ops[0]
+
+
+def _respeed(m: Machine, s, memo: dict, axis: int, t: float, x: float, v: float) -> None:
+    """The run speed and the override may change while running (8-3 DRVA ... PLSV): the
+    profile is replanned from the present travel and speed when the result changes."""
+    cruise = _speed(m, axis, _speed_ref(s).get(m), memo["p"])
+    if cruise == memo["cruise"]:
+        return
+    memo["cruise"] = cruise
+    p = memo["p"]
+    if memo["prof"].stop_at is None:
+        memo["prof"] = motion.run_on(t, x, v, cruise, p["bias"], p["up"], p["down"])
+    else:
+        memo["prof"] = motion.move_to(t, x, v, memo["prof"].stop_at, cruise, p["bias"],
+                                      p["up"], p["down"])
+
+
+def _move(m: Machine, s, memo: dict, axis: int, travel: int) -> bool:
+    p = _start(m, s, memo, axis, 1 if travel >= 0 else -1)
+    if p is None:
+        return False
+    memo["cruise"] = _speed(m, axis, s.ops[1].get(m), p)
+    memo["prof"] = motion.move_to(0.0, 0.0, 0.0, abs(travel), memo["cruise"], p["bias"], p["up"],
+                                  p["down"])
+    return True
+
+
+def _drvr_begin(m: Machine, s, memo: dict, axis: int) -> bool:
+    return _move(m, s, memo, axis, s.ops[0].get(m))
+
+
+def _drva_begin(m: Machine, s, memo: dict, axis: int) -> bool:
+    return _move(m, s, memo, axis, s.ops[0].get(m) - _pair(m, axis, "position"))
+
+
+def drvr(m: Machine, s) -> None:
+    """DRVR S1 S2 D1 D2 (FNC 303, FX DRVI): S1 pulses relative to the present position
+    (sign = direction) at S2 Hz with the axis's ramps; M9342 when all are out."""
+    _drive(m, s, _drvr_begin, _respeed)
+
+
+def drva(m: Machine, s) -> None:
+    """DRVA S1 S2 D1 D2 (FNC 304): to the absolute position S1 (travel = S1 - D9355:D9354)."""
+    _drive(m, s, _drva_begin, _respeed)
+
+
+def _plsv_begin(m: Machine, s, memo: dict, axis: int) -> bool:
+    raw = s.ops[0].get(m)
+    p = _start(m, s, memo, axis, 1 if raw >= 0 else -1)
+    if p is None:
+        return False
+    memo["cruise"] = _speed(m, axis, raw, p)
+    memo["prof"] = motion.run_on(0.0, 0.0, 0.0, memo["cruise"], p["bias"], p["up"], p["down"])
+    return True
+
+
+def plsv(m: Machine, s) -> None:
+    """PLSV S D1 D2 (FNC 311): pulses at |S| Hz, direction by S's sign, until the condition
+    goes Off (decelerating stop). DECISION: the direction is fixed at the start; a later S
+    of the other sign changes only the speed (the page names no reversal while running)."""
+    _drive(m, s, _plsv_begin, _respeed)
+
+
+# ------------------------------------------------------------ DVIT (FNC 307)
+
+def _dvit_begin(m: Machine, s, memo: dict, axis: int) -> bool:
+    travel = s.ops[0].get(m)
+    if _pin(m, "interrupt", axis) is None:
+        op_error(m, s, f"axis Y{axis}: no interrupt signal in the positioning parameters")
+        return False
+    p = _start(m, s, memo, axis, 1 if travel >= 0 else -1)
+    if p is None:
+        return False
+    memo.update(travel=abs(travel), cruise=_speed(m, axis, s.ops[1].get(m), p), after_int=None,
+                int_level=_level(m, _pin(m, "interrupt", axis)))
+    memo["prof"] = motion.run_on(0.0, 0.0, 0.0, memo["cruise"], p["bias"], p["up"], p["down"])
+    return True
+
+
+def _dvit_replan(m: Machine, s, memo: dict, axis: int, t: float, x: float, v: float) -> None:
+    """Before the interrupt: run at the speed (changes allowed); at the edge M9350 selects
+    (Off rising, On falling) the remaining travel S1 is planned from the present travel.
+    DECISION: the edge is seen by the execution whose scan first shows the new level (the
+    simulator's inputs change at scan starts)."""
+    level = _level(m, _pin(m, "interrupt", axis))
+    falling = _relay(m, axis, _cfg(m)["interrupt_edge"])
+    edge = (memo["int_level"] and not level) if falling else (level and not memo["int_level"])
+    memo["int_level"] = level
+    if edge and memo["after_int"] is None:
+        memo["after_int"] = True
+        p = memo["p"]
+        memo["prof"] = motion.move_to(t, x, v, x + memo["travel"], memo["cruise"], p["bias"],
+                                      p["up"], p["down"])
+    _respeed(m, s, memo, axis, t, x, v)
+
+
+def dvit(m: Machine, s) -> None:
+    """DVIT S1 S2 D1 D2 (FNC 307): run at S2 until the interrupt signal, then S1 more
+    pulses and stop (M9342)."""
+    _drive(m, s, _dvit_begin, _dvit_replan)
+
+
+# ------------------------------------------------------------ ZRN (FNC 300)
+
+def _clr_tick(m: Machine, memo: dict, axis: int) -> None:
+    if memo.get("clr_until") is not None and m.now_us >= memo["clr_until"]:
+        _clr_off(m, memo, axis)
+
+
+def _clr_off(m: Machine, memo: dict, axis: int) -> None:
+    pin = _pin(m, "clr", axis)
+    if pin and memo.get("clr_until") is not None:
+        m.bits[pin[0]][pin[1]] = 0
+        memo["clr_until"] = None
+
+
+def _home_done(m: Machine, s, memo: dict, axis: int) -> None:
+    """The zero point: the origin value (D9347:D9346) becomes the present position, CLR On
+    for its width (>= 20 ms), M9344 and M9342 On."""
+    _set_position(m, axis, _pair(m, axis, "origin"))
+    memo["home_at"] = m.now_us
+    pin = _pin(m, "clr", axis)
+    if pin:
+        m.bits[pin[0]][pin[1]] = 1
+        memo["clr_until"] = m.now_us + _cfg(m).get("clr_ms", 20) * 1000
+    _set(m, axis, _cfg(m)["home_done"], True)
+
+
+def _zrn_begin(m: Machine, s, memo: dict, axis: int) -> bool:
+    mode = _cfg(m).get("home_mode", "dog_rear")
+    if mode not in ("dog_rear", "data_set"):
+        raise SimFault(f"ZRN: home mode {mode!r} is not simulated (dog_rear, data_set are)")
+    if mode == "dog_rear" and _pin(m, "dog", axis) is None:
+        op_error(m, s, f"axis Y{axis}: no DOG signal in the positioning parameters")
+        return False
+    p = _start(m, s, memo, axis, _cfg(m).get("home_direction", -1))
+    if p is None:
+        return False
+    _set(m, axis, _cfg(m)["home_done"], False)
+    if mode == "data_set":  # no motion: the origin value becomes the position at once
+        memo["prof"] = motion.halt(0.0, 0.0)
+        memo["prof"].stop_at = 0.0  # reached: the move ends done
+        _home_done(m, s, memo, axis)
+        return True
+    # speeds read once: nothing may change while ZRN runs (8-3 ZRN)
+    memo["fast"] = _speed(m, axis, s.ops[0].get(m), p)
+    memo["creep"] = _speed(m, axis, s.ops[1].get(m), p, top=min(p["max"], _cfg(m)["creep_max_hz"]))
+    memo["dog"] = 0
+    memo["prof"] = motion.run_on(0.0, 0.0, 0.0, memo["fast"], p["bias"], p["up"], p["down"])
+    return True
+
+
+def _zrn_replan(m: Machine, s, memo: dict, axis: int, t: float, x: float, v: float) -> None:
+    """DOG rear-edge homing (8-1-2): the DOG's front edge (or DOG already On at the start,
+    DECISION) ramps down to the creep speed S2, its rear edge stops at once at the zero.
+    DECISION: edges are seen by the execution whose scan first shows the new level."""
+    dog = _level(m, _pin(m, "dog", axis))
+    p = memo["p"]
+    if dog and not memo["dog"]:
+        memo["prof"] = motion.run_on(t, x, v, memo["creep"], p["bias"], p["up"], p["down"])
+    elif memo["dog"] and not dog:
+        memo["prof"] = motion.halt(t, x)
+        memo["prof"].stop_at = x  # reached: the move ends done
+        _home_done(m, s, memo, axis)
+    memo["dog"] = dog
+
+
+def zrn(m: Machine, s) -> None:
+    """ZRN S1 S2 D1 D2 (FNC 300): homing at S1 toward the home direction, S2 the creep
+    speed (bias .. 30 kHz); done: M9344 and M9342 On, the position = the origin value."""
+    _drive(m, s, _zrn_begin, _zrn_replan)
+
+
+POSITIONING_ACTIONS = {"zrn": zrn, "drvr": drvr, "drva": drva, "dvit": dvit, "plsv": plsv}

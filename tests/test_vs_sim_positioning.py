@@ -1,0 +1,136 @@
+"""Positioning ZRN, DRVR, DRVA, DVIT, PLSV (8-3 FNC 300/303/304/307/311) on virtual time:
+each page's example with the axis parameters of 8-1-1 (D9340 max speed, D9343/D9344 ramps,
+D9348 override), the present position D9355:D9354, the flags M9340 busy, M9341 outputting,
+M9342 done, M9343 abnormal end, M9344 home done, a level per scan on the pulse pin and the
+direction pin D2. Numbers worked out by hand from the trapezoid (never counted per pulse)."""
+
+from __future__ import annotations
+
+import contextlib
+
+from test_vs_sim_fx import VS, run
+
+
+@contextlib.contextmanager
+def form(**values):
+    """The editor's positioning parameter form (target.toml [positioning]) for one test."""
+    table = VS.settings["positioning"]
+    old = {k: table[k] for k in values}
+    table.update(values)
+    try:
+        yield
+    finally:
+        table.update(old)
+
+
+def test_drva_page_example_trapezoid_to_the_absolute_position():
+    # 8-3 FNC 304: DDRVA D10 D20 Y0 Y4, M0 On: to D11:D10 at D21:D20 Hz. Max 10 kHz, ramps
+    # 100 ms: 100000 Hz/s; 10000 pulses at 10 kHz: 500 up, 9000 cruising (0.9 s), 500 down
+    run("LD M0\nDDRVA D10 D20 Y0 Y4\n",
+        "0ms D9340:d=10000 D10:d=10000 D20:d=10000\n10ms M0=1\n"
+        "10ms expect M9340=1 M9341=1 Y4=1 D9354:d=0\n60ms expect D9354:d=125\n"
+        "110ms expect D9354:d=500 D9350:d=10000\n610ms expect D9354:d=5500\n"
+        "1060ms expect D9354:d=9875 M9342=0\n"
+        "1110ms expect D9354:d=10000 M9342=1 M9341=0 Y0=0 D9350:d=0 M9340=1\n"
+        "1200ms M0=0\n1200ms expect M9342=0 M9340=0\n"
+        # back to 4000: 6000 toward the decreasing position, Y4 Off
+        "1300ms D10:d=4000 M0=1\n1300ms expect Y4=0\n1400ms expect D9354:d=9500\n"
+        "2000ms expect D9354:d=4000 M9342=1\n")
+
+
+def test_drva_condition_off_decelerates_without_done_and_speed_changes_replan():
+    # Off at 610 ms (5500, 10 kHz): a 100 ms ramp down, 500 more pulses, M9342 stays Off;
+    # M9340 holds the axis until it stands still
+    run("LD M0\nDDRVA K10000 D20 Y0 Y4\n",
+        "0ms D9340:d=10000 D20:d=10000 M0=1\n600ms M0=0\n650ms expect D9354:d=5875 M9340=1\n"
+        "700ms expect D9354:d=6000 M9340=0 M9342=0 M9343=0 M9341=0\n")
+    # the override D9348 may change while running: 50.0 % from 600 ms halves the speed
+    run("LD M0\nDDRVA K100000 K10000 Y0 Y4\n",
+        "0ms D9340:d=10000 D9343=0 D9344=0 M0=1\n600ms D9348=500\n"
+        "600ms expect D9354:d=6000 D9350:d=5000\n800ms expect D9354:d=7000\n")
+
+
+def test_drvr_relative_move_direction_pin_level_and_immediate_stop():
+    # 8-3 FNC 303: DDRVR K-3000 K1000 Y1 Y5 on axis Y1 (registers +20): no ramps (0 ms),
+    # 1000 Hz toward the decreasing position from 0; a period is 1 ms, so every 10 ms scan
+    # sees the first half of a period (Y1 On)
+    run("LD M1\nDDRVR K-3000 K1000 Y1 Y5\n",
+        "0ms D9363=0 D9364=0 M1=1\n0ms expect M9360=1 Y5=0\n"
+        "1s expect D9374:d=-1000 Y1=1 D9370:d=1000\n3s expect D9374:d=-3000 M9362=1 Y1=0\n"
+        "3100ms M1=0\n3200ms M1=1\n3700ms M9366=1\n"
+        "3700ms expect D9374:d=-3500 M9363=1 M9362=0 M9361=0\n4s expect D9374:d=-3500\n")
+
+
+def test_drvr_16_bit_form_on_axis_y2():
+    # DRVR K100 K1000 Y2 M10: axis Y2 (registers +40), the direction on a relay
+    run("LD M0\nDRVR K100 K1000 Y2 M10\n",
+        "0ms D9383=0 D9384=0 M0=1\n50ms expect D9394:d=50 M10=1 M9380=1\n"
+        "100ms expect D9394:d=100 M9382=1\n")
+
+
+def test_plsv_page_example_speed_changes_and_off_decelerates():
+    # 8-3 FNC 311: DPLSV D0 Y0 Y4, D0 80000 -> 120000 -> 40000 (the page's chart); max 200 kHz,
+    # ramps 100 ms: 2 MHz/s. 0-40 ms up (1600), +80000 x 60 ms = 6400 at 100 ms; up to 120000
+    # in 20 ms (+2000), 18000 at 200 ms; down to 40000 in 40 ms (+3200), 23600 at 300 ms; Off:
+    # 20 ms down to 0 (+400)
+    run("LD M0\nDPLSV D0 Y0 Y4\n",
+        "0ms D0:d=80000 M0=1\n0ms expect Y4=1 M9341=1\n40ms expect D9354:d=1600 D9350:d=80000\n"
+        "100ms D0:d=120000\n100ms expect D9354:d=6400\n120ms expect D9354:d=8400\n"
+        "200ms D0:d=40000\n200ms expect D9354:d=18000\n240ms expect D9354:d=21200\n"
+        "300ms M0=0\n300ms expect D9354:d=23600 M9340=1\n310ms expect D9354:d=23900\n"
+        "320ms expect D9354:d=24000 M9340=0 M9341=0 M9342=0\n")
+    # a negative speed runs toward the decreasing position (Y4 Off); M9345 stops it slowly
+    # and ends it abnormally
+    run("LD M0\nPLSV K-5000 Y0 Y4\n",
+        "0ms D9343=0 D9344=0 M0=1\n0ms expect Y4=0\n1s expect D9354:d=-5000\n1s M9345=1\n"
+        "1s expect M9343=1 M9341=0\n")
+
+
+def test_dvit_page_example_travel_after_the_interrupt():
+    # 8-3 FNC 307: DVIT D10 D20 Y0 Y4, interrupt X0 (parameter form): 5000 Hz until X0 rises
+    # at 500 ms (125 on the ramp + 5000 x 0.45 s = 2375), then D10 = 1000 more: 875 cruising
+    # (175 ms), 125 on the 50 ms ramp down: done at 725 ms on 3375
+    run("LD M0\nDVIT D10 D20 Y0 Y4\n",
+        "0ms D9340:d=10000 D10=1000 D20=5000 M0=1\n400ms expect D9354:d=1875 M9342=0\n"
+        "500ms X0=1\n500ms expect D9354:d=2375\n700ms expect D9354:d=3343\n"
+        "730ms expect D9354:d=3375 M9342=1 M9341=0\n")
+    # M9350 On: the falling edge interrupts; a negative travel runs the other way
+    run("LD M0\nDVIT K-100 K1000 Y0 Y4\n",
+        "0ms D9343=0 D9344=0 M9350=1 X0=1 M0=1\n200ms X0=0\n200ms expect D9354:d=-200 Y4=0\n"
+        "300ms expect D9354:d=-300 M9342=1\n")
+    # without an interrupt signal in the form: operation error, not executed
+    with form(interrupt=["", "", "", ""]):
+        run("LD M0\nDVIT K100 K1000 Y0 Y4\n", "0ms M0=1\n10ms expect M9340=0 M9067=1\n",
+            alarms=True)
+
+
+def test_zrn_page_example_dog_rear_edge_homing():
+    # 8-3 FNC 300: DZRN K50000 K1000 Y0 Y4, DOG X10, toward the decreasing position (Y4 Off).
+    # Ramps 2 MHz/s: 625 pulses to 50 kHz (25 ms); DOG front at 200 ms (9375): down to the
+    # creep speed 1000 in 24.5 ms (624.75), then 1000 Hz; DOG rear at 500 ms: stop at once,
+    # the origin value D9347:D9346 becomes the position, M9344 and M9342 On
+    run("LD M0\nDZRN K50000 K1000 Y0 Y4\n",
+        "0ms D9346:d=100 M9344=0 M0=1\n0ms expect Y4=0 M9340=1\n200ms X10=1\n"
+        "200ms expect D9354:d=-9375\n490ms expect D9354:d=-10265 D9350:d=1000 M9344=0\n"
+        "500ms X10=0\n500ms expect D9354:d=100 M9344=1 M9342=1 M9341=0 Y0=0\n"
+        "600ms M0=0\n600ms expect M9342=0 M9344=1 M9340=0\n700ms M0=1\n700ms expect M9344=0\n")
+
+
+def test_zrn_clr_signal_data_set_mode_and_stop_relay():
+    with form(clr=["Y10", "", "", ""]):
+        # DOG already On at the start: creep at once (DECISION); CLR Y10 On for 20 ms
+        run("LD M0\nZRN K5000 K1000 Y0 Y4\n",
+            "0ms D9343=0 D9344=0 X10=1 M0=1\n90ms expect D9354:d=-90\n100ms X10=0\n"
+            "100ms expect Y10=1 D9354:d=0 M9344=1\n110ms expect Y10=1\n120ms expect Y10=0\n")
+    with form(home_mode="data_set"):
+        run("LD M0\nZRN K5000 K1000 Y0 Y4\n",
+            "0ms D9354:d=777 D9346:d=5 M0=1\n0ms expect D9354:d=5 M9344=1 M9342=1 M9341=0\n")
+    # the immediate stop relay before the zero: abnormal end, no home done
+    run("LD M0\nZRN K5000 K1000 Y0 Y4\n",
+        "0ms D9343=0 D9344=0 M0=1\n100ms M9346=1\n100ms expect M9343=1 M9344=0 D9354:d=-500\n")
+
+
+def test_a_busy_axis_refuses_a_second_positioning_instruction():
+    # M9340 On: DRVA on the same axis is not executed while PLSY holds Y0
+    run("LD M0\nPLSY K1000 K0 Y0\nLD M1\nDDRVA K5000 K1000 Y0 Y4\n",
+        "0ms M0=1 M1=1\n100ms expect D9352:d=100 D9354:d=0\n")
