@@ -33,6 +33,7 @@ FAMILIES = {
     "mlctool.sim.fx.scan_io": "SCAN_IO_ACTIONS",  # MTR, DSW (6-7, 6-9)
     "mlctool.sim.fx.io_devices": "IO_DEVICE_ACTIONS",  # SEGD, PRUN (6-9, 6-10)
     "mlctool.sim.fx.keypad_display": "KEYPAD_DISPLAY_ACTIONS",  # TKY, HKY, SEGL, PR (6-9)
+    "mlctool.sim.fx.serial_rs": "SERIAL_RS_ACTIONS",  # RS non-protocol send/receive (6-10)
     "mlctool.sim.fx.positioning": "POSITIONING_ACTIONS",  # ZRN, DRVR, DRVA, DVIT, PLSV (8-3)
 }
 

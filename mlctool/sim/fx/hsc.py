@@ -22,10 +22,10 @@ from __future__ import annotations
 
 from mlctool.sim import semantics as base
 from mlctool.sim.fx.common import op_error, special
+from mlctool.sim.fx.hhsc import catch_up_hardware, dhhcmv
 from mlctool.sim.operands import CounterRef
 from mlctool.sim.pulses import count as count_edges
 from mlctool.sim.pulses import quadrature_count, time_of_count
-from mlctool.sim.fx.hhsc import catch_up_hardware, dhhcmv
 from mlctool.sim.state import Machine, SimFault, s32
 
 MAX_COMPARES = 8  # DHSCS/DHSCR/DHSZ/DHSCT executed together (6-7)

@@ -79,7 +79,10 @@ class Interrupts:
         queue += [(t, 1, self._next(), "request", n) for t, n in self._train_edges(m, after, now)]
         # high-speed counter requests (IHC from DHSCS, IHHC at the set value: fx/hsc.py, hhsc.py),
         # counted before the scan; a pointer without a routine requests nothing (DECISION)
-        from mlctool.sim.fx import INTERRUPT_SOURCES, before_scan_hooks  # the package imports this module
+        from mlctool.sim.fx import (  # the package imports this module
+            INTERRUPT_SOURCES,
+            before_scan_hooks,
+        )
 
         for count_up in before_scan_hooks(INTERRUPT_SOURCES):
             count_up(m)
