@@ -103,17 +103,78 @@ def _run_in_worker(path: str) -> Scenario:
 
 # ---------------------------------------------------------------------------- lanes
 
-class LaneProgram:
-    """The program as one Python function over bit-sliced devices."""
+class _RungCodegen:
+    """What both lane code generators share: the rung's result `a`, its ANB/ORB blocks and
+    MPS stack (2.2), as generated statements. Subclasses say how a line is indented and how
+    a lane word is inverted."""
+
+    indent = ""
 
     def __init__(self, prog: Program):
         self.prog = prog
         self.slots: dict[tuple[str, int], int] = {}
-        self.lines: list[str] = []
         self.blocks: list[str] = []
         self.stack: list[str] = []
         self.tmp = 0
+
+    def invert(self, x: str) -> str:
+        raise NotImplementedError
+
+    def _new(self, prefix: str) -> str:
+        self.tmp += 1
+        return f"{prefix}{self.tmp}"
+
+    def combine(self, s, cls: str, contact: str, out: list[str]) -> list[str]:
+        """A contact's value `contact` joins the rung result by the contact's class."""
+        ind = self.indent
+        if cls == "load":
+            if s.new_rung:
+                self.blocks.clear()
+                self.stack.clear()
+            else:
+                k = self._new("k")
+                out.append(f"{ind}{k} = a")
+                self.blocks.append(k)
+            out.append(f"{ind}a = {contact}")
+        else:
+            out.append(f"{ind}a = a {'&' if cls == 'and' else '|'} {contact}")
+        return out
+
+    def structure(self, op: str, out: list[str]) -> bool:
+        """ANB/ORB/MPS/MRD/MPP/INV/NOP; False when `op` is none of them."""
+        ind = self.indent
+        if op in ("anb", "orb"):
+            if self.blocks:
+                out.append(f"{ind}a = {self.blocks.pop()} {'&' if op == 'anb' else '|'} a")
+        elif op == "mps":
+            k = self._new("p")
+            out.append(f"{ind}{k} = a")
+            self.stack.append(k)
+        elif op == "mrd":
+            if self.stack:
+                out.append(f"{ind}a = {self.stack[-1]}")
+        elif op == "mpp":
+            if self.stack:
+                out.append(f"{ind}a = {self.stack.pop()}")
+        elif op == "inv":
+            out.append(f"{ind}a = {self.invert('a')}")
+        elif op != "nop":
+            return False
+        return True
+
+
+class LaneProgram(_RungCodegen):
+    """The program as one Python function over bit-sliced devices."""
+
+    indent = "    "
+
+    def __init__(self, prog: Program):
+        super().__init__(prog)
+        self.lines: list[str] = []
         self.ok = self._generate()
+
+    def invert(self, x: str) -> str:
+        return f"({x} ^ ALL)"
 
     def slot(self, kind: str, num: int) -> int:
         return self.slots.setdefault((kind, num), len(self.slots))
@@ -123,10 +184,6 @@ class LaneProgram:
             return None
         self.slot(ref.kind, ref.num)
         return f"{ref.kind}{ref.num}"
-
-    def _new(self, prefix: str) -> str:
-        self.tmp += 1
-        return f"{prefix}{self.tmp}"
 
     def _generate(self) -> bool:
         steps = self.prog.steps
@@ -161,41 +218,15 @@ class LaneProgram:
             if op == "contact":
                 c = name
             elif op == "contact_not":
-                c = f"({name} ^ ALL)"
+                c = self.invert(name)
             elif op in ("contact_rise", "contact_fall"):
                 e = self._new("e")
                 out.append(f"    {e} = E[{i}]; E[{i}] = {name}")
-                c = f"({name} & ({e} ^ ALL))" if op == "contact_rise" else f"({e} & ({name} ^ ALL))"
+                c = f"({name} & {self.invert(e)})" if op == "contact_rise" else f"({e} & {self.invert(name)})"
             else:
                 return None
-            if cls == "load":
-                if s.new_rung:
-                    self.blocks.clear()
-                    self.stack.clear()
-                else:
-                    k = self._new("k")
-                    out.append(f"    {k} = a")
-                    self.blocks.append(k)
-                out.append(f"    a = {c}")
-            else:
-                out.append(f"    a = a {'&' if cls == 'and' else '|'} {c}")
-            return out
-        if op in ("anb", "orb"):
-            if self.blocks:
-                out.append(f"    a = {self.blocks.pop()} {'&' if op == 'anb' else '|'} a")
-        elif op == "mps":
-            k = self._new("p")
-            out.append(f"    {k} = a")
-            self.stack.append(k)
-        elif op == "mrd":
-            if self.stack:
-                out.append(f"    a = {self.stack[-1]}")
-        elif op == "mpp":
-            if self.stack:
-                out.append(f"    a = {self.stack.pop()}")
-        elif op == "inv":
-            out.append("    a = a ^ ALL")
-        elif op in ("nop", "label"):
+            return self.combine(s, cls, c, out)
+        if op == "label" or self.structure(op, out):
             pass
         elif op in ("out", "set", "rst", "pls", "plf"):
             name = self._name(s.ops[0])
@@ -336,16 +367,12 @@ def _view_slots(v: DeviceView, m: Machine) -> list[tuple[tuple[str, int], object
     return None
 
 
-class WordLaneProgram:
+class WordLaneProgram(_RungCodegen):
     """A straight-line program as one Python function over numpy lanes (one element per
     scenario). `ok` False: the program needs scenario-by-scenario runs."""
 
     def __init__(self, prog: Program):
-        self.prog = prog
-        self.slots: dict[tuple[str, int], int] = {}
-        self.blocks: list[str] = []
-        self.stack: list[str] = []
-        self.tmp = 0
+        super().__init__(prog)
         self.counters: list[int] = []
         t = prog.target
         self.c32_lo = t.settings["counters32"][0]
@@ -355,9 +382,8 @@ class WordLaneProgram:
         self.slots.setdefault((space, num), len(self.slots))
         return f"{space}_{num}"
 
-    def _new(self, prefix: str) -> str:
-        self.tmp += 1
-        return f"{prefix}{self.tmp}"
+    def invert(self, x: str) -> str:
+        return f"(~{x})"
 
     def _generate(self) -> bool:
         steps = self.prog.steps
@@ -434,41 +460,15 @@ class WordLaneProgram:
                 if op == "contact":
                     c = x
                 elif op == "contact_not":
-                    c = f"(~{x})"
+                    c = self.invert(x)
                 elif op in ("contact_rise", "contact_fall"):
                     e = self._new("e")
                     out.append(f"{e} = E.get({i}, F); E[{i}] = {x}")
                     c = f"({x} & ~{e})" if op == "contact_rise" else f"({e} & ~{x})"
                 else:
                     raise _NoLane
-            if cls == "load":
-                if s.new_rung:
-                    self.blocks.clear()
-                    self.stack.clear()
-                else:
-                    k = self._new("k")
-                    out.append(f"{k} = a")
-                    self.blocks.append(k)
-                out.append(f"a = {c}")
-            else:
-                out.append(f"a = a {'&' if cls == 'and' else '|'} {c}")
-            return out
-        if op in ("anb", "orb"):
-            if self.blocks:
-                out.append(f"a = {self.blocks.pop()} {'&' if op == 'anb' else '|'} a")
-        elif op == "mps":
-            k = self._new("p")
-            out.append(f"{k} = a")
-            self.stack.append(k)
-        elif op == "mrd":
-            if self.stack:
-                out.append(f"a = {self.stack[-1]}")
-        elif op == "mpp":
-            if self.stack:
-                out.append(f"a = {self.stack.pop()}")
-        elif op == "inv":
-            out.append("a = ~a")
-        elif op in ("nop",):
+            return self.combine(s, cls, c, out)
+        if self.structure(op, out):
             pass
         elif op in ("out", "set", "rst", "pls", "plf") and type(s.ops[0]) is BitRef \
                 and s.ops[0].kind in ("X", "Y", "M", "A"):
