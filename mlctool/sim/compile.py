@@ -42,7 +42,7 @@ from mlctool.sim import scan as _scan
 from mlctool.sim import semantics
 from mlctool.sim.decode import Program, Step
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, GroupRef, WordRef
-from mlctool.sim.scan import DEFAULT_WATCHDOG, END_SCAN, Fault, end_of_scan, run_scan
+from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, end_of_scan, run_scan, run_steps
 from mlctool.sim.state import Machine, SimFault, s16, s32, to_f32
 
 ENGINES = ("compiled", "interp")
@@ -1185,30 +1185,9 @@ class Scanner:
         return self.prog.steps[self.code.linemap[line - 1]]
 
     def _interp(self, pc: int, executed: int, watchdog: int) -> None:
-        """The interpreter's loop (scan.run_scan) from step `pc` with `executed` steps done."""
-        m = self.m
-        steps = self.prog.steps
-        n = len(steps)
-        s = None
-        try:
-            while pc < n:
-                s = steps[pc]
-                m.pc = pc
-                executed += s.steps
-                if executed > watchdog:
-                    raise SimFault(f"scan watchdog: more than {watchdog} steps executed in one scan "
-                                   "(runaway loop?)")
-                r = s.run(m, s)
-                if r is None:
-                    pc += 1
-                elif r == END_SCAN:
-                    break
-                else:
-                    pc = r
-            else:
-                raise SimFault("execution ran past the last instruction without END")
-        except SimFault as e:
-            raise Fault(e.message, s) from None
+        """The interpreter's loop (scan.run_steps) from step `pc` with `executed` steps done."""
+        run_steps(self.prog, self.m, pc, executed, watchdog)
+
 
 def default_engine() -> str:
     """MLC_SIM_ENGINE if it names an engine (the tests run everything on both), else compiled."""

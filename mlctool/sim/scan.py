@@ -106,8 +106,6 @@ def load_program(image: Image, target, probe=None) -> Program:
 
 def run_scan(prog: Program, m: Machine, watchdog: int = DEFAULT_WATCHDOG) -> None:
     """Execute one scan starting at virtual time m.now_us. Raises Fault on fatal faults."""
-    steps = prog.steps
-    n = len(steps)
     m.t_seen = bytearray(len(m.t_seen))
     m.acc = False
     m.blocks.clear()
@@ -115,28 +113,7 @@ def run_scan(prog: Program, m: Machine, watchdog: int = DEFAULT_WATCHDOG) -> Non
     m.calls = []
     m.fors = []
     system_relays(m)
-    pc = 0
-    executed = 0
-    s = None
-    try:
-        while pc < n:
-            s = steps[pc]
-            m.pc = pc
-            executed += s.steps
-            if executed > watchdog:
-                raise SimFault(f"scan watchdog: more than {watchdog} steps executed in one scan "
-                               "(runaway loop?)")
-            r = s.run(m, s)
-            if r is None:
-                pc += 1
-            elif r == END_SCAN:
-                break
-            else:
-                pc = r
-        else:
-            raise SimFault("execution ran past the last instruction without END")
-    except SimFault as e:
-        raise Fault(e.message, s) from None
+    run_steps(prog, m, 0, 0, watchdog)
     end_of_scan(m)
 
 
@@ -162,6 +139,33 @@ def system_relays(m: Machine) -> None:
     for n, period_ms in table.get("clocks", {}).items():
         period = int(period_ms) * 1000
         bits[int(n)] = 1 if m.now_us % period < period // 2 else 0
+
+
+def run_steps(prog: Program, m: Machine, pc: int, executed: int, watchdog: int) -> None:
+    """Execute steps from `pc` to END with `executed` steps already counted in this scan.
+    Raises Fault (with the step) on fatal faults and on the step watchdog."""
+    steps = prog.steps
+    n = len(steps)
+    s = None
+    try:
+        while pc < n:
+            s = steps[pc]
+            m.pc = pc
+            executed += s.steps
+            if executed > watchdog:
+                raise SimFault(f"scan watchdog: more than {watchdog} steps executed in one scan "
+                               "(runaway loop?)")
+            r = s.run(m, s)
+            if r is None:
+                pc += 1
+            elif r == END_SCAN:
+                break
+            else:
+                pc = r
+        else:
+            raise SimFault("execution ran past the last instruction without END")
+    except SimFault as e:
+        raise Fault(e.message, s) from None
 
 
 def end_of_scan(m: Machine) -> None:
