@@ -86,6 +86,21 @@ def test_plsv_page_example_speed_changes_and_off_decelerates():
         "1s expect M9343=1 M9341=0\n")
 
 
+def test_jogf_page_example_short_press_one_pulse_long_press_runs_on():
+    # 8-3 FNC 301: JOGF K300 D20 Y0 Y4, D20 = 1000 Hz, ramps 100 kHz/s (max 10 kHz). On for
+    # 100 ms < 300 ms: one pulse; On from 200 ms: one pulse, then at 500 ms on at 1000 Hz
+    # (5 on the 10 ms ramp, +490 by 1000 ms); Off: a 10 ms ramp down (+5)
+    run("LD M0\nJOGF K300 D20 Y0 Y4\n",
+        "0ms D9340:d=10000 D20=1000 M0=1\n0ms expect Y4=1 M9340=1\n"
+        "50ms expect D9354:d=1 M9341=1\n100ms M0=0\n100ms expect D9354:d=1 M9340=0 M9342=0\n"
+        "200ms M0=1\n490ms expect D9354:d=2 M9341=1\n1000ms expect D9354:d=497\n1000ms M0=0\n"
+        "1010ms expect D9354:d=502 M9340=0 M9342=0 M9343=0\n")
+    # 8-3 FNC 302: JOGR toward the decreasing position, D2 Off; S1 above 5000 is 5000
+    run("LD M0\nJOGR K9000 K1000 Y1 Y5\n",
+        "0ms D9363=0 D9364=0 M0=1\n0ms expect Y5=0\n4990ms expect D9374:d=-1\n"
+        "6s expect D9374:d=-1001\n")
+
+
 def test_dvit_page_example_travel_after_the_interrupt():
     # 8-3 FNC 307: DVIT D10 D20 Y0 Y4, interrupt X0 (parameter form): 5000 Hz until X0 rises
     # at 500 ms (125 on the ramp + 5000 x 0.45 s = 2375), then D10 = 1000 more: 875 cruising

@@ -1,5 +1,5 @@
-"""Positioning on the pulse axes Y0-Y3 (8-3 FNC 300 ZRN, 303 DRVR, 304 DRVA, 307 DVIT, 311
-PLSV), on virtual time: each instruction plans one speed profile (mlctool/sim/motion.py,
+"""Positioning on the pulse axes Y0-Y3 (8-3 FNC 300 ZRN, 301 JOGF, 302 JOGR, 303 DRVR, 304
+DRVA, 307 DVIT, 311 PLSV), on virtual time: each instruction plans one speed profile (mlctool/sim/motion.py,
 solved analytically) from the axis parameters and replans it when the page lets a value
 change; every execution reads the profile at the scan's time and writes the axis registers,
 the flags and the Y pin's level (On in the first half of each pulse period, as PLSY).
@@ -142,21 +142,26 @@ def _advance(m: Machine, s, memo: dict, axis: int, replan=None) -> None:
     p = memo["p"]
     t = _now(m, memo)
     x, v = motion.at(memo["prof"], t)
+    waiting = memo.get("wait_until") is not None  # JOGF/JOGR inside their buffer time
     if not memo["stopping"]:
         if _relay(m, axis, STOP):
             memo["prof"], memo["stopping"], memo["abnormal"] = motion.halt(t, x), True, True
+        elif not m.acc and waiting:  # a short press: the one pulse's move runs to its end
+            memo["stopping"], memo["abnormal"] = True, False
         elif _relay(m, axis, DECEL_STOP) or not m.acc:
             memo["prof"], memo["stopping"] = motion.stop(t, x, v, p["bias"], p["down"]), True
             memo["abnormal"] = bool(m.acc)  # a stop relay, not the condition, ended it
-        elif replan is not None and not motion.ended(memo["prof"], t):
+        elif replan is not None and (waiting or not motion.ended(memo["prof"], t)):
             replan(t, x, v)
+        if memo["stopping"]:
+            memo["wait_until"] = None
         x, v = motion.at(memo["prof"], t)
     pulses = int(x + motion.EPS)
     memo["moved"] = pulses
     if memo.get("home_at") is None:
         _set_position(m, axis, memo["pos0"] + memo["dir"] * pulses)
     prof = memo["prof"]
-    if motion.ended(prof, t):
+    if motion.ended(prof, t) and memo.get("wait_until") is None:
         reached = prof.stop_at is not None and pulses >= int(prof.stop_at + motion.EPS)
         _finish(m, memo, axis, y, reached and not memo["stopping"])
         if memo["stopping"] and not memo.get("abnormal"):
@@ -259,6 +264,42 @@ def plsv(m: Machine, s) -> None:
     goes Off (decelerating stop). DECISION: the direction is fixed at the start; a later S
     of the other sign changes only the speed (the page names no reversal while running)."""
     _drive(m, s, _plsv_begin, _respeed)
+
+
+# ------------------------------------------------------------ JOGF, JOGR (FNC 301, 302)
+
+def _jog_begin(m: Machine, s, memo: dict, axis: int, direction: int) -> bool:
+    p = _start(m, s, memo, axis, direction)
+    if p is None:
+        return False
+    buffer_ms = min(max(s.ops[0].get(m), 0), 5000)
+    memo.update(cruise=_speed(m, axis, s.ops[1].get(m), p), wait_until=buffer_ms / 1000)
+    memo["prof"] = motion.move_to(0.0, 0.0, 0.0, 1, memo["cruise"], p["bias"], p["up"], p["down"])
+    return True
+
+
+def _jog_replan(m: Machine, s, memo: dict, axis: int, t: float, x: float, v: float) -> None:
+    """Past the buffer time with the condition still On: run on at S2 from where the one
+    pulse left the axis (S2 and the override may change from then on)."""
+    if memo["wait_until"] is not None:
+        if t < memo["wait_until"] - motion.EPS_T:
+            return
+        memo["wait_until"] = None
+        p = memo["p"]
+        memo["prof"] = motion.run_on(t, x, v, memo["cruise"], p["bias"], p["up"], p["down"])
+    _respeed(m, s, memo, axis, t, x, v)
+
+
+def jogf(m: Machine, s) -> None:
+    """JOGF S1 S2 D1 D2 (FNC 301): inching forward. The condition On puts out one pulse
+    (DECISION: the page's "1 position value" is 1 pulse; the PLC has no unit conversion); held
+    past the buffer time S1 (0-5000 ms) it runs on at S2 until Off (decelerating stop). D2 On."""
+    _drive(m, s, lambda m_, s_, memo, axis: _jog_begin(m_, s_, memo, axis, 1), _jog_replan)
+
+
+def jogr(m: Machine, s) -> None:
+    """JOGR S1 S2 D1 D2 (FNC 302): as JOGF toward the decreasing position, D2 Off."""
+    _drive(m, s, lambda m_, s_, memo, axis: _jog_begin(m_, s_, memo, axis, -1), _jog_replan)
 
 
 # ------------------------------------------------------------ DVIT (FNC 307)
@@ -371,4 +412,5 @@ def zrn(m: Machine, s) -> None:
     _drive(m, s, _zrn_begin, _zrn_replan)
 
 
-POSITIONING_ACTIONS = {"zrn": zrn, "drvr": drvr, "drva": drva, "dvit": dvit, "plsv": plsv}
+POSITIONING_ACTIONS = {"zrn": zrn, "jogf": jogf, "jogr": jogr, "drvr": drvr, "drva": drva,
+                       "dvit": dvit, "plsv": plsv}
