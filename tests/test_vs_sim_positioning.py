@@ -86,6 +86,27 @@ def test_plsv_page_example_speed_changes_and_off_decelerates():
         "1s expect M9343=1 M9341=0\n")
 
 
+def test_dv2r_page_example_two_speeds():
+    # 8-3 FNC 305: DV2R D10 D20 Y0 Y4: D10 = 1000 pulses at D20 = 5000 Hz, then D11 = 2000 at
+    # D21 = 2000 Hz. Ramps 100 kHz/s: 125 up in 50 ms, the first part ends at 225 ms; down to
+    # 2000 Hz in 30 ms (105), 1875 cruising (937.5 ms), 20 on the last 20 ms: done at 1212.5 ms
+    run("LD M0\nDV2R D10 D20 Y0 Y4\n",
+        "0ms D9340:d=10000 D10=1000 D11=2000 D20=5000 D21=2000 M0=1\n200ms expect D9354:d=875\n"
+        "250ms expect D9350:d=2500\n260ms expect D9354:d=1115 D9350:d=2000\n"
+        "1000ms expect D9354:d=2595 M9342=0\n1220ms expect D9354:d=3000 M9342=1 M9341=0\n")
+
+
+def test_dv2a_absolute_two_speeds_and_a_second_target_behind_the_first():
+    # 8-3 FNC 306: DDV2A D10 D20 Y0 Y4 from 500: to 1500 at 5000 Hz, then to 3500 at 2000 Hz
+    # (the DV2R case's travels)
+    run("LD M0\nDDV2A D10 D20 Y0 Y4\n",
+        "0ms D9340:d=10000 D9354:d=500 D10:d=1500 D12:d=3500 D20:d=5000 D22:d=2000\n10ms M0=1\n"
+        "1230ms expect D9354:d=3500 M9342=1\n")
+    run("LD M0\nDDV2A D10 D20 Y0 Y4\n",
+        "0ms D10:d=1500 D12:d=1000 D20:d=5000 D22:d=2000 M0=1\n10ms expect M9340=0 M9067=1\n",
+        alarms=True)
+
+
 def test_jogf_page_example_short_press_one_pulse_long_press_runs_on():
     # 8-3 FNC 301: JOGF K300 D20 Y0 Y4, D20 = 1000 Hz, ramps 100 kHz/s (max 10 kHz). On for
     # 100 ms < 300 ms: one pulse; On from 200 ms: one pulse, then at 500 ms on at 1000 Hz

@@ -121,3 +121,17 @@ def move_to(t: float, x: float, v: float, target: float, cruise: float, bias: fl
     if t3 > 0:
         segs.append((start_down, x + x1 + peak * cruise_s, peak, -down))
     return Profile(segs, end=start_down + t3, stop_at=target)
+
+
+def time_at(p: Profile, target: float) -> float | None:
+    """The time the travel reaches `target` (None: never)."""
+    for i, (t0, x0, v0, a) in enumerate(p.segments):
+        t_end = p.segments[i + 1][0] if i + 1 < len(p.segments) else p.end
+        x_end = at(p, t_end)[0] if t_end is not None else math.inf
+        if target <= x_end + EPS:
+            dx = max(0.0, target - x0)
+            if a == 0:
+                return t0 + (dx / v0 if v0 > 0 else 0.0)
+            disc = max(0.0, v0 * v0 + 2 * a * dx)
+            return t0 + (math.sqrt(disc) - v0) / a
+    return None

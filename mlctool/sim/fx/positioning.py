@@ -1,6 +1,6 @@
-"""Positioning on the pulse axes Y0-Y3 (8-3 FNC 300 ZRN, 301 JOGF, 302 JOGR, 303 DRVR, 304
-DRVA, 307 DVIT, 311 PLSV), on virtual time: each instruction plans one speed profile (mlctool/sim/motion.py,
-solved analytically) from the axis parameters and replans it when the page lets a value
+"""Positioning on the pulse axes Y0-Y3 (8-3 FNC 300 ZRN, 301/302 JOGF/R, 303/304 DRVR/A,
+305/306 DV2R/A, 307 DVIT, 311 PLSV), on virtual time: each instruction plans one speed
+profile (mlctool/sim/motion.py, solved analytically) from the axis parameters and replans it when the page lets a value
 change; every execution reads the profile at the scan's time and writes the axis registers,
 the flags and the Y pin's level (On in the first half of each pulse period, as PLSY).
 
@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 
 from mlctool.sim import motion
-from mlctool.sim.fx.common import op_error, state
+from mlctool.sim.fx.common import op_error, read_block, state
 from mlctool.sim.fx.pulse_out import (
     ABNORMAL,
     DECEL_STOP,
@@ -167,7 +167,7 @@ def _advance(m: Machine, s, memo: dict, axis: int, replan=None) -> None:
         if memo["stopping"] and not memo.get("abnormal"):
             _set(m, axis, ABNORMAL, False)  # condition Off: neither done nor abnormal
         return
-    _set_pair(m, axis, 0, int(v))
+    _set_pair(m, axis, 0, int(v + 1e-6))  # whole Hz; float sums land just below
     _set(m, axis, OUTPUT, True)  # the move is under way (at its start the speed is still 0)
     y.setbit(m, 1 if v > 0 and (x - pulses) < 0.5 else 0)
 
@@ -208,7 +208,10 @@ def _speed_ref(s):
 def _respeed(m: Machine, s, memo: dict, axis: int, t: float, x: float, v: float) -> None:
     """The run speed and the override may change while running (8-3 DRVA ... PLSV): the
     profile is replanned from the present travel and speed when the result changes."""
-    cruise = _speed(m, axis, _speed_ref(s).get(m), memo["p"])
+    _cruise_to(memo, _speed(m, axis, _speed_ref(s).get(m), memo["p"]), t, x, v)
+
+
+def _cruise_to(memo: dict, cruise: float, t: float, x: float, v: float) -> None:
     if cruise == memo["cruise"]:
         return
     memo["cruise"] = cruise
@@ -264,6 +267,60 @@ def plsv(m: Machine, s) -> None:
     goes Off (decelerating stop). DECISION: the direction is fixed at the start; a later S
     of the other sign changes only the speed (the page names no reversal while running)."""
     _drive(m, s, _plsv_begin, _respeed)
+
+
+# ------------------------------------------------------------ DV2R, DV2A (FNC 305, 306)
+
+def _two_speed_begin(m: Machine, s, memo: dict, axis: int, absolute: bool) -> bool:
+    """S1, S1+1 travels (DV2R) or target positions (DV2A); S2, S2+1 their speeds. DECISION:
+    both parts run one way; a second part of the other sign is an operation error."""
+    first, second = read_block(m, s.ops[0], 2, s.ops[0].width)
+    if absolute:
+        first, second = first - _pair(m, axis, "position"), second - first
+    if first * second < 0:
+        op_error(m, s, f"the second travel {second} runs against the first {first}")
+        return False
+    p = _start(m, s, memo, axis, -1 if first < 0 or second < 0 else 1)
+    if p is None:
+        return False
+    speeds = [_speed(m, axis, v, p) for v in read_block(m, s.ops[1], 2, s.ops[1].width)]
+    memo.update(stage=1, first=abs(first), total=abs(first) + abs(second), cruise=speeds[0])
+    memo["prof"] = motion.run_on(0.0, 0.0, 0.0, speeds[0], p["bias"], p["up"], p["down"])
+    if not first:
+        _second_part(memo, 0.0, speeds[1])
+    return True
+
+
+def _second_part(memo: dict, t: float, cruise: float) -> None:
+    """From the point the first travel ends (at whatever speed it has there) to the total at
+    the second speed: the speed changes at that point, as the page's chart draws it."""
+    p = memo["p"]
+    x, v = motion.at(memo["prof"], t)
+    memo.update(stage=2, cruise=cruise)
+    memo["prof"] = motion.move_to(t, memo["first"], v, memo["total"], cruise, p["bias"], p["up"],
+                                  p["down"])
+
+
+def _two_speed_replan(m: Machine, s, memo: dict, axis: int, t: float, x: float, v: float) -> None:
+    speeds = [_speed(m, axis, v_, memo["p"]) for v_ in read_block(m, s.ops[1], 2, s.ops[1].width)]
+    if memo["stage"] == 1 and x >= memo["first"] - motion.EPS:
+        # the first travel ended between scans: replan from that instant
+        _second_part(memo, motion.time_at(memo["prof"], memo["first"]), speeds[1])
+        x, v = motion.at(memo["prof"], t)
+    _cruise_to(memo, speeds[memo["stage"] - 1], t, x, v)
+
+
+def dv2r(m: Machine, s) -> None:
+    """DV2R S1 S2 D1 D2 (FNC 305): S1 pulses at S2, then S1+1 more at S2+1 (M9342 at the
+    end); the speeds and the override may change while running."""
+    _drive(m, s, lambda m_, s_, memo, axis: _two_speed_begin(m_, s_, memo, axis, False),
+           _two_speed_replan)
+
+
+def dv2a(m: Machine, s) -> None:
+    """DV2A S1 S2 D1 D2 (FNC 306): to position S1 at S2, then to S1+1 at S2+1."""
+    _drive(m, s, lambda m_, s_, memo, axis: _two_speed_begin(m_, s_, memo, axis, True),
+           _two_speed_replan)
 
 
 # ------------------------------------------------------------ JOGF, JOGR (FNC 301, 302)
@@ -413,4 +470,4 @@ def zrn(m: Machine, s) -> None:
 
 
 POSITIONING_ACTIONS = {"zrn": zrn, "jogf": jogf, "jogr": jogr, "drvr": drvr, "drva": drva,
-                       "dvit": dvit, "plsv": plsv}
+                       "dv2r": dv2r, "dv2a": dv2a, "dvit": dvit, "plsv": plsv}
