@@ -102,8 +102,9 @@ def test_dv2a_absolute_two_speeds_and_a_second_target_behind_the_first():
     run("LD M0\nDDV2A D10 D20 Y0 Y4\n",
         "0ms D9340:d=10000 D9354:d=500 D10:d=1500 D12:d=3500 D20:d=5000 D22:d=2000\n10ms M0=1\n"
         "1230ms expect D9354:d=3500 M9342=1\n")
-    run("LD M0\nDDV2A D10 D20 Y0 Y4\n",
-        "0ms D10:d=1500 D12:d=1000 D20:d=5000 D22:d=2000 M0=1\n10ms expect M9340=0 M9067=1\n",
+    # 16-bit form: the second target 1000 lies behind the first 1500: operation error
+    run("LD M0\nDV2A D10 D20 Y0 Y4\n",
+        "0ms D10=1500 D11=1000 D20=5000 D21=2000 M0=1\n10ms expect M9340=0 M9067=1\n",
         alarms=True)
 
 
