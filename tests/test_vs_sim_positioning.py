@@ -141,6 +141,22 @@ def test_dvit_page_example_travel_after_the_interrupt():
             alarms=True)
 
 
+def test_dvsr_dvsa_page_examples_the_interrupt_ramps_down_and_completes():
+    # 8-3 FNC 309: DVSR D10 D20 Y0 Y4, 10000 pulses at 5000 Hz; X0 rises at 500 ms (2375):
+    # a 50 ms ramp down (+125), M9342 On
+    run("LD M0\nDVSR D10 D20 Y0 Y4\n",
+        "0ms D9340:d=10000 D10=10000 D20=5000 M0=1\n500ms X0=1\n500ms expect D9354:d=2375\n"
+        "550ms expect D9354:d=2500 M9342=1 M9341=0\n1s expect D9354:d=2500\n")
+    # 8-3 FNC 310: DDVSA K3000 ... without the interrupt it ends on the position (650 ms)
+    run("LD M0\nDDVSA K3000 K5000 Y0 Y4\n",
+        "0ms D9340:d=10000 M0=1\n600ms expect D9354:d=2875 M9342=0\n"
+        "650ms expect D9354:d=3000 M9342=1\n")
+    # 16-bit DVSA toward the decreasing position, the falling edge (M9350 On) stops it
+    run("LD M0\nDVSA K-1000 K1000 Y0 Y4\n",
+        "0ms D9343=0 D9344=0 M9350=1 X0=1 M0=1\n300ms X0=0\n"
+        "300ms expect D9354:d=-300 M9342=1 Y4=0\n")
+
+
 def test_zrn_page_example_dog_rear_edge_homing():
     # 8-3 FNC 300: DZRN K50000 K1000 Y0 Y4, DOG X10, toward the decreasing position (Y4 Off).
     # Ramps 2 MHz/s: 625 pulses to 50 kHz (25 ms); DOG front at 200 ms (9375): down to the

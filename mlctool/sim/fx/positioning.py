@@ -1,5 +1,5 @@
 """Positioning on the pulse axes Y0-Y3 (8-3 FNC 300 ZRN, 301/302 JOGF/R, 303/304 DRVR/A,
-305/306 DV2R/A, 307 DVIT, 311 PLSV), on virtual time: each instruction plans one speed
+305/306 DV2R/A, 307 DVIT, 309/310 DVSR/A, 311 PLSV), on virtual time: each instruction plans one speed
 profile (mlctool/sim/motion.py, solved analytically) from the axis parameters and replans it when the page lets a value
 change; every execution reads the profile at the scan's time and writes the axis registers,
 the flags and the Y pin's level (On in the first half of each pulse period, as PLSY).
@@ -162,7 +162,8 @@ def _advance(m: Machine, s, memo: dict, axis: int, replan=None) -> None:
         _set_position(m, axis, memo["pos0"] + memo["dir"] * pulses)
     prof = memo["prof"]
     if motion.ended(prof, t) and memo.get("wait_until") is None:
-        reached = prof.stop_at is not None and pulses >= int(prof.stop_at + motion.EPS)
+        reached = memo.get("done_on_end") or (prof.stop_at is not None
+                                               and pulses >= int(prof.stop_at + motion.EPS))
         _finish(m, memo, axis, y, reached and not memo["stopping"])
         if memo["stopping"] and not memo.get("abnormal"):
             _set(m, axis, ABNORMAL, False)  # condition Off: neither done nor abnormal
@@ -375,16 +376,21 @@ def _dvit_begin(m: Machine, s, memo: dict, axis: int) -> bool:
     return True
 
 
+def _interrupted(m: Machine, memo: dict, axis: int) -> bool:
+    """The interrupt signal's edge since the last execution (M9350 Off rising, On falling)."""
+    level = _level(m, _pin(m, "interrupt", axis))
+    falling = _relay(m, axis, _cfg(m)["interrupt_edge"])
+    edge = (memo["int_level"] and not level) if falling else (level and not memo["int_level"])
+    memo["int_level"] = level
+    return bool(edge)
+
+
 def _dvit_replan(m: Machine, s, memo: dict, axis: int, t: float, x: float, v: float) -> None:
     """Before the interrupt: run at the speed (changes allowed); at the edge M9350 selects
     (Off rising, On falling) the remaining travel S1 is planned from the present travel.
     DECISION: the edge is seen by the execution whose scan first shows the new level (the
     simulator's inputs change at scan starts)."""
-    level = _level(m, _pin(m, "interrupt", axis))
-    falling = _relay(m, axis, _cfg(m)["interrupt_edge"])
-    edge = (memo["int_level"] and not level) if falling else (level and not memo["int_level"])
-    memo["int_level"] = level
-    if edge and memo["after_int"] is None:
+    if _interrupted(m, memo, axis) and memo["after_int"] is None:
         memo["after_int"] = True
         p = memo["p"]
         memo["prof"] = motion.move_to(t, x, v, x + memo["travel"], memo["cruise"], p["bias"],
@@ -396,6 +402,45 @@ def dvit(m: Machine, s) -> None:
     """DVIT S1 S2 D1 D2 (FNC 307): run at S2 until the interrupt signal, then S1 more
     pulses and stop (M9342)."""
     _drive(m, s, _dvit_begin, _dvit_replan)
+
+
+# ------------------------------------------------------------ DVSR, DVSA (FNC 309, 310)
+
+def _stoppable_begin(m: Machine, s, memo: dict, axis: int, absolute: bool) -> bool:
+    if _pin(m, "interrupt", axis) is None:
+        op_error(m, s, f"axis Y{axis}: no interrupt signal in the positioning parameters")
+        return False
+    travel = s.ops[0].get(m) - (_pair(m, axis, "position") if absolute else 0)
+    if not _move(m, s, memo, axis, travel):
+        return False
+    memo["int_level"] = _level(m, _pin(m, "interrupt", axis))
+    return True
+
+
+def _stoppable_replan(m: Machine, s, memo: dict, axis: int, t: float, x: float, v: float) -> None:
+    """The interrupt's edge ramps the axis down at once and that stop completes the move
+    (M9342 On, 8-3 DVSR); never past the travel. Same edge DECISION as DVIT."""
+    if memo.get("done_on_end"):
+        return  # stopping: no more speed changes
+    if _interrupted(m, memo, axis):
+        p, target = memo["p"], memo["prof"].stop_at
+        memo["prof"] = motion.stop(t, x, v, p["bias"], p["down"])
+        memo["prof"].stop_at = target
+        memo["done_on_end"] = True
+        return
+    _respeed(m, s, memo, axis, t, x, v)
+
+
+def dvsr(m: Machine, s) -> None:
+    """DVSR S1 S2 D1 D2 (FNC 309): DRVR that the interrupt signal stops (ramped down)."""
+    _drive(m, s, lambda m_, s_, memo, axis: _stoppable_begin(m_, s_, memo, axis, False),
+           _stoppable_replan)
+
+
+def dvsa(m: Machine, s) -> None:
+    """DVSA S1 S2 D1 D2 (FNC 310): DRVA that the interrupt signal stops (ramped down)."""
+    _drive(m, s, lambda m_, s_, memo, axis: _stoppable_begin(m_, s_, memo, axis, True),
+           _stoppable_replan)
 
 
 # ------------------------------------------------------------ ZRN (FNC 300)
@@ -470,4 +515,5 @@ def zrn(m: Machine, s) -> None:
 
 
 POSITIONING_ACTIONS = {"zrn": zrn, "jogf": jogf, "jogr": jogr, "drvr": drvr, "drva": drva,
-                       "dv2r": dv2r, "dv2a": dv2a, "dvit": dvit, "plsv": plsv}
+                       "dv2r": dv2r, "dv2a": dv2a, "dvit": dvit, "dvsr": dvsr, "dvsa": dvsa,
+                       "plsv": plsv}
