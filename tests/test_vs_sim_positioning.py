@@ -141,6 +141,15 @@ def test_dvit_page_example_travel_after_the_interrupt():
             alarms=True)
 
 
+def test_dv2i_page_example_speed_change_then_interrupt():
+    # 8-3 FNC 308: DV2I D10 D20 Y0 Y4, speed change X10, interrupt X0, no ramps: 1000 Hz to
+    # 200 ms, X10: 3000 Hz, X0 at 400 ms (800), then D10 = 300 more at 3000 Hz: done at 500 ms
+    run("LD M0\nDV2I D10 D20 Y0 Y4\n",
+        "0ms D9343=0 D9344=0 D10=300 D20=1000 D21=3000 M0=1\n200ms X10=1\n"
+        "200ms expect D9354:d=200 D9350:d=3000\n400ms X0=1\n400ms expect D9354:d=800 M9342=0\n"
+        "500ms expect D9354:d=1100 M9342=1\n")
+
+
 def test_dvsr_dvsa_page_examples_the_interrupt_ramps_down_and_completes():
     # 8-3 FNC 309: DVSR D10 D20 Y0 Y4, 10000 pulses at 5000 Hz; X0 rises at 500 ms (2375):
     # a 50 ms ramp down (+125), M9342 On

@@ -1,5 +1,5 @@
 """Positioning on the pulse axes Y0-Y3 (8-3 FNC 300 ZRN, 301/302 JOGF/R, 303/304 DRVR/A,
-305/306 DV2R/A, 307 DVIT, 309/310 DVSR/A, 311 PLSV), on virtual time: each instruction plans one speed
+305/306 DV2R/A, 307 DVIT, 308 DV2I, 309/310 DVSR/A, 311 PLSV), on virtual time: each instruction plans one speed
 profile (mlctool/sim/motion.py, solved analytically) from the axis parameters and replans it when the page lets a value
 change; every execution reads the profile at the scan's time and writes the axis registers,
 the flags and the Y pin's level (On in the first half of each pulse period, as PLSY).
@@ -404,6 +404,41 @@ def dvit(m: Machine, s) -> None:
     _drive(m, s, _dvit_begin, _dvit_replan)
 
 
+# ------------------------------------------------------------ DV2I (FNC 308)
+
+def _dv2i_begin(m: Machine, s, memo: dict, axis: int) -> bool:
+    if not _dvit_begin(m, s, memo, axis):
+        return False
+    p = memo["p"]
+    memo.update(stage=1, change_level=_level(m, _pin(m, "speed_change", axis)))
+    memo["cruise"] = _speed(m, axis, read_block(m, s.ops[1], 2, s.ops[1].width)[0], p)
+    memo["prof"] = motion.run_on(0.0, 0.0, 0.0, memo["cruise"], p["bias"], p["up"], p["down"])
+    return True
+
+
+def _dv2i_replan(m: Machine, s, memo: dict, axis: int, t: float, x: float, v: float) -> None:
+    """Speed 1 (S2) until the speed change signal rises, then speed 2 (S2+1); the interrupt's
+    edge then plans the travel S1 at the speed in force (DECISION: an interrupt before the
+    change signal is acted on at speed 1, and the change signal still switches to speed 2)."""
+    level = _level(m, _pin(m, "speed_change", axis))
+    if level and not memo["change_level"]:
+        memo["stage"] = 2
+    memo["change_level"] = level
+    if _interrupted(m, memo, axis) and memo["after_int"] is None:
+        memo["after_int"] = True
+        p = memo["p"]
+        memo["prof"] = motion.move_to(t, x, v, x + memo["travel"], memo["cruise"], p["bias"],
+                                      p["up"], p["down"])
+    speeds = read_block(m, s.ops[1], 2, s.ops[1].width)
+    _cruise_to(memo, _speed(m, axis, speeds[memo["stage"] - 1], memo["p"]), t, x, v)
+
+
+def dv2i(m: Machine, s) -> None:
+    """DV2I S1 S2 D1 D2 (FNC 308): S2 Hz, S2+1 Hz from the speed change signal (form), then
+    S1 more pulses from the interrupt signal; M9342 at the end."""
+    _drive(m, s, _dv2i_begin, _dv2i_replan)
+
+
 # ------------------------------------------------------------ DVSR, DVSA (FNC 309, 310)
 
 def _stoppable_begin(m: Machine, s, memo: dict, axis: int, absolute: bool) -> bool:
@@ -515,5 +550,5 @@ def zrn(m: Machine, s) -> None:
 
 
 POSITIONING_ACTIONS = {"zrn": zrn, "jogf": jogf, "jogr": jogr, "drvr": drvr, "drva": drva,
-                       "dv2r": dv2r, "dv2a": dv2a, "dvit": dvit, "dvsr": dvsr, "dvsa": dvsa,
-                       "plsv": plsv}
+                       "dv2r": dv2r, "dv2a": dv2a, "dvit": dvit, "dv2i": dv2i, "dvsr": dvsr,
+                       "dvsa": dvsa, "plsv": plsv}
