@@ -178,6 +178,23 @@ def test_zrn_page_example_dog_rear_edge_homing():
         "600ms M0=0\n600ms expect M9342=0 M9344=1 M9340=0\n700ms M0=1\n700ms expect M9344=0\n")
 
 
+def test_zrn_page_example_mode_dog_rear_counting_pg0():
+    # 8-3 FNC 300 as the page sets it: "DOG rear edge, count PG0" with DOG X10, PG0 X0, CLR
+    # Y10, zero signals 2. No ramps: 5000 Hz to DOG (100 ms, 500), 1000 Hz creep; DOG rear at
+    # 200 ms (600); PG0 edges at 205 and 215 ms: the zero at 215 ms (615 pulses out)
+    with form(home_mode="dog_rear_pg0", clr=["Y10", "", "", ""]):
+        run("LD M0\nDZRN K50000 K1000 Y0 Y4\n",
+            "0ms D9340:d=5000 D9343=0 D9344=0 D9346:d=-5 M0=1\n100ms X10=1\n200ms X10=0\n"
+            "200ms expect D9354:d=-600\n205ms X0 pulses 100Hz\n210ms expect D9354:d=-610 M9344=0\n"
+            "220ms expect D9354:d=-5 M9344=1 M9342=1 Y10=1 Y0=0\n240ms expect Y10=0\n")
+    # "DOG front edge, count PG0": counting from the DOG's front edge (100 ms): PG0 edges at
+    # 110 and 120 ms of the train running since 0 ms
+    with form(home_mode="dog_front_pg0"):
+        run("LD M0\nDZRN K5000 K1000 Y0 Y4\n",
+            "0ms D9343=0 D9344=0 M0=1\n0ms X0 pulses 100Hz\n100ms X10=1\n"
+            "110ms expect M9344=0 D9354:d=-510\n120ms expect M9344=1 D9354:d=0\n")
+
+
 def test_zrn_clr_signal_data_set_mode_and_stop_relay():
     with form(clr=["Y10", "", "", ""]):
         # DOG already On at the start: creep at once (DECISION); CLR Y10 On for 20 ms

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from mlctool.sim import motion
+from mlctool.sim import motion, pulses
 from mlctool.sim.fx.common import op_error, read_block, state
 from mlctool.sim.fx.pulse_out import (
     ABNORMAL,
@@ -504,17 +504,22 @@ def _home_done(m: Machine, s, memo: dict, axis: int) -> None:
     _set(m, axis, _cfg(m)["home_done"], True)
 
 
+HOME_MODES = ("dog_rear", "dog_rear_pg0", "dog_front_pg0", "data_set")
+
+
 def _zrn_begin(m: Machine, s, memo: dict, axis: int) -> bool:
     mode = _cfg(m).get("home_mode", "dog_rear")
-    if mode not in ("dog_rear", "data_set"):
-        raise SimFault(f"ZRN: home mode {mode!r} is not simulated (dog_rear, data_set are)")
-    if mode == "dog_rear" and _pin(m, "dog", axis) is None:
-        op_error(m, s, f"axis Y{axis}: no DOG signal in the positioning parameters")
-        return False
+    if mode not in HOME_MODES:
+        raise SimFault(f"ZRN: home mode {mode!r} is not simulated ({', '.join(HOME_MODES)} are)")
+    for signal in (("dog",) if mode == "dog_rear" else ("dog", "pg0") if mode != "data_set" else ()):
+        if _pin(m, signal, axis) is None:
+            op_error(m, s, f"axis Y{axis}: no {signal.upper()} signal in the positioning parameters")
+            return False
     p = _start(m, s, memo, axis, _cfg(m).get("home_direction", -1))
     if p is None:
         return False
     _set(m, axis, _cfg(m)["home_done"], False)
+    memo["mode"] = mode
     if mode == "data_set":  # no motion: the origin value becomes the position at once
         memo["prof"] = motion.halt(0.0, 0.0)
         memo["prof"].stop_at = 0.0  # reached: the move ends done
@@ -523,24 +528,64 @@ def _zrn_begin(m: Machine, s, memo: dict, axis: int) -> bool:
     # speeds read once: nothing may change while ZRN runs (8-3 ZRN)
     memo["fast"] = _speed(m, axis, s.ops[0].get(m), p)
     memo["creep"] = _speed(m, axis, s.ops[1].get(m), p, top=min(p["max"], _cfg(m)["creep_max_hz"]))
-    memo["dog"] = 0
+    memo.update(dog=0, pg0_from=None)
     memo["prof"] = motion.run_on(0.0, 0.0, 0.0, memo["fast"], p["bias"], p["up"], p["down"])
     return True
 
 
+def _zero_at(m: Machine, s, memo: dict, axis: int, t: float) -> None:
+    x, _ = motion.at(memo["prof"], t)
+    memo["prof"] = motion.halt(t, x)
+    memo["prof"].stop_at = x  # reached: the move ends done
+    _home_done(m, s, memo, axis)
+
+
+def _pg0_edge_time(m: Machine, memo: dict, axis: int) -> float | None:
+    """Counting PG0 after the DOG edge: the time (s from the start) of the zero-signal edge
+    that makes the count (form `zero_count`), or None. A pulse train on PG0 (the stimulus's
+    `X0 pulses ...`) is counted edge by edge in time; a plain input counts a rising edge per
+    scan that shows it."""
+    kind, number = _pin(m, "pg0", axis)
+    level = m.bits[kind][number]
+    after, memo["pg0_last"] = memo["pg0_last"], m.now_us
+    need = _cfg(m).get("zero_count", 1) - memo["pg0_seen"]
+    if m.pulse_trains.get((kind, number)):
+        for train, first, n in pulses.edges(m, kind, number, after, m.now_us):
+            if n >= need:
+                return (float(train.edge_time(first + need - 1)) - memo["t0"]) / MICRO
+            need -= n
+            memo["pg0_seen"] += n
+    elif level and not memo["pg0_level"]:
+        memo["pg0_seen"] += 1
+        if need <= 1:
+            return _now(m, memo)
+    memo["pg0_level"] = level
+    return None
+
+
 def _zrn_replan(m: Machine, s, memo: dict, axis: int, t: float, x: float, v: float) -> None:
-    """DOG rear-edge homing (8-1-2): the DOG's front edge (or DOG already On at the start,
-    DECISION) ramps down to the creep speed S2, its rear edge stops at once at the zero.
-    DECISION: edges are seen by the execution whose scan first shows the new level."""
+    """Homing (8-1-2): the DOG's front edge (or DOG already On at the start, DECISION) ramps
+    down to the creep speed S2; "dog_rear" stops at once at its rear edge; "dog_rear_pg0" /
+    "dog_front_pg0" count the zero signal PG0 from the DOG's rear / front edge and stop at
+    once at the `zero_count`-th. DECISION: DOG edges are seen by the execution whose scan
+    first shows the new level; PG0 edges of a pulse train count from that scan's time."""
     dog = _level(m, _pin(m, "dog", axis))
-    p = memo["p"]
-    if dog and not memo["dog"]:
-        memo["prof"] = motion.run_on(t, x, v, memo["creep"], p["bias"], p["up"], p["down"])
-    elif memo["dog"] and not dog:
-        memo["prof"] = motion.halt(t, x)
-        memo["prof"].stop_at = x  # reached: the move ends done
-        _home_done(m, s, memo, axis)
+    p, mode = memo["p"], memo["mode"]
+    rise, fall = dog and not memo["dog"], memo["dog"] and not dog
     memo["dog"] = dog
+    if rise:
+        memo["prof"] = motion.run_on(t, x, v, memo["creep"], p["bias"], p["up"], p["down"])
+    if mode == "dog_rear" and fall:
+        return _zero_at(m, s, memo, axis, t)
+    if memo["pg0_from"] is None and (rise if mode == "dog_front_pg0" else fall):
+        pin = _pin(m, "pg0", axis)
+        memo.update(pg0_from=m.now_us, pg0_last=m.now_us, pg0_seen=0,
+                    pg0_level=m.bits[pin[0]][pin[1]])
+        return
+    if memo["pg0_from"] is not None:
+        at = _pg0_edge_time(m, memo, axis)
+        if at is not None:
+            _zero_at(m, s, memo, axis, at)
 
 
 def zrn(m: Machine, s) -> None:
