@@ -10,11 +10,10 @@ from pathlib import Path
 
 import pytest
 
+import vskit
 from mlctool.asm import program_from_paths
 from mlctool.check import check_texts
 from mlctool.sim.decode import simulated_ops, unsimulated
-from mlctool.sim.run import Simulation, plan_scans
-from mlctool.sim.stimulus import parse_stimulus_text
 from mlctool.syntax.source import decode
 from mlctool.targets import load_target
 
@@ -22,22 +21,15 @@ ROOT = Path(__file__).resolve().parents[1]
 VS = load_target("vs")
 
 
+def run(il: str, stim: str):
+    vskit.run(il, stim, alarms=True)
+
+
 def codes(il: str, model: str = "VS3") -> list[str]:
     src, _ = decode("t.il", il.encode())
     return [d.code for d in check_texts([src], load_target("vs", model)).diagnostics if d.severity == "error"]
 
 
-def run(il: str, stim: str):
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "t.il")
-        Path(path).write_text(il.strip() + "\nEND\n", encoding="utf-8")
-        image, diags, _ = program_from_paths([path], VS)
-    assert image is not None, [(d.code, d.message) for d in diags]
-    st, sd = parse_stimulus_text("t.stim", stim, VS)
-    assert not sd, [(d.code, d.message) for d in sd]
-    r = Simulation(image, VS, st, [], 10_000, [], False).run(plan_scans(st, 10_000, None, None))
-    assert r.fault is None, r.fault
-    assert not r.failed, [(f.line, f.device, f.expected, f.actual) for f in r.failed]
 
 
 # ------------------------------------------------------------------ check (legality notes)

@@ -3,37 +3,9 @@ the example printed on the instruction's page (manual ch. 6), with its figures' 
 
 from __future__ import annotations
 
-import os
-import tempfile
-from pathlib import Path
-
 import pytest
 
-from mlctool.asm import program_from_paths
-from mlctool.sim.run import Simulation, plan_scans
-from mlctool.sim.stimulus import parse_stimulus_text
-from mlctool.targets import load_target
-
-VS = load_target("vs")
-
-
-def run(il: str, stim: str, alarms: bool = False):
-    """Run il (END added) against stim; every expectation must hold. alarms=False: no
-    operation error may be raised either."""
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "t.il")
-        Path(path).write_text(il.strip() + "\nEND\n", encoding="utf-8")
-        image, diags, _ = program_from_paths([path], VS)
-    assert image is not None, [(d.code, d.message) for d in diags]
-    st, sd = parse_stimulus_text("t.stim", stim, VS)
-    assert not sd, [(d.code, d.message) for d in sd]
-    r = Simulation(image, VS, st, [], 10_000, [], False).run(plan_scans(st, 10_000, None, None))
-    assert r.fault is None, r.fault
-    assert not r.failed, [(f.line, f.device, f.expected, f.actual) for f in r.failed]
-    if not alarms:
-        assert not r.alarms, [(a.name, a.message) for a in r.alarms]
-    return r
-
+from vskit import VS, run  # noqa: F401  (other test modules import run from here)
 
 # ------------------------------------------------------------------ 6-5 rotation and shifts
 

@@ -3,9 +3,8 @@ the pages' examples, counted analytically (docs/vs.md "High-speed counters")."""
 
 from __future__ import annotations
 
-from test_vs_sim_fx import VS, run
-
 from mlctool.sim.stimulus import parse_stimulus_text
+from vskit import VS, run
 
 
 def test_pulse_train_syntax_errors_are_e601_with_columns():

@@ -4,9 +4,8 @@
 
 from __future__ import annotations
 
-from test_vs_sim_fx import VS, run
-
 from mlctool.sim.stimulus import parse_stimulus_text
+from vskit import VS, run
 
 
 def test_one_phase_with_hardware_reset_c242():

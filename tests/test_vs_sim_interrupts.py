@@ -3,11 +3,10 @@ memory (6-9 FNC 78/79 FROM/TO): checker rules and the simulator, from the manual
 
 from __future__ import annotations
 
-from test_vs_sim_fx import VS, run
-
 from mlctool.check import check_texts
 from mlctool.sim.stimulus import parse_stimulus_text
 from mlctool.syntax.source import SourceText
+from vskit import VS, image_of, run, simulate
 
 ROUTINE_X0 = "FEND\nIX0P:\nLD M9000\nINC D0\nIRET\n"
 
@@ -87,20 +86,10 @@ def test_external_interrupt_delay_fixed_form():
 
 
 def test_iret_outside_a_routine_is_a_fault():
-    import os
-    import tempfile
-    from pathlib import Path
-
-    from mlctool.asm import program_from_paths
-    from mlctool.sim.run import Simulation, plan_scans
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "t.il")
-        Path(path).write_text("LD X0\nCALL P1\nFEND\nP1:\nIRET\nEND\n", encoding="utf-8")
-        image, _, _ = program_from_paths([path], VS)
+    image = image_of("LD X0\nCALL P1\nFEND\nP1:\nIRET\nEND\n")
     if image is None:  # the checker already refuses it (E908)
         return
-    st, _ = parse_stimulus_text("t.stim", "0ms X0=1\n", VS)
-    r = Simulation(image, VS, st, [], 10_000, [], False).run(plan_scans(st, 10_000, None, None))
+    r = simulate(image, "0ms X0=1\n")
     assert r.fault is not None and "IRET" in r.fault.message
 
 

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from test_vs_sim_fx import run
+from vskit import run
 
 
 def test_tky_page_example_keys_9_1_2_0_give_9120():

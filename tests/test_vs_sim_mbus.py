@@ -4,7 +4,7 @@ model is tested in tests/test_xc100_cosim.py."""
 
 from __future__ import annotations
 
-from tests.test_vs_sim import run
+from tests.test_vs_sim import run  # noqa: F401
 
 
 def test_mbus_without_a_device_times_out():

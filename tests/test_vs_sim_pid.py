@@ -3,7 +3,7 @@ against the page's formulas worked by hand (docs/vs.md "PID")."""
 
 from __future__ import annotations
 
-from test_vs_sim_fx import run
+from vskit import run
 
 PID_PROGRAM = "LD X0\nPID D0 D1 D100 D200\n"
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import contextlib
 
-from test_vs_sim_fx import VS, run
+from vskit import VS, run
 
 
 @contextlib.contextmanager

@@ -4,7 +4,7 @@ M9342 done, M9343 abnormal end), a level per scan on the Y pin."""
 
 from __future__ import annotations
 
-from test_vs_sim_fx import run
+from vskit import run
 
 
 def test_plsy_page_example_counts_d100_pulses_at_500hz():

@@ -3,7 +3,7 @@ driven scan by scan and the X switches the stimulus sets while a line is driven.
 
 from __future__ import annotations
 
-from test_vs_sim_fx import run
+from vskit import run
 
 
 def test_mtr_page_example_two_rows_into_m0_m17():

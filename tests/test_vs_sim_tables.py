@@ -4,33 +4,17 @@ page, with its figures' values."""
 
 from __future__ import annotations
 
-import os
-import tempfile
-from pathlib import Path
-
-from mlctool.asm import program_from_paths
-from mlctool.sim.run import Simulation, plan_scans
-from mlctool.sim.stimulus import parse_stimulus_text
 from mlctool.targets import load_target
-
-from test_vs_sim_fx import run
+from vskit import run
 
 VS = load_target("vs")
 
 
+
+
 def run_period(il: str, stim: str, period_us: int, scans: int):
     """As run(), with a longer scan period (hour meters, 1 s timers)."""
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "t.il")
-        Path(path).write_text(il.strip() + "\nEND\n", encoding="utf-8")
-        image, diags, _ = program_from_paths([path], VS)
-    assert image is not None, [(d.code, d.message) for d in diags]
-    st, sd = parse_stimulus_text("t.stim", stim, VS)
-    assert not sd
-    r = Simulation(image, VS, st, [], period_us, [], False).run(scans)
-    assert r.fault is None, r.fault
-    assert not r.failed, [(f.line, f.device, f.expected, f.actual) for f in r.failed]
-    return r
+    return run(il, stim, alarms=True, period_us=period_us, scans=scans)
 
 
 # ------------------------------------------------------------------ 6-13

@@ -85,19 +85,7 @@ def test_simulation_reads_and_writes_the_stimulus_buffer_memory():
 
 
 def test_index_past_the_buffer_memory_is_a_fault_not_a_traceback():
-    from test_vs_sim_fx import (
-        Path,
-        Simulation,
-        os,
-        parse_stimulus_text,
-        plan_scans,
-        program_from_paths,
-        tempfile,
-    )
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "t.il")
-        Path(path).write_text("LD M9000\nMOV K32767 Z0\nMOV K1 U1G1Z0\nEND\n", encoding="utf-8")
-        image, _, _ = program_from_paths([path], VS)
-    st, _ = parse_stimulus_text("t.stim", "10ms expect D0=0\n", VS)
-    r = Simulation(image, VS, st, [], 10_000, [], False).run(plan_scans(st, 10_000, None, None))
+    from vskit import image_of, simulate
+
+    r = simulate(image_of("LD M9000\nMOV K32767 Z0\nMOV K1 U1G1Z0\nEND\n"), "10ms expect D0=0\n")
     assert r.fault is not None and "U1G" in str(r.fault)

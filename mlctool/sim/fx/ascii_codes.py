@@ -12,8 +12,15 @@ from decimal import ROUND_DOWN, ROUND_HALF_UP, Decimal
 
 from mlctool.sim import semantics as base
 from mlctool.sim.fx.common import (
-    count, op_error, read_block, read_string, relay, set_flags, write_block, write_string,
     NoTerminator,
+    count,
+    op_error,
+    read_block,
+    read_string,
+    relay,
+    set_flags,
+    write_block,
+    write_string,
 )
 from mlctool.sim.state import Machine, f32_bits, to_f32
 

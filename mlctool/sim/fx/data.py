@@ -8,7 +8,16 @@ import operator
 
 from mlctool.sim import semantics as base
 from mlctool.sim.fx.common import (
-    count, op_error, overlap, read_block, relay, set_flags, set_relay, span, special, state,
+    count,
+    op_error,
+    overlap,
+    read_block,
+    relay,
+    set_flags,
+    set_relay,
+    span,
+    special,
+    state,
     write_block,
 )
 from mlctool.sim.state import Machine

@@ -150,7 +150,7 @@ def _count(m: Machine, n: int, c: dict, total: int, d: int, time_of=None) -> Non
     seen_reset = None  # remaining count at the last self-reset: the cycle repeats after it
     while total:
         hit = None
-        for idx, p in points:
+        for _idx, p in points:
             if p["kind"] in ("set", "reset", "table"):
                 target = p["rows"][p["row"]][0] if p["kind"] == "table" else p["value"]
                 steps = (target - v) * d

@@ -6,7 +6,14 @@ from __future__ import annotations
 
 from mlctool.sim import semantics as base
 from mlctool.sim.fx.common import (
-    NoTerminator, count, op_error, read_block, read_string, span, write_block, write_string,
+    NoTerminator,
+    count,
+    op_error,
+    read_block,
+    read_string,
+    span,
+    write_block,
+    write_string,
 )
 from mlctool.sim.state import Machine
 

@@ -6,7 +6,14 @@ from __future__ import annotations
 
 from mlctool.sim import semantics as base
 from mlctool.sim.fx.common import (
-    count, op_error, read_block, relay, set_flags, set_relay, state, write_block,
+    count,
+    op_error,
+    read_block,
+    relay,
+    set_flags,
+    set_relay,
+    state,
+    write_block,
 )
 from mlctool.sim.state import Machine, s16
 

@@ -9,7 +9,16 @@ nothing is lost between scans (as the T timers do, 2-5-3).
 
 from __future__ import annotations
 
-from mlctool.sim.fx.common import count, op_error, read_block, relay, set_relay, special, state, write_block
+from mlctool.sim.fx.common import (
+    count,
+    op_error,
+    read_block,
+    relay,
+    set_relay,
+    special,
+    state,
+    write_block,
+)
 from mlctool.sim.state import Machine, s16, s32
 
 US_PER_S = 1_000_000
