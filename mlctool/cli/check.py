@@ -11,7 +11,6 @@ from mlctool.cli import main_group
 from mlctool.cli.common import config_option, get_config, get_target, show, target_option
 from mlctool.codes import CODES
 from mlctool.diagnostics import Diagnostic
-from mlctool.fbs.files import check_positioning
 from mlctool.fbs.model import is_positioning_source
 from mlctool.report import summary_line, to_json, to_sarif
 from mlctool.targets import available_targets, load_target
@@ -49,9 +48,13 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, fi
     positioning = [f for f in files if is_positioning_source(f)]
     il_files = [f for f in files if f not in positioning]
     result = check_files(il_files, target, config, ignored)
-    pos = check_positioning(positioning, config, ignored)
-    diags = sorted(result.diagnostics + pos.diagnostics, key=Diagnostic.sort_key)
-    lines = {**result.lines, **pos.lines}
+    diags, lines = result.diagnostics, result.lines
+    if positioning:
+        from mlctool.fbs.files import check_positioning
+
+        pos = check_positioning(positioning, config, ignored)
+        diags = sorted(diags + pos.diagnostics, key=Diagnostic.sort_key)
+        lines = {**lines, **pos.lines}
     errors = sum(d.severity == "error" for d in diags)
     warnings = sum(d.severity == "warning" for d in diags)
     if fmt == "json":
