@@ -120,6 +120,22 @@ class _RungCodegen:
     def invert(self, x: str) -> str:
         raise NotImplementedError
 
+    def edge_memory(self, i: int) -> str:
+        """The expression reading step i's edge memory (2.2 LDP/LDF)."""
+        raise NotImplementedError
+
+    def contact(self, op: str, x: str, i: int, out: list[str]) -> str | None:
+        """A bit contact's value as an expression (None: not a plain contact)."""
+        if op == "contact":
+            return x
+        if op == "contact_not":
+            return self.invert(x)
+        if op in ("contact_rise", "contact_fall"):
+            e = self._new("e")
+            out.append(f"{self.indent}{e} = {self.edge_memory(i)}; E[{i}] = {x}")
+            return f"({x} & {self.invert(e)})" if op == "contact_rise" else f"({e} & {self.invert(x)})"
+        return None
+
     def _new(self, prefix: str) -> str:
         self.tmp += 1
         return f"{prefix}{self.tmp}"
@@ -176,6 +192,9 @@ class LaneProgram(_RungCodegen):
     def invert(self, x: str) -> str:
         return f"({x} ^ ALL)"
 
+    def edge_memory(self, i: int) -> str:
+        return f"E[{i}]"
+
     def slot(self, kind: str, num: int) -> int:
         return self.slots.setdefault((kind, num), len(self.slots))
 
@@ -215,17 +234,8 @@ class LaneProgram(_RungCodegen):
             name = self._name(s.ops[0]) if s.ops else None
             if name is None:
                 return None
-            if op == "contact":
-                c = name
-            elif op == "contact_not":
-                c = self.invert(name)
-            elif op in ("contact_rise", "contact_fall"):
-                e = self._new("e")
-                out.append(f"    {e} = E[{i}]; E[{i}] = {name}")
-                c = f"({name} & {self.invert(e)})" if op == "contact_rise" else f"({e} & {self.invert(name)})"
-            else:
-                return None
-            return self.combine(s, cls, c, out)
+            c = self.contact(op, name, i, out)
+            return None if c is None else self.combine(s, cls, c, out)
         if op == "label" or self.structure(op, out):
             pass
         elif op in ("out", "set", "rst", "pls", "plf"):
@@ -385,6 +395,9 @@ class WordLaneProgram(_RungCodegen):
     def invert(self, x: str) -> str:
         return f"(~{x})"
 
+    def edge_memory(self, i: int) -> str:
+        return f"E.get({i}, F)"
+
     def _generate(self) -> bool:
         steps = self.prog.steps
         if not steps or steps[-1].ins.spec.op != "end":
@@ -456,16 +469,8 @@ class WordLaneProgram(_RungCodegen):
                 if c.count("(") == c.count(")") and "_" not in c:  # two constants
                     c = f"(F | {c})"
             else:
-                x = self.bit(s.ops[0])
-                if op == "contact":
-                    c = x
-                elif op == "contact_not":
-                    c = self.invert(x)
-                elif op in ("contact_rise", "contact_fall"):
-                    e = self._new("e")
-                    out.append(f"{e} = E.get({i}, F); E[{i}] = {x}")
-                    c = f"({x} & ~{e})" if op == "contact_rise" else f"({e} & ~{x})"
-                else:
+                c = self.contact(op, self.bit(s.ops[0]), i, out)
+                if c is None:
                     raise _NoLane
             return self.combine(s, cls, c, out)
         if self.structure(op, out):

@@ -30,8 +30,9 @@ def _shift(values: list[int], fill: list[int], right: bool) -> list[int]:
     return values[k:] + fill if right else fill + values[:len(values) - k]
 
 
-def _bit_shift(right: bool):
-    """SFTR/SFTL S D n1 n2: the n1 bits from D move n2 places; the n2 bits from S fill in."""
+def _block_shift(right: bool, width: int):
+    """SFTR/SFTL S D n1 n2 (width 1): the n1 bits from D move n2 places and the n2 bits from S
+    fill in; WSFR/WSFL (width 16): the same on n1 words or Kn groups (FNC 34-37)."""
     @base._on
     def run(m: Machine, s) -> None:
         src, dst, n1r, n2r = s.ops
@@ -39,22 +40,8 @@ def _bit_shift(right: bool):
         if not 1 <= n2 <= n1:
             op_error(m, s, f"n2 = {n2} is outside 1-n1 ({n1})")
             return
-        fill = read_block(m, src, n2, 1)
-        write_block(m, dst, _shift(read_block(m, dst, n1, 1), fill, right), 1)
-    return run
-
-
-def _word_shift(right: bool):
-    """WSFR/WSFL S D n1 n2: the same on n1 words (or Kn groups) moved n2 words (FNC 36/37)."""
-    @base._on
-    def run(m: Machine, s) -> None:
-        src, dst, n1r, n2r = s.ops
-        n1, n2 = count(m, n1r), count(m, n2r)
-        if not 1 <= n2 <= n1:
-            op_error(m, s, f"n2 = {n2} is outside 1-n1 ({n1})")
-            return
-        fill = read_block(m, src, n2, 16)
-        write_block(m, dst, _shift(read_block(m, dst, n1, 16), fill, right), 16)
+        fill = read_block(m, src, n2, width)
+        write_block(m, dst, _shift(read_block(m, dst, n1, width), fill, right), width)
     return run
 
 
@@ -98,7 +85,7 @@ def sfrd(m: Machine, s) -> None:
 
 SHIFT_ACTIONS = {
     "rcr": _rotate_carry(False), "rcl": _rotate_carry(True),
-    "sftr": _bit_shift(True), "sftl": _bit_shift(False),
-    "wsfr": _word_shift(True), "wsfl": _word_shift(False),
+    "sftr": _block_shift(True, 1), "sftl": _block_shift(False, 1),
+    "wsfr": _block_shift(True, 16), "wsfl": _block_shift(False, 16),
     "sfwr": sfwr, "sfrd": sfrd,
 }
