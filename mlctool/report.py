@@ -22,6 +22,8 @@ def use_color(stream) -> bool:
 
 
 def render_text(diags: list[Diagnostic], lines: dict[str, list[str]], stream=None) -> None:
+    if not diags:
+        return  # and rich is not even imported
     from rich.console import Console
     from rich.markup import escape
 

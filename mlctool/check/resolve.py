@@ -46,6 +46,7 @@ class _Resolver:
         self.label_spec = next(s for s in target.instructions.values() if s.cls == "label")
         self.cache: dict = {}  # (mnemonic, operand texts) -> resolution of the line
         self.operand_cache: dict = {}  # (instruction form, position, text) -> (ok, problems)
+        self.legal_spans: dict = {}  # (instruction form, position, kind) -> numbers passing
         self._problems: list = []
         self.syntax = target.operand_syntax
         self.names = names or {}  # named labels of this file -> P number (check/labels.py)
@@ -210,6 +211,8 @@ class _Resolver:
             if spec_o.word_range_of:  # its rule reads another operand: not cacheable alone
                 ok = self.check_operand(spec, spec_o, op, a, operands) and ok
                 continue
+            if self.plainly_legal(spec, k, spec_o, op):
+                continue
             # one operand's verdict depends only on the instruction form, position and text
             key = (id(spec), k, a.text)
             hit = self.operand_cache.get(key)
@@ -335,6 +338,47 @@ class _Resolver:
         self.check_areas(w, o, dev, first, last)
         return True
 
+    def plainly_legal(self, spec: InstrSpec, k: int, o: OperandSpec, op: Operand) -> bool:
+        """A fast yes for the common operand: a plain device (no index, group, bit or unit)
+        whose number lies where check_operand would find nothing to say. The numbers are
+        worked out once per instruction form, position and device kind (legal_numbers);
+        anything else takes check_operand. tests/test_check_fastpath.py compares the two."""
+        if op.index or op.unit or op.digits or op.is_const or op.is_bit_of_word:
+            return False
+        key = (id(spec), k, op.kind)
+        spans = self.legal_spans.get(key)
+        if spans is None:
+            spans = self.legal_spans[key] = self.legal_numbers(spec, o, op.kind)
+        n = op.number
+        for lo, hi in spans:
+            if lo <= n <= hi:
+                return True
+        return False
+
+    def legal_numbers(self, spec: InstrSpec, o: OperandSpec, kind: str) -> tuple[tuple[int, int], ...]:
+        """The device numbers of `kind` that check_operand passes without a word, as spans.
+        Counters are left out: their extent and the 3.2.5 rule depend on the number."""
+        dev = self.t.devices.get(kind)
+        if (dev is None or dev.unit_prefix or dev.kind == "counter" or kind not in o.kinds
+                or (o.writes and dev.input) or (dev.width16_only and spec.width == 32)):
+            return ()
+        e = self.extent(spec, o, Operand(kind, number=dev.lo))
+        spans = [(dev.lo, dev.hi - e + 1)]
+        allowed = o.allowed(kind)
+        if allowed:
+            spans = _intersect(spans, allowed)
+        narrow = o.devices32 if spec.width == 32 else o.devices16
+        if narrow:
+            spans = _intersect(spans, (narrow,))
+        cut = list(o.forbid16) if spec.width == 16 else []
+        for a in dev.areas:  # the areas check_areas has something to say about
+            if a.write in ("reserved", "absent") or (a.write in ("nc", "system") and o.writes):
+                cut.append((a.lo - e + 1, a.hi))
+        for lo, hi in cut:
+            spans = [piece for s_lo, s_hi in spans
+                     for piece in ((s_lo, min(s_hi, lo - 1)), (max(s_lo, hi + 1), s_hi)) if piece[0] <= piece[1]]
+        return tuple(spans)
+
     def unit_word_ok(self, spec: InstrSpec, o: OperandSpec, op: Operand, dev, w) -> bool:
         """A unit word (VS UnG) names its unit (U1G3, not G3), a unit of the model, and stands
         only where an application instruction takes its `like` device (docs/vs.md)."""
@@ -455,6 +499,10 @@ def _device_name(t: Target, dev, number: int) -> str:
         if p is not None:
             return p.name
     return dev.name_of(number)
+
+
+def _intersect(spans, limits) -> list[tuple[int, int]]:
+    return [(max(a, c), min(b, d)) for a, b in spans for c, d in limits if max(a, c) <= min(b, d)]
 
 
 def _kind_name(op: Operand) -> str:

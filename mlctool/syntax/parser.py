@@ -89,18 +89,19 @@ def _fast_line():
     t = {m["name"]: m["re"] for m in _TERMINAL.finditer(grammar_text())}
     line = (rf"(?:{t['SEP']})?(?:(?P<step>{t['STEP']})(?:{t['SEP']}))?(?P<name>{t['MNEMONIC']})"
             rf"(?P<ops>(?:(?:{t['SEP']})(?:{t['OPERAND']}))*)(?:{t['SEP']})?(?:{t['COMMENT']})?")
-    return re.compile(line).fullmatch, re.compile(t["OPERAND"]).finditer
+    blank = re.compile(rf"(?:{t['SEP']})?(?:{t['COMMENT']})?").fullmatch  # nothing to parse
+    return re.compile(line).fullmatch, re.compile(t["OPERAND"]).finditer, blank
 
 
 def parse(src: SourceText, fast: bool = True) -> ParsedFile:
     lines = src.text.split("\n")[:-1]
     statements: list[Statement] = []
     diagnostics: list[Diagnostic] = []
-    match, operands = _fast_line()
+    match, operands, blank = _fast_line()
     for number, text in enumerate(lines, 1):
         m = match(text) if fast else None
         if m is None:
-            if text.strip():
+            if not blank(text):
                 from mlctool.syntax.lark_parser import parse_line
 
                 parse_line(src.path, text, number, statements, diagnostics)
