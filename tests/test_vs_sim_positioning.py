@@ -1,4 +1,4 @@
-"""Positioning ZRN, DRVR, DRVA, DVIT, PLSV (8-3 FNC 300/303/304/307/311) on virtual time:
+"""Positioning ZRN, DRVR, DRVA, DVIT, PLSV, DTBL (8-3 FNC 300-312) on virtual time:
 each page's example with the axis parameters of 8-1-1 (D9340 max speed, D9343/D9344 ramps,
 D9348 override), the present position D9355:D9354, the flags M9340 busy, M9341 outputting,
 M9342 done, M9343 abnormal end, M9344 home done, a level per scan on the pulse pin and the
@@ -213,3 +213,73 @@ def test_a_busy_axis_refuses_a_second_positioning_instruction():
     # M9340 On: DRVA on the same axis is not executed while PLSY holds Y0
     run("LD M0\nPLSY K1000 K0 Y0\nLD M1\nDDRVA K5000 K1000 Y0 Y4\n",
         "0ms M0=1 M1=1\n100ms expect D9352:d=100 D9354:d=0\n")
+
+
+DTBL_SINGLE = """.table Q0 DTBL K5000 K800 K-1 K2
+.table Q0 DTBL K10000 K1200 K100 K2
+.table Q0 DTBL K0 K0 K-1 K0
+LD M0
+DTBL Q0 D100 Y0 Y4
+"""
+
+
+def test_dtbl_page_example_single_absolute_steps_after_m_code_and_end():
+    # 8-3 FNC 312, the page's single-step example: to 5000 at 800 Hz, to 10000 at 1200 Hz with
+    # the AFTER m code 100, END. No ramps. Each move waits for M9347 OFF -> ON: 5000 / 800 Hz
+    # = 6.25 s from 10 ms; then 5000 / 1200 Hz from 6.5 s: done at 10666.7 ms, M9029 one scan
+    run(DTBL_SINGLE,
+        "0ms D9343=0 D9344=0 D101=0 M0=1\n0ms expect D9349=-1 M9341=0\n10ms M9347=1\n20ms M9347=0\n"
+        "3000ms expect D9354:d=2392 D100=0 M9341=1\n"
+        "6300ms expect D9354:d=5000 M9342=1 D100=1 D9349=-1 M9341=0 M9340=1\n"
+        "6500ms M9347=1\n6500ms expect M9342=0\n6600ms M9347=0\n10660ms expect M9342=0\n"
+        "10670ms expect D9354:d=10000 D9349=100 M9348=1 M9342=1 M9029=1 D100=2\n"
+        "10680ms expect M9029=0\n11000ms M9347=1\n11000ms expect M9342=0 D9354:d=10000\n"
+        "11100ms M9349=1\n11100ms expect D9349=-1 M9348=0\n"
+        "11200ms M0=0\n11200ms expect M9340=0 M9342=0\n")
+
+
+def test_dtbl_continuous_relative_steps_hand_over_with_m_codes():
+    # 8-3 FNC 312, continuous relative (command 3): 2000 at 1800 Hz, 1000 at 1200 Hz, D11:D10 =
+    # 3000 at D21:D20 = 600 Hz without stopping; WITH m codes (>= 10000) at each step's start.
+    # 1121.1 ms, 1954.4 ms, 6954.4 ms; the last row (0 pulses, m code 10002), then END
+    run(""".table Q1 DTBL K2000 K1800 K10000 K3
+.table Q1 DTBL K1000 K1200 K10001 K3
+.table Q1 DTBL D10 D20 K-1 K3
+.table Q1 DTBL K0 K0 K10002 K3
+.table Q1 DTBL K0 K0 K-1 K0
+LD M0
+DTBL Q1 D100 Y0 Y4
+""",
+        "0ms D9343=0 D9344=0 D10:d=3000 D20:d=600 M0=1\n10ms M9347=1\n"
+        "1000ms expect D9354:d=1782 D9349=10000 M9348=1 D100=0\n"
+        "1200ms expect D9350:d=1200 D9349=10001 D100=1\n"
+        # a row without an m code leaves the pending one (DECISION)
+        "2000ms expect D9354:d=3027 D9350:d=600 D100=2 D9349=10001 M9342=0\n"
+        "6950ms expect D9354:d=5997 M9029=0\n"
+        "6960ms expect D9354:d=6000 D9349=10002 M9342=1 M9029=1\n")
+
+
+def test_dtbl_pending_m_code_start_step_jmp_and_bad_tables():
+    # a pending m code refuses the start signal; M9349 clears it, the next edge starts.
+    # Start step D101 = 1 (the second row); JMP (5) back to row 1
+    run(""".table Q2 DTBL K100 K1000 K5 K1
+.table Q2 DTBL K100 K1000 K7 K1
+.table Q2 DTBL K1 K0 K-1 K5
+LD M0
+DTBL Q2 D100 Y0 Y4
+""",
+        "0ms D9343=0 D9344=0 D101=1 M0=1\n0ms expect D100=1\n10ms M9347=1\n"
+        "200ms expect D9354:d=100 D9349=7 D100=1 M9342=1\n200ms M9347=0\n300ms M9347=1\n"
+        "400ms expect D9354:d=100 M9342=0\n400ms M9349=1 M9347=0\n400ms expect D9349=-1\n"
+        "500ms M9347=1\n700ms expect D9354:d=200\n")
+    # M9347 already On at the start is no edge (DECISION); the immediate stop relay: abnormal
+    # end, the table stays stopped until the condition goes Off
+    run(DTBL_SINGLE,
+        "0ms D9343=0 D9344=0 M9347=1 M0=1\n100ms expect D9354:d=0\n100ms M9347=0\n110ms M9347=1\n"
+        "1000ms M9346=1\n1000ms expect M9343=1 D9354:d=712\n"
+        "1100ms M9346=0 M9347=0\n1200ms M9347=1\n1300ms expect D9354:d=712 M9341=0 M9340=1\n")
+    # no rows for the table, a JMP loop, a step past the table: operation errors, no traceback
+    for table, start in (("", 0), (".table Q3 DTBL K0 K0 K-1 K5\n", 0),
+                         (".table Q3 DTBL K0 K0 K-1 K0\n", 4)):
+        run(table + "LD M0\nDTBL Q3 D100 Y0 Y4\n", f"0ms D101={start} M0=1\n"
+            "10ms expect M9067=1 M9341=0 D9354:d=0\n", alarms=True)

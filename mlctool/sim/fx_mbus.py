@@ -52,9 +52,11 @@ class Master:
     done_on: bool = False  # the done relay was turned On by the previous execution
 
 
-def tables(m: Machine) -> dict[int, list[Row]]:
-    """Q number -> MBUS rows, from the program's `.table` directives (parsed once per run)."""
-    cache = m.ext.get("mbus_tables")
+def tables(m: Machine, kind: str = KIND) -> dict[int, list[Row]]:
+    """Q number -> the rows of one table kind (MBUS, DTBL ...), from the program's `.table`
+    directives (parsed once per run and kind)."""
+    key = f"{kind.lower()}_tables"
+    cache = m.ext.get(key)
     if cache is None:
         from mlctool.check.tables import parse_row  # the checker's reading of a row
 
@@ -65,9 +67,9 @@ def tables(m: Machine) -> dict[int, list[Row]]:
             if words[0].lower() != ".table":
                 continue
             row, _problems = parse_row(m.target, words[1:], symbols)  # checked at build
-            if row is not None and row.kind == KIND:
+            if row is not None and row.kind == kind:
                 cache.setdefault(row.table, []).append(row)
-        m.ext["mbus_tables"] = cache
+        m.ext[key] = cache
     return cache
 
 
