@@ -1,4 +1,4 @@
-"""Positioning ZRN, DRVR, DRVA, DVIT, PLSV, DTBL (8-3 FNC 300-312) on virtual time:
+"""Positioning ZRN, DRVR, DRVA, DVIT, PLSV, DTBL, DABS (8-3 FNC 300-313) on virtual time:
 each page's example with the axis parameters of 8-1-1 (D9340 max speed, D9343/D9344 ramps,
 D9348 override), the present position D9355:D9354, the flags M9340 busy, M9341 outputting,
 M9342 done, M9343 abnormal end, M9344 home done, a level per scan on the pulse pin and the
@@ -283,3 +283,30 @@ DTBL Q2 D100 Y0 Y4
                          (".table Q3 DTBL K0 K0 K-1 K0\n", 4)):
         run(table + "LD M0\nDTBL Q3 D100 Y0 Y4\n", f"0ms D101={start} M0=1\n"
             "10ms expect M9067=1 M9341=0 D9354:d=0\n", alarms=True)
+
+
+def _abs_servo(value: int, check_offset: int = 0) -> str:
+    """The servo's side of the ABS transfer as a stimulus: 16 transfers of 2 bits (low first),
+    3 of the checksum, each: bits on X10/X11 and ready X12 On at 100 + 40k ms, Off 20 ms later."""
+    data = value & 0xFFFFFFFF
+    twos = [data >> (2 * k) & 3 for k in range(16)]
+    check = (sum(twos) + check_offset) & 0x3F
+    twos += [check >> (2 * k) & 3 for k in range(3)]
+    return "".join(f"{100 + 40 * k}ms X10={b & 1} X11={b >> 1} X12=1\n{120 + 40 * k}ms X12=0\n"
+                   for k, b in enumerate(twos))
+
+
+def test_dabs_page_example_reads_the_servo_position():
+    # 8-3 FNC 313: DABS X10 Y10 D9352, M0 a normally-on contact: SERVO ON Y10 and ABS mode
+    # Y11 On, request Y12 On until ready; 19 transfers; the last (820 ms) writes D9353:D9352
+    # and M9029 On for one scan, ABS mode Off
+    il = "LD M0\nDABS X10 Y10 D9352\n"
+    run(il, "0ms M0=1\n0ms expect Y10=1 Y11=1 Y12=1\n100ms expect Y12=0\n120ms expect Y12=1\n"
+        + _abs_servo(-123457) + "810ms expect D9352:d=0 M9029=0\n"
+        "820ms expect D9352:d=-123457 M9029=1 Y10=1 Y11=0 Y12=0\n830ms expect M9029=0\n"
+        "900ms M0=0\n900ms expect Y10=0 Y11=0\n")
+    # a wrong checksum: operation error, D2 unchanged; the condition Off interrupts a read
+    run(il, "0ms M0=1\n" + _abs_servo(5000, 1) + "830ms expect D9352:d=0 M9067=1 M9029=0\n",
+        alarms=True)
+    run(il, "0ms M0=1\n" + _abs_servo(5000) + "300ms M0=0\n300ms expect Y10=0 Y11=0 Y12=0\n"
+        "310ms M0=1\n900ms expect D9352:d=0 Y11=1\n")

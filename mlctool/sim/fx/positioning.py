@@ -1,5 +1,5 @@
 """Positioning on the pulse axes Y0-Y3 (8-3 FNC 300 ZRN, 301/302 JOGF/R, 303/304 DRVR/A,
-305/306 DV2R/A, 307 DVIT, 308 DV2I, 309/310 DVSR/A, 311 PLSV, 312 DTBL), on virtual time: each instruction plans one speed
+305/306 DV2R/A, 307 DVIT, 308 DV2I, 309/310 DVSR/A, 311 PLSV, 312 DTBL, 313 DABS), on virtual time: each instruction plans one speed
 profile (mlctool/sim/motion.py, solved analytically) from the axis parameters and replans it when the page lets a value
 change; every execution reads the profile at the scan's time and writes the axis registers,
 the flags and the Y pin's level (On in the first half of each pulse period, as PLSY).
@@ -31,7 +31,7 @@ from mlctool.sim.fx.pulse_out import (
     _set,
     _set_pair,
 )
-from mlctool.sim.state import Machine, SimFault, s16
+from mlctool.sim.state import Machine, SimFault, s16, s32
 
 MICRO = 1_000_000
 
@@ -805,6 +805,69 @@ def dtbl(m: Machine, s) -> None:
         memo.clear()
 
 
+# ------------------------------------------------------------ DABS (FNC 313)
+
+ABS_DATA, ABS_SUM = 16, 3  # transfers of 2 bits: the 32-bit position, then a 6-bit checksum
+
+
+def _abs_outputs(m: Machine, s, servo_on: int, mode: int, request: int) -> None:
+    d1 = s.ops[1]
+    for k, v in enumerate((servo_on, mode, request)):  # D1 SERVO ON, D1+1 ABSM, D1+2 ABSR
+        d1.setbit(m, v, k)
+
+
+def _abs_take(m: Machine, s, memo: dict) -> None:
+    """ABST (S+2) On: the 2 bits on S (bit 0) and S+1 (bit 1) are the next transfer; the
+    last one checks the sum and, when it holds, writes the position to D2."""
+    bits = s.ops[0].bit(m, 0) | s.ops[0].bit(m, 1) << 1
+    k = memo["k"]
+    if k < ABS_DATA:
+        memo["data"] |= bits << (2 * k)
+        memo["sum"] += bits
+    else:
+        memo["check"] |= bits << (2 * (k - ABS_DATA))
+    memo["k"] = k + 1
+    if memo["k"] < ABS_DATA + ABS_SUM:
+        return
+    memo["done"] = True
+    _abs_outputs(m, s, 1, 0, 0)
+    if memo["check"] != memo["sum"] & 0x3F:
+        return op_error(m, s, f"ABS checksum {memo['check']} != {memo['sum'] & 0x3F}")
+    s.ops[2].set(m, s32(memo["data"]))
+    memo["m9029"] = True
+    set_relay(m, "done", True)
+
+
+def dabs(m: Machine, s) -> None:
+    """DABS S D1 D2 (FNC 313): reads a Mitsubishi absolute-encoder servo's position into D2
+    (usually D9353:D9352). The page gives only the wiring (S ABS bit 0, bit 1, ready; D1 SERVO
+    ON, ABS mode, ABS request) and "M9029 On one scan when read; the condition Off interrupts".
+    DECISION: the handshake of the servo's ABS transfer (MR-J2S): SERVO ON and ABS mode On;
+    per transfer the request On, the ready signal On = 2 bits valid, the request Off, ready
+    Off; 16 transfers of the position (low bits first), 3 of the checksum (the low 6 bits of
+    the sum of the 16 transfers); a wrong checksum is an operation error (D2 unchanged)."""
+    memo = state(m, s, {})
+    if memo.get("m9029"):  # On for one scan: the next execution turns it Off
+        memo["m9029"] = False
+        set_relay(m, "done", False)
+    if not m.acc:
+        if memo:
+            _abs_outputs(m, s, 0, 0, 0)
+            memo.clear()
+        return
+    if not memo:
+        memo.update(k=0, data=0, sum=0, check=0, done=False, m9029=False, ready=s.ops[0].bit(m, 2))
+    if memo["done"]:
+        return
+    ready = s.ops[0].bit(m, 2)
+    if ready and not memo["ready"]:
+        _abs_take(m, s, memo)
+    memo["ready"] = ready
+    if not memo["done"]:
+        _abs_outputs(m, s, 1, 1, 0 if ready else 1)
+
+
 POSITIONING_ACTIONS = {"zrn": zrn, "jogf": jogf, "jogr": jogr, "drvr": drvr, "drva": drva,
                        "dv2r": dv2r, "dv2a": dv2a, "dvit": dvit, "dv2i": dv2i, "dvsr": dvsr,
-                       "dvsa": dvsa, "plsv": plsv, "tbl": dtbl}
+                       "dvsa": dvsa, "plsv": plsv, "tbl": dtbl,
+                       "dabs": dabs}
