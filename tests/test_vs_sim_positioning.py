@@ -1,4 +1,4 @@
-"""Positioning ZRN, DRVR, DRVA, DVIT, PLSV, DTBL, DABS (8-3 FNC 300-313) on virtual time:
+"""Positioning ZRN, DRVR, DRVA, DVIT, PLSV, DTBL, DABS, MPG (8-3 FNC 300-314) on virtual time:
 each page's example with the axis parameters of 8-1-1 (D9340 max speed, D9343/D9344 ramps,
 D9348 override), the present position D9355:D9354, the flags M9340 busy, M9341 outputting,
 M9342 done, M9343 abnormal end, M9344 home done, a level per scan on the pulse pin and the
@@ -310,3 +310,39 @@ def test_dabs_page_example_reads_the_servo_position():
         alarms=True)
     run(il, "0ms M0=1\n" + _abs_servo(5000) + "300ms M0=0\n300ms expect Y10=0 Y11=0 Y12=0\n"
         "310ms M0=1\n900ms expect D9352:d=0 Y11=1\n")
+
+
+def test_mpg_page_example_handwheel_gear_and_axis_choice():
+    # 8-3 FNC 314, the page's program: response 5 ms, gear D101/D102 by the x1/x10/x100 switches
+    # X11-X13, Z0 by the XY switch X10, MPG on X7; A/B on X3/X4 (S1 = K1). 100 Hz from 100 ms
+    # (x1 counting: one input pulse a cycle, at 102.5, 112.5 ... ms) seen 5 ms late
+    il = """LD M9002
+MOV K5 D100
+MOV K1 D102
+LD X10
+MOV K0 Z0
+LDI X10
+MOV K1 Z0
+LD X11
+MOVP K1 D101
+LD X12
+MOVP K10 D101
+LD X13
+MOVP K100 D101
+LD X7
+MPG K1 D100 Y0Z0 Y4Z0
+"""
+    run(il, "0ms X10=1 X12=1 X7=1\n100ms X3/X4 pulses 100Hz until 600ms\n"
+        "300ms expect D9354:d=200 Y4=1 Y0=1 M9341=1 M9340=1 D9350:d=1000 D9374:d=0\n"
+        # x1 from the 400 ms scan: it applies to the input the execution sees (up to 395 ms,
+        # since 385 ms: 392.5 ... 592.5, 21 pulses 1:1) after the 29 pulses at x10
+        "400ms X12=0 X11=1\n700ms expect D9354:d=311 M9341=0 D9350:d=0 Y0=0\n"
+        # turning back (B leads): D2 Off, the position counts down
+        "800ms X3/X4 pulses -200Hz until 900ms\n1000ms expect D9354:d=291 Y4=0\n"
+        # Off: released once the response time has passed; then the Y axis (Z0 = 1)
+        "1000ms X7=0\n1000ms expect M9340=1\n1010ms expect M9340=0\n"
+        "1100ms X10=0 X7=1\n1100ms X3/X4 pulses 100Hz until 1200ms\n"
+        "1300ms expect D9374:d=10 D9354:d=291 M9360=1\n")
+    # S1 from a register outside 0-3: operation error, not executed
+    run("LD M0\nMPG D0 D100 Y0 Y4\n", "0ms D0=4 M0=1\n10ms expect M9067=1 M9340=0\n",
+        alarms=True)

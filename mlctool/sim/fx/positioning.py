@@ -1,5 +1,5 @@
 """Positioning on the pulse axes Y0-Y3 (8-3 FNC 300 ZRN, 301/302 JOGF/R, 303/304 DRVR/A,
-305/306 DV2R/A, 307 DVIT, 308 DV2I, 309/310 DVSR/A, 311 PLSV, 312 DTBL, 313 DABS), on virtual time: each instruction plans one speed
+305/306 DV2R/A, 307 DVIT, 308 DV2I, 309/310 DVSR/A, 311 PLSV, 312 DTBL, 313 DABS, 314 MPG), on virtual time: each instruction plans one speed
 profile (mlctool/sim/motion.py, solved analytically) from the axis parameters and replans it when the page lets a value
 change; every execution reads the profile at the scan's time and writes the axis registers,
 the flags and the Y pin's level (On in the first half of each pulse period, as PLSY).
@@ -15,6 +15,7 @@ interrupt and CLR signals, home and rotation direction).
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 from mlctool.sim import fx_mbus, motion, pulses
 from mlctool.sim.fx.common import op_error, read_block, set_relay, state
@@ -867,7 +868,84 @@ def dabs(m: Machine, s) -> None:
         _abs_outputs(m, s, 1, 1, 0 if ready else 1)
 
 
+# ------------------------------------------------------------ MPG (FNC 314)
+
+def _mpg_setting(m: Machine, ref, k: int, lo: int, hi: int, default: int) -> int:
+    v = s16(m.words[ref.kind][ref.addr(m, 3) + k])
+    return v if lo <= v <= hi else default
+
+
+def _mpg_count(m: Machine, s, memo: dict) -> None:
+    """Input cycles of the A/B pair up to now - response time (the output lags the input by
+    it, DECISION), at the gear ratio S2+1 / S2+2 in force (each 1-32767, else 1); kept as an
+    exact fraction so a ratio change never loses a part pulse."""
+    work = s.ops[1]
+    delay = _mpg_setting(m, work, 0, 1, 500, 5) * 1000
+    off = memo.get("off_at")
+    upto = max(memo["in_t"], min(m.now_us - delay, m.now_us if off is None else off))
+    n = pulses.quadrature_count(m, memo["a"], memo["b"], 1, memo["in_t"], upto)
+    gear = Fraction(_mpg_setting(m, work, 1, 1, 32767, 1), _mpg_setting(m, work, 2, 1, 32767, 1))
+    memo["out"] += n * gear
+    memo["in_t"] = upto
+    memo["owed"] = off is not None and upto < off
+
+
+def _mpg_begin(m: Machine, s, memo: dict, axis: int) -> bool:
+    pairs = _cfg(m)["mpg_inputs"]
+    k = s.ops[0].get(m)
+    if not 0 <= k < len(pairs):
+        op_error(m, s, f"S1 = {k}: the handwheel inputs are 0-{len(pairs) - 1}")
+        return False
+    if not _acquire(m, s, axis):
+        return False
+    for offset in (DONE, ABNORMAL):
+        _set(m, axis, offset, False)
+    a, b = (_pin_named(m, name) for name in pairs[k])
+    memo.update(a=a, b=b, in_t=m.now_us, out=Fraction(0), sent=0, at=m.now_us,
+                pos0=_pair(m, axis, "position"), axis=axis)
+    return True
+
+
+def _pin_named(m: Machine, name: str) -> tuple[str, int]:
+    return name[0], int(name[1:], m.target.devices[name[0]].radix)
+
+
+def mpg(m: Machine, s) -> None:
+    """MPG S1 S2 D1 D2 (FNC 314): a handwheel's A/B pulses on input pair S1 (target.toml
+    [positioning] mpg_inputs) put out on D1 as input x S2+1 / S2+2, after the response time
+    S2 (1-500 ms, else 5); D2 On while A leads. The override does not apply (the page)."""
+    y = s.ops[-2]
+    memo = state(m, s, {})
+    if not memo:
+        if not m.acc:
+            return
+        if not _mpg_begin(m, s, memo, y.addr(m)):
+            memo["refused"] = True
+            return
+    if memo.get("refused"):
+        if not m.acc:
+            memo.clear()
+        return
+    axis = memo["axis"]
+    if not m.acc and memo.get("off_at") is None:
+        memo["off_at"] = m.now_us  # DECISION: Off stops the input; the owed pulses still go out
+    _mpg_count(m, s, memo)
+    sent = int(memo["out"])  # whole pulses, toward zero
+    dt = (m.now_us - memo["at"]) / MICRO
+    hz = abs(sent - memo["sent"]) / dt if dt > 0 else 0.0
+    if sent != memo["sent"]:
+        _direction_pin(m, s, 1 if sent > memo["sent"] else -1)
+    memo.update(sent=sent, at=m.now_us)
+    _set_position(m, axis, memo["pos0"] + sent)
+    _set_pair(m, axis, 0, int(hz + 1e-6))
+    _set(m, axis, OUTPUT, hz > 0)
+    y.setbit(m, 1 if hz > 0 else 0)  # DECISION: On while pulses go out (no pulse phase)
+    if memo.get("off_at") is not None and not memo["owed"]:
+        _release(m, s, axis, y)
+        memo.clear()
+
+
 POSITIONING_ACTIONS = {"zrn": zrn, "jogf": jogf, "jogr": jogr, "drvr": drvr, "drva": drva,
                        "dv2r": dv2r, "dv2a": dv2a, "dvit": dvit, "dv2i": dv2i, "dvsr": dvsr,
                        "dvsa": dvsa, "plsv": plsv, "tbl": dtbl,
-                       "dabs": dabs}
+                       "dabs": dabs, "mpg": mpg}
