@@ -1,4 +1,4 @@
-"""Positioning ZRN, DRVR, DRVA, DVIT, PLSV, DTBL, DABS, MPG (8-3 FNC 300-314) on virtual time:
+"""Positioning ZRN, DRVR, DRVA, DVIT, PLSV, DTBL, DABS, MPG, LIR, LIA (8-3 FNC 300-316) on virtual time:
 each page's example with the axis parameters of 8-1-1 (D9340 max speed, D9343/D9344 ramps,
 D9348 override), the present position D9355:D9354, the flags M9340 busy, M9341 outputting,
 M9342 done, M9343 abnormal end, M9344 home done, a level per scan on the pulse pin and the
@@ -346,3 +346,40 @@ MPG K1 D100 Y0Z0 Y4Z0
     # S1 from a register outside 0-3: operation error, not executed
     run("LD M0\nMPG D0 D100 Y0 Y4\n", "0ms D0=4 M0=1\n10ms expect M9067=1 M9340=0\n",
         alarms=True)
+
+
+def test_lir_page_example_straight_line_both_axes_arrive_together():
+    # 8-3 FNC 315: LIR D1000 K0 from (2000, 1000): bias 1000, run 3000, 300 ms, travel
+    # (4000, 3000), length 5000: X bias 800 run 2400, Y 600 / 1800 (D1005-D1008). X ramps 480
+    # pulses each way and cruises 3040 (1.2667 s): both arrive at 1876.7 ms. The axis
+    # parameters (max 10 kHz here) and the override do not apply
+    run("LD M0\nLIR D1000 K0\n",
+        "0ms D9340:d=10000 D9348=500 D9354:d=2000 D9374:d=1000 D1000=1000 D1001=3000 D1002=300\n"
+        "0ms D1003=4000 D1004=3000\n10ms M0=1\n"
+        "10ms expect D1005=800 D1006=2400 D1007=600 D1008=1800 Y4=1 Y5=1 M9340=1 M9360=1\n"
+        "310ms expect D9354:d=2480 D9374:d=1360 D9350:d=2400 D9370:d=1800\n"
+        "1870ms expect D9354:d=5994 M9342=0 M9341=1\n"
+        "1880ms expect D9354:d=6000 D9374:d=4000 M9342=1 M9362=1 M9341=0 M9361=0\n"
+        "1900ms M0=0\n1900ms expect M9340=0 M9360=0 M9342=0\n")
+    # both travels 0: not executed; the bias vector speed above the run one: operation error
+    run("LD M0\nLIR D0 K0\n", "0ms D1=1000 M0=1\n10ms expect M9340=0 M9360=0 M9067=0\n")
+    run("LD M0\nLIR D0 K0\n", "0ms D0=2000 D1=1000 D3=5 M0=1\n10ms expect M9340=0 M9067=1\n",
+        alarms=True)
+
+
+def test_lia_page_example_absolute_on_y2_y3_and_stops():
+    # 8-3 FNC 316: DLIA D1000 K1 (32-bit pairs): Y2/Y3 with Y6/Y7 from (1000, 500) to (-2000,
+    # 4500): travel (-3000, 4000), no ramps, run 5000: X 3000 Hz backward (Y6 Off), Y 4000 Hz
+    run("LD M0\nDLIA D1000 K1\n",
+        "0ms D9394:d=1000 D9414:d=500 D1002:d=5000 D1006:d=-2000 D1008:d=4500 M0=1\n"
+        "0ms expect Y6=0 Y7=1 D1012:d=3000 D1016:d=4000\n500ms expect D9394:d=-500 D9414:d=2500\n"
+        "1000ms expect D9394:d=-2000 D9414:d=4500 M9382=1 M9402=1\n")
+    # the Y axis's immediate stop relay stops both at once: abnormal end, no done
+    run("LD M0\nLIR D1000 K0\n",
+        "0ms D1001=5000 D1003=3000 D1004=4000 M0=1\n500ms M9366=1\n"
+        "500ms expect D9354:d=1500 D9374:d=2000 M9343=1 M9363=1 M9342=0 M9341=0\n"
+        "700ms expect D9354:d=1500\n")
+    # the condition Off ramps both down over the ramp time (200 ms: X 3000 -> 0 Hz, +300)
+    run("LD M0\nLIR D1000 K0\n",
+        "0ms D1001=5000 D1002=200 D1003=6000 D1004=8000 M0=1\n1000ms M0=0\n"
+        "1000ms expect D9354:d=2700\n1200ms expect D9354:d=3000 D9374:d=4000 M9340=0 M9342=0\n")

@@ -34,7 +34,7 @@ FAMILIES = {
     "mlctool.sim.fx.io_devices": "IO_DEVICE_ACTIONS",  # SEGD, PRUN (6-9, 6-10)
     "mlctool.sim.fx.keypad_display": "KEYPAD_DISPLAY_ACTIONS",  # TKY, HKY, SEGL, PR (6-9)
     "mlctool.sim.fx.serial_rs": "SERIAL_RS_ACTIONS",  # RS non-protocol send/receive (6-10)
-    "mlctool.sim.fx.positioning": "POSITIONING_ACTIONS",  # ZRN ... PLSV, DTBL, DABS, MPG, FNC 300-314 (8-3)
+    "mlctool.sim.fx.positioning": "POSITIONING_ACTIONS",  # ZRN ... LIA, FNC 300-316 (8-3)
 }
 
 # routines run before every scan (module, name)
