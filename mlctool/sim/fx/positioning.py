@@ -859,6 +859,9 @@ def dabs(m: Machine, s) -> None:
             memo.clear()
         return
     if not memo:
+        for ref in s.ops[:2]:  # S and D1 take 3 points each (the page)
+            if ref.addr(m) + 2 > m.target.devices[ref.kind].hi:
+                return op_error(m, s, f"{ref.text} takes 3 points, past the device range")
         memo.update(k=0, data=0, sum=0, check=0, done=False, m9029=False, ready=s.ops[0].bit(m, 2))
     if memo["done"]:
         return
