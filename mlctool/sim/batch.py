@@ -136,6 +136,20 @@ class _RungCodegen:
             return f"({x} & {self.invert(e)})" if op == "contact_rise" else f"({e} & {self.invert(x)})"
         return None
 
+    def coil(self, op: str, x: str, i: int, out: list[str]) -> None:
+        """OUT/SET/RST/PLS/PLF of bit `x` driven by the rung result."""
+        ind = self.indent
+        if op == "out":
+            out.append(f"{ind}{x} = a")
+        elif op == "set":
+            out.append(f"{ind}{x} = {x} | a")
+        elif op == "rst":
+            out.append(f"{ind}{x} = {x} & {self.invert('a')}")
+        else:
+            e = self._new("e")
+            out.append(f"{ind}{e} = {self.edge_memory(i)}; E[{i}] = a")
+            out.append(f"{ind}{x} = a & {self.invert(e)}" if op == "pls" else f"{ind}{x} = {e} & {self.invert('a')}")
+
     def _new(self, prefix: str) -> str:
         self.tmp += 1
         return f"{prefix}{self.tmp}"
@@ -242,16 +256,7 @@ class LaneProgram(_RungCodegen):
             name = self._name(s.ops[0])
             if name is None:
                 return None
-            if op == "out":
-                out.append(f"    {name} = a")
-            elif op == "set":
-                out.append(f"    {name} = {name} | a")
-            elif op == "rst":
-                out.append(f"    {name} = {name} & (a ^ ALL)")
-            else:
-                e = self._new("e")
-                out.append(f"    {e} = E[{i}]; E[{i}] = a")
-                out.append(f"    {name} = a & ({e} ^ ALL)" if op == "pls" else f"    {name} = {e} & (a ^ ALL)")
+            self.coil(op, name, i, out)
         else:
             return None
         return out
@@ -477,17 +482,7 @@ class WordLaneProgram(_RungCodegen):
             pass
         elif op in ("out", "set", "rst", "pls", "plf") and type(s.ops[0]) is BitRef \
                 and s.ops[0].kind in ("X", "Y", "M", "A"):
-            x = self.bit(s.ops[0])
-            if op == "out":
-                out.append(f"{x} = a")
-            elif op == "set":
-                out.append(f"{x} = {x} | a")
-            elif op == "rst":
-                out.append(f"{x} = {x} & ~a")
-            else:
-                e = self._new("e")
-                out.append(f"{e} = E.get({i}, F); E[{i}] = a")
-                out.append(f"{x} = a & ~{e}" if op == "pls" else f"{x} = {e} & ~a")
+            self.coil(op, self.bit(s.ops[0]), i, out)
         elif op in ("mov", "inc", "dec", "cml") or op in _W_ARITH:
             w = s.width
             mask = 65535 if w == 16 else 4294967295

@@ -58,16 +58,22 @@ def btow(m: Machine, s) -> None:
     write_block(m, dst, [b[k] | (b[k + 1] << 8) for k in range(0, n, 2)], 16)
 
 
+def _digits(m: Machine, s, nr) -> int:
+    """UNI/DIS n: 1-4 digits; 0 is not executed, anything else an operation error (0 too)."""
+    n = count(m, nr)
+    if n and not 1 <= n <= 4:
+        op_error(m, s, f"n = {n} is outside 0-4")
+        return 0
+    return n
+
+
 @base._on
 def uni(m: Machine, s) -> None:
     """UNI S D n: the low 4 bits of n words of S as the digits of D (S first = lowest), the
     missing digits 0 (FNC 143); n = 1-4, n = 0: not executed."""
     src, dst, nr = s.ops
-    n = count(m, nr)
-    if n == 0:
-        return
-    if not 1 <= n <= 4:
-        op_error(m, s, f"n = {n} is outside 0-4")
+    n = _digits(m, s, nr)
+    if not n:
         return
     digits = read_block(m, src, n, 16)
     dst.set(m, s16(sum((d & 0xF) << (4 * k) for k, d in enumerate(digits))))
@@ -77,11 +83,8 @@ def uni(m: Machine, s) -> None:
 def dis(m: Machine, s) -> None:
     """DIS S D n: the n lowest digits of S into D..D+n-1 (b4-b15 0) (FNC 144)."""
     src, dst, nr = s.ops
-    n = count(m, nr)
-    if n == 0:
-        return
-    if not 1 <= n <= 4:
-        op_error(m, s, f"n = {n} is outside 0-4")
+    n = _digits(m, s, nr)
+    if not n:
         return
     v = src.get(m) & 0xFFFF
     write_block(m, dst, [(v >> (4 * k)) & 0xF for k in range(n)], 16)
