@@ -45,15 +45,22 @@ def _count(m: Machine, s) -> int | None:
     return n
 
 
-@base._on
-def from_(m: Machine, s) -> None:
-    """FROM m1 m2 D n: n registers (pairs) from BFM#m2 of module m1 into D on (6-9 FNC 78)."""
+def _block(m: Machine, s) -> tuple[int, int, int, int] | None:
+    """(slot, first register, n, words per register) of a FROM/TO, or None after an
+    operation error."""
     n = _count(m, s)
     size = 2 if s.width == 32 else 1
     where = n and _where(m, s, n * size)
-    if not where:
+    return (*where, n, size) if where else None
+
+
+@base._on
+def from_(m: Machine, s) -> None:
+    """FROM m1 m2 D n: n registers (pairs) from BFM#m2 of module m1 into D on (6-9 FNC 78)."""
+    block = _block(m, s)
+    if not block:
         return
-    slot, first = where
+    slot, first, n, size = block
     words = [m.bfm.get((slot, first + k), 0) for k in range(n * size)]
     values = [words[k] | (words[k + 1] << 16) for k in range(0, len(words), 2)] if size == 2 else words
     write_block(m, s.ops[2], values, s.width)
@@ -62,12 +69,10 @@ def from_(m: Machine, s) -> None:
 @base._on
 def to(m: Machine, s) -> None:
     """TO m1 m2 S n: n registers (pairs) from S on into BFM#m2 of module m1 (6-9 FNC 79)."""
-    n = _count(m, s)
-    size = 2 if s.width == 32 else 1
-    where = n and _where(m, s, n * size)
-    if not where:
+    block = _block(m, s)
+    if not block:
         return
-    slot, first = where
+    slot, first, n, size = block
     for k, v in enumerate(read_block(m, s.ops[2], n, s.width)):
         for h in range(size):
             m.bfm[(slot, first + k * size + h)] = (v >> (16 * h)) & 0xFFFF
