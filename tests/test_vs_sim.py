@@ -278,11 +278,11 @@ def test_samples(name):
 def test_unsimulated_instruction_is_refused_up_front():
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "t.il")
-        # the inverter data read (FNC 90) needs a peer on the port (docs/vs.md "Not yet")
-        Path(path).write_text("LD X0\nDBRD K0 D0 K1\nEND\n", encoding="utf-8")
+        # the CPU link (FNC 87) needs a peer PLC on the port (docs/vs.md "Not yet")
+        Path(path).write_text("LD X0\nCPUL Q0 D0 K1\nEND\n", encoding="utf-8")
         image, _, _ = program_from_paths([path], VS)
     found = unsimulated(image)
-    assert [(d.code, d.span.line) for d in found] == [("E905", 2)] and "DBRD" in found[0].message
+    assert [(d.code, d.span.line) for d in found] == [("E905", 2)] and "CPUL" in found[0].message
 
 
 def test_coverage_table_matches_the_tests():

@@ -1,5 +1,6 @@
 """Vigor VS RS (6-10 FNC 80): non-protocol send on port CPn with the per-port flags M9100+
-and registers D9100+; nothing arrives without a device on the port."""
+and registers D9100+; m counts bytes in both data modes (the page's timing diagrams).
+Reception: tests/test_vs_sim_serial_receive.py."""
 
 from __future__ import annotations
 
@@ -18,9 +19,10 @@ SET M9100
 
 
 def test_send_request_clears_after_the_transmission_time():
-    # 16-bit mode: 10 words = 20 bytes at 19200 8N1 (10 bits a byte) take 10.42 ms; the
-    # request set after RS at 10 ms is seen by RS at 20 ms; at 30 ms 19 bytes are out: 1 word
-    run(PROGRAM, "0ms X20=1\n10ms X21=1\n"
+    # 16-bit mode: m = 10 bytes (D0-D4, two a word) at 9600 8N1 (10 bits a byte) take
+    # 10.42 ms; the request set after RS at 10 ms is seen by RS at 20 ms; at 30 ms 9 bytes
+    # are out: 1 left
+    run(PROGRAM, "port CP1 baud=9600\n0ms X20=1\n10ms X21=1\n"
                  "10ms expect M9100=1 D9102=0\n"
                  "20ms expect M9100=1 D9102=10\n"
                  "30ms expect M9100=1 D9102=1\n"
@@ -28,13 +30,13 @@ def test_send_request_clears_after_the_transmission_time():
 
 
 def test_eight_bit_mode_counts_bytes_and_nothing_is_received_without_a_peer():
-    # M9161 On: one byte a word, 10 bytes = 5.21 ms: done by the next scan
+    # M9161 On: one byte a word (D0-D9), 10 bytes at 19200 = 5.21 ms: done by the next scan
     run(PROGRAM.replace("LD M9002\n", "LD M9002\nSET M9161\n"),
         "0ms X20=1\n10ms X21=1\n20ms expect M9100=1 D9102=10\n"
         "30ms expect M9100=0 D9102=0\n500ms expect M9101=0 D9101=0 D100=0\n")
 
 
 def test_condition_off_abandons_the_send():
-    run(PROGRAM, "0ms X20=1\n10ms X21=1\n20ms expect D9102=10\n30ms X20=0\n"
+    run(PROGRAM, "port CP1 baud=9600\n0ms X20=1\n10ms X21=1\n20ms expect D9102=10\n30ms X20=0\n"
                  "30ms expect M9100=1 D9102=0\n50ms expect M9100=1 D9102=0\n"
                  "60ms X20=1\n60ms expect D9102=10\n80ms expect M9100=0 D9102=0\n")

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from mlctool.devices import MODELS, DeviceModel, ModelIO, ParamError
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image
+from mlctool.sim import seriallink
 from mlctool.sim.compile import scanner
 from mlctool.sim.decode import Program, program_devices
 from mlctool.sim.extension import extension
@@ -175,6 +176,12 @@ class Simulation:
         # interrupt routines (VS 2-12): served between scans, interleaved with the stimulus
         has_pointers = any(s.ins.spec.cls == "interrupt" for s in self.prog.steps)
         self.irq = self.m.interrupts = Interrupts(self.prog, target) if has_pointers else None
+        self.configure_ports()
+
+    def configure_ports(self) -> None:
+        """The stimulus's `port` lines: the PLC's port settings (again after a power cycle)."""
+        for spec in self.st.ports:
+            spec.apply(seriallink.port(self.m, spec.name))
 
     def writer_of(self, view: DeviceView) -> str:
         keys = ([(view.gdev, view.number + i) for i in range(4 * view.digits)] if view.view == "group"
@@ -192,6 +199,9 @@ class Simulation:
     def apply(self, e: Event) -> None:
         if e.kind == "power":
             self.m.power_cycle()
+            self.configure_ports()
+        elif e.kind == "receive":  # bytes to the PLC's port (sim/serial_stim.py)
+            seriallink.port(self.m, e.port).deliver(e.time_us, e.data)
         elif e.kind == "set":
             for view, value in e.assigns:
                 view.write(self.m, value)

@@ -90,6 +90,12 @@ class Port:
     devices: dict[int, LineSettings] = field(default_factory=dict)  # device id -> its settings
     exchanges: list[Exchange] = field(default_factory=list)  # the line's log, in order
     master: object = None  # the MBUS state using the port (sim/fx_mbus.py)
+    # Non Protocol settings of the PLC's port (7-3-8; the stimulus `port` line): RS start and
+    # end characters (None: none), the PLC's own station number (CPU link, 7-3-7)
+    start: int | None = None
+    end: int | None = None
+    station: int = 0
+    incoming: list[tuple[int, int]] = field(default_factory=list)  # (complete at us, byte) to the PLC
 
     def attach(self, device_id: int, settings: LineSettings, timeout_us: int | None) -> None:
         """Devices and master must agree on the line settings (manual 003 7-1); the port
@@ -100,6 +106,21 @@ class Port:
                 self.timeout_us = timeout_us
             self.configured = True
         self.devices[device_id] = settings
+
+    def configure(self, settings: LineSettings, timeout_us: int | None) -> None:
+        """The PLC's own port settings (the stimulus `port` line): devices must match them."""
+        self.settings, self.configured = settings, True
+        if timeout_us is not None:
+            self.timeout_us = timeout_us
+
+    def deliver(self, t_us: int, data: bytes) -> int:
+        """Bytes sent to the PLC from t_us on, one character time each (after what is still
+        arriving); returns when the last is complete."""
+        t = max(t_us, self.incoming[-1][0] if self.incoming else t_us)
+        for b in data:
+            t += self.settings.char_us(1)
+            self.incoming.append((t, b & (0xFF if self.settings.data_bits == 8 else 0x7F)))
+        return t
 
     def send(self, t_us: int, station: int, pdu: bytes) -> Exchange:
         frame = encode(self.settings, station, pdu)

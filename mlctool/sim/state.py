@@ -106,6 +106,9 @@ class Machine:
         # modules' own memory, so a power cycle of the PLC keeps it (as inputs X keep theirs)
         self.bfm: dict[tuple[int, int], int] = {}
         self.words.update(unit_word_arrays(d, self.bfm))  # U1G3 operands: the same registers
+        # memory card data bank (sim/fx/databank.py, VS DBRD/DBWR): address -> raw 16-bit word;
+        # flash memory that keeps its data without power (2-8), so a power cycle keeps it
+        self.databank: dict[int, int] = {}
         self.pin_window = None  # sim/pin_window.py PinWindow: pulse pins inside a window (kept over power)
         self.image = None  # the linked program (Image): data kept beside the code (.table rows)
         self.scans_done = 0  # scans completed since power-on (first-scan relays)  # 1 ms timers skipped by CJ: contact held until OUT runs
@@ -194,6 +197,8 @@ _KIND_ORDER = "XYMSATCDRVZK"
 BFM = "BFM"  # DeviceView kind of a special module's buffer register: number = slot x BFM_SLOT + register
 BFM_SLOT = 1 << 16
 _BFM_NAME = re.compile(r"BFM(?P<slot>[0-9]+)#(?P<reg>[0-9]+)(?::(?P<view>[A-Za-z]+))?")
+DATABANK = "DB"  # DeviceView kind of a memory card data bank word: number = address
+_DB_NAME = re.compile(r"DB#(?P<addr>[0-9]+)(?::(?P<view>[A-Za-z]+))?")
 
 
 class NameError_(ValueError):
@@ -216,6 +221,8 @@ class DeviceView:
         if self.kind == BFM:  # BFM2#5, BFM2#5:d
             slot, reg = divmod(self.number, BFM_SLOT)
             return f"BFM{slot}#{reg}" + ("" if self.view == "w" else f":{self.view}")
+        if self.kind == DATABANK:  # DB#100, DB#100:d
+            return f"DB#{self.number}" + ("" if self.view == "w" else f":{self.view}")
         num = device_number(self.number, self.radix)
         if self.view == "group":
             return f"K{self.digits}{self.gdev}{num}"
@@ -243,11 +250,11 @@ class DeviceView:
     # -- access
     def read(self, m: Machine) -> int | float:
         k, n, v = self.kind, self.number, self.view
-        if k == BFM:
-            slot, reg = divmod(n, BFM_SLOT)
-            raw = m.bfm.get((slot, reg), 0)
+        if k in (BFM, DATABANK):
+            memory, key = _memory(m, k, n)
+            raw = memory.get(key, 0)
             if v in ("d", "f"):
-                raw |= m.bfm.get((slot, reg + 1), 0) << 16
+                raw |= memory.get(_next(key), 0) << 16
                 return s32(raw) if v == "d" else bits_f32(raw)
             return raw if v == "h" else s16(raw)
         if v == "bit":
@@ -268,12 +275,12 @@ class DeviceView:
 
     def write(self, m: Machine, value: int | float) -> None:
         k, n, v = self.kind, self.number, self.view
-        if k == BFM:
-            slot, reg = divmod(n, BFM_SLOT)
+        if k in (BFM, DATABANK):
+            memory, key = _memory(m, k, n)
             raw = f32_bits(float(value)) if v == "f" else int(value) & 0xFFFFFFFF
-            m.bfm[(slot, reg)] = raw & 0xFFFF
+            memory[key] = raw & 0xFFFF
             if v in ("d", "f"):
-                m.bfm[(slot, reg + 1)] = raw >> 16
+                memory[_next(key)] = raw >> 16
             return
         if v == "bit":
             m.bits[k][n] = 1 if value else 0
@@ -290,6 +297,16 @@ class DeviceView:
         else:
             raw = f32_bits(float(value)) if v == "f" else int(value) & 0xFFFFFFFF
             _set_pair_raw(m, k, n, raw)
+
+
+def _memory(m: Machine, kind: str, n: int) -> tuple[dict, object]:
+    """The dict behind a buffer register ((slot, register) keys) or a data bank word."""
+    return (m.bfm, divmod(n, BFM_SLOT)) if kind == BFM else (m.databank, n)
+
+
+def _next(key):
+    """The key of the word after `key` (the high word of a :d / :f view)."""
+    return (key[0], key[1] + 1) if isinstance(key, tuple) else key + 1
 
 
 def _pair_raw(m: Machine, kind: str, n: int) -> int:
@@ -337,10 +354,31 @@ def _bfm_name(text: str, target: Target) -> DeviceView:
     return DeviceView(BFM, slot * BFM_SLOT + reg, view)
 
 
+def _bank_name(text: str, target: Target) -> DeviceView:
+    """`DB#100` (memory card data bank word 100), views :h, :d, :f (VS 6-11 DBRD/DBWR)."""
+    from mlctool.sim.fx.databank import size  # the bank's words on the target (0: none)
+    words = size(target)
+    if not words:
+        raise NameError_(f"{text!r}: target {target.name} has no memory card data bank")
+    m = _DB_NAME.fullmatch(text.strip().upper())
+    if not m:
+        raise NameError_(f"{text!r} is not a data bank word (e.g. DB#0, DB#100:d)")
+    addr, view = int(m["addr"]), (m["view"] or "w").lower()
+    if addr > words - 1:
+        raise NameError_(f"{text!r}: data bank addresses are #0-#{words - 1}")
+    if view in ("d", "f") and addr == words - 1:
+        raise NameError_(f"{text!r}: the pair needs #{words}, past the last address #{words - 1}")
+    if view not in ("w", "h", "d", "f"):
+        raise NameError_(f"{text!r}: data bank words take the views :h, :d, :f")
+    return DeviceView(DATABANK, addr, view)
+
+
 def parse_device_name(text: str, target: Target) -> DeviceView:
     """`D0:f` -> DeviceView. Raises NameError_ with a message for E602."""
     if text.strip().upper().startswith(BFM):
         return _bfm_name(text, target)
+    if text.strip().upper().startswith(DATABANK + "#"):
+        return _bank_name(text, target)
     m = _NAME.fullmatch(text.strip().upper())
     if not m:
         raise NameError_(f"{text!r} is not a device name (e.g. X0, T0:w, D0:d, K4M0)")

@@ -94,6 +94,8 @@ class Event:
     assigns: list[tuple[DeviceView, int | float]] = field(default_factory=list)
     checks: list[Check] = field(default_factory=list)
     alarm: str = ""
+    port: str = ""  # receive: the PLC's serial port (CP1...) and the bytes sent to it
+    data: bytes = b""
 
     def scan_index(self, period_us: int) -> int:
         """Events at time t act at the first scan that starts at or after t."""
@@ -117,6 +119,7 @@ class Stimulus:
     run_scans: int | None = None
     events: list[Event] = field(default_factory=list)
     models: list[ModelSpec] = field(default_factory=list)
+    ports: list = field(default_factory=list)  # serial_stim.PortSpec of `port CPn ...` lines
 
     def devices(self) -> set[DeviceView]:
         out: set[DeviceView] = set()
@@ -212,6 +215,14 @@ class _Parser:
         if head == "model":
             self.model(no, toks)
             return
+        if head == "port":
+            from mlctool.sim.serial_stim import parse_port
+
+            spec = parse_port(toks)
+            if any(p.name == spec.name for p in self.st.ports):
+                raise StimError(f"{spec.name}: one `port` line per port", 1)
+            self.st.ports.append(spec)
+            return
         when = toks[0][0]
         scan, time_us = None, None
         if when.startswith("#"):
@@ -258,6 +269,13 @@ class _Parser:
                 ev.checks = [self.check(t, col, off + 1 + k) for k, (t, col) in enumerate(toks[1:])]
         elif len(toks) > 1 and toks[1][0].lower() == "pulses":
             self.pulses(ev, toks, off)
+        elif len(toks) > 1 and toks[1][0].lower() == "receive":
+            from mlctool.sim.serial_stim import parse_receive
+
+            if ev.time_us is None:
+                raise StimError("bytes arrive at a time (e.g. 20ms), not at a scan number", 0)
+            ev.kind = "receive"
+            ev.port, ev.data = parse_receive(toks, off)
         elif word == "release":
             if len(toks) < 2:
                 raise StimError("release needs device names", off)
