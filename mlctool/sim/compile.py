@@ -74,6 +74,10 @@ _LITTLE = sys.byteorder == "little"  # the 'Q' views of the bit stores read byte
 # overflow gives the signed infinity f32_bits returns; NaN payloads are kept the same way).
 _FF = array.array("f", [0.0])
 _FI = memoryview(_FF).cast("B").cast("I")
+# The same buffer as two 16-bit halves (FH): a D pair goes in and comes out word by word,
+# without building the 32-bit pattern; _FL/_FHI: the halves holding the low and high word.
+_FH = memoryview(_FF).cast("B").cast("H")
+_FL, _FHI = (0, 1) if _LITTLE else (1, 0)
 
 
 def _fault(m: Machine, writers: dict | None, ref, extent: int, q: int = 0, pos: float = 0) -> None:
@@ -390,8 +394,14 @@ class _Gen:
         self.emit(f"{x} = {ref.num} + {iv}", i, depth)
         done = dict(self.pending)
         done.update(self.gpend)
-        self.emit(f"if {x} < 0 or {x} > {ref.hi - extent + 1}: FLT(m, {self.const(done)}, O{i}_{j}, {extent}, ws, {self.pos()})",
-                  i, depth)
+        # only the bounds the register's signed range can cross (V alone: 16 bits)
+        lo_ix, hi_ix = (-(1 << 31), (1 << 31) - 1) if wide else (-32768, 32767)
+        tests = [t for t, crossed in ((f"{x} < 0", ref.num + lo_ix < 0),
+                                      (f"{x} > {ref.hi - extent + 1}", ref.num + hi_ix > ref.hi - extent + 1))
+                 if crossed]
+        if tests:
+            self.emit(f"if {' or '.join(tests)}: FLT(m, {self.const(done)}, O{i}_{j}, {extent}, ws, {self.pos()})",
+                      i, depth)
         return x
 
     def ix_value(self, key: tuple, expr: str, i: int, depth: int) -> str:
@@ -928,14 +938,22 @@ class _Gen:
 
     def fvalue(self, ref, i: int, j: int) -> str | None:
         """An expression for the single-precision float `_float` computes from an operand,
-        or None: a constant as a literal, a D pair as its raw 32-bit pattern ("raw:..."),
-        to be turned into a float through the FI/FF buffer (struct-free, bit-identical)."""
+        or None: a constant as a literal; a plain D pair as "halves:" the statement putting
+        its two words in the FH view of the FF buffer; an index-modified pair as "raw:" its
+        32-bit pattern for the FI view (struct-free and bit-identical either way)."""
         if type(ref) is ConstRef and ref.ix is None:
             x = to_f32(ref.getf(None))
             return repr(x) if math.isfinite(x) else None
-        if _word(ref) and ref.kind == "D" and (ref.ix is not None or ref.num + 1 <= ref.hi):
-            return "raw:" + self.value(ref, i, j, 2, unsigned=True)
+        if _word(ref) and ref.kind == "D" and ref.ix is None and ref.num + 1 <= ref.hi:
+            lo, hi = (self.known_word(("D", n)) for n in (ref.num, ref.num + 1))
+            return f"halves:FH[{_FL}] = {lo}; FH[{_FHI}] = {hi}"
+        if _word(ref) and ref.kind == "D" and ref.ix is not None:
+            return "raw:FI[0] = " + self.value(ref, i, j, 2, unsigned=True)
         return None
+
+    def known_word(self, key: tuple[str, int]) -> str:
+        """A word of the open group: the constant it was set to, or its read."""
+        return repr(self.known[key]) if key in self.known else f"{self.use('w' + key[0])}[{key[1]}]"
 
     def float_op(self, s: Step) -> None:
         """FADD/FSUB/FMUL (semantics._float): operands and result in single precision."""
@@ -950,16 +968,17 @@ class _Gen:
         self.cond(keys, i)
         x, y = self.fvalue(s.ops[0], i, 0), self.fvalue(s.ops[1], i, 1)
         sym = _FLOAT[s.ins.spec.op]
-        if x.startswith("raw:") and y.startswith("raw:"):
-            self.emit(f"FI[0] = {x[4:]}; f = FF[0]; FI[0] = {y[4:]}; FF[0] = f {sym} FF[0]", i, 2)
-        elif x.startswith("raw:"):
-            self.emit(f"FI[0] = {x[4:]}; FF[0] = FF[0] {sym} {y}", i, 2)
-        elif y.startswith("raw:"):
-            self.emit(f"FI[0] = {y[4:]}; FF[0] = {x} {sym} FF[0]", i, 2)
+        xload, yload = (v.split(":", 1)[1] if ":" in v else None for v in (x, y))
+        if xload and yload:
+            self.emit(f"{xload}; f = FF[0]; {yload}; FF[0] = f {sym} FF[0]", i, 2)
+        elif xload:
+            self.emit(f"{xload}; FF[0] = FF[0] {sym} {y}", i, 2)
+        elif yload:
+            self.emit(f"{yload}; FF[0] = {x} {sym} FF[0]", i, 2)
         else:
             self.emit(f"FF[0] = {x} {sym} {y}", i, 2)
         arr = self.use("wD")
-        self.emit(f"v = FI[0]; {arr}[{dst.num}] = v & 65535; {arr}[{dst.num + 1}] = v >> 16", i, 2)
+        self.emit(f"{arr}[{dst.num}] = FH[{_FL}]; {arr}[{dst.num + 1}] = FH[{_FHI}]", i, 2)
         self.learn(keys, None)
         self.gwrite(keys, i)
 
@@ -1057,7 +1076,7 @@ class Scanner:
 
     def _bind(self) -> None:
         code, prog = self.code, self.prog
-        g: dict = {"__builtins__": __builtins__, "T01": _T01, "FF": _FF, "FI": _FI, "LX": [0, 0],
+        g: dict = {"__builtins__": __builtins__, "T01": _T01, "FF": _FF, "FI": _FI, "FH": _FH, "LX": [0, 0],
                    "WD": DEFAULT_WATCHDOG,
                    "FLT": _fault, "JMP": _drop_loops, "NB": len(code.starts),
                    "BLK": {st: j for j, st in enumerate(code.starts)}, **code.consts}
