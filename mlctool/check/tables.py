@@ -4,7 +4,8 @@ Some targets keep tables beside the program (Vigor VS: MBUS/LINK tables named Q0
 name, built in the vendor editor and stored with the project, manual 1-3 and 6-13). Their
 row layout is data: target.toml `[tables.KIND]` lists the fields (name, operand kinds,
 optional `range`/`values`, `by`+`ranges` for a range chosen by another field, `block` for a
-device block as long as another field, `optional` for a trailing field) and `forbid` (a
+device block as long as another field, `optional` for a trailing field, `repeat` for a last
+field that takes one or more values, e.g. the words of a data table) and `forbid` (a
 field value not allowed with some values of another). Nothing here names a table kind.
 
 `parse_row` is shared by the checker (problems become diagnostics) and the simulator (which
@@ -24,6 +25,7 @@ class Row:
     kind: str  # "MBUS"
     table: int  # the Q number
     fields: dict[str, Operand]  # name -> operand (constants and devices as written)
+    repeats: tuple[Operand, ...] = ()  # every value of a `repeat` last field, in order
 
     def value(self, name: str) -> int:
         return int(self.fields[name].value)
@@ -53,24 +55,32 @@ def parse_row(target: Target, texts: list[str], symbols: dict[str, str]) -> tupl
     fields = spec["fields"]
     required = [f for f in fields if not f.get("optional")]
     values = texts[2:]
-    names = " ".join(f["name"] + ("?" if f.get("optional") else "") for f in fields)
-    if not len(required) <= len(values) <= len(fields):
+    names = " ".join(f["name"] + ("?" if f.get("optional") else "..." if f.get("repeat") else "")
+                     for f in fields)
+    repeat = bool(fields) and fields[-1].get("repeat", False)
+    if not len(required) <= len(values) <= (len(values) if repeat else len(fields)):
         return None, [Problem(-1, "E105", f".table {kind} takes {names} ({spec.get('section', '')}); "
                                         f"{len(values)} given")]
     problems: list[Problem] = []
     table = _pointer(target, spec, texts[0], symbols, problems)
     ops: dict[str, Operand] = {}
-    for k, (f, text) in enumerate(zip(fields, values, strict=False)):
+    specs = fields + [fields[-1]] * (len(values) - len(fields)) if repeat else fields
+    repeats: list[Operand] = []
+    for k, (f, text) in enumerate(zip(specs, values, strict=False)):
         op = _operand(target, f, text, symbols, k + 2, problems)
         if op is not None:
-            ops[f["name"]] = op
+            ops.setdefault(f["name"], op)
+            if f.get("repeat"):
+                repeats.append(op)
+                _limits(target, spec, f, {f["name"]: op}, k + 2, problems)
     if problems:
         return None, problems
     for k, f in enumerate(fields[:len(values)]):
-        _limits(target, spec, f, ops, k + 2, problems)
+        if not f.get("repeat"):
+            _limits(target, spec, f, ops, k + 2, problems)
     if problems:
         return None, problems
-    return Row(kind, table, ops), []
+    return Row(kind, table, ops, tuple(repeats)), []
 
 
 def _pointer(target: Target, spec: dict, text: str, symbols: dict[str, str], problems: list) -> int:

@@ -30,6 +30,7 @@ FAMILIES = {
     "mlctool.sim.fx.interrupts": "INTERRUPT_ACTIONS",  # IRET/EI/DI, pointers (2-12)
     "mlctool.sim.fx.bfm": "BFM_ACTIONS",  # FROM/TO on a simulated buffer memory (6-9)
     "mlctool.sim.fx.databank": "DATABANK_ACTIONS",  # DBRD/DBWR memory card data bank (6-11)
+    "mlctool.sim.fx.datatable": "DATA_TABLE_ACTIONS",  # DTRD data tables (6-11)
     "mlctool.sim.fx.pulse_out": "PULSE_OUTPUT_ACTIONS",  # PLSY, PWM, PLSR (6-7)
     "mlctool.sim.fx.scan_io": "SCAN_IO_ACTIONS",  # MTR, DSW (6-7, 6-9)
     "mlctool.sim.fx.io_devices": "IO_DEVICE_ACTIONS",  # SEGD, PRUN (6-9, 6-10)
