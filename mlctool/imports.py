@@ -9,6 +9,8 @@ The shapes read (docs/vs.md "Imports"):
   (`X000`).
 - GX Developer CSV: the same rows, comma-separated (UTF-8/ASCII or Shift-JIS).
 - WPLSoft CSV: `000000,LD,X0` rows (6-digit step number, mnemonic, operands).
+- Labels stand alone in the instruction cell (`P10`); on a target with named labels a name
+  there that is no instruction (`SKIP_FILL`, `緊急停止`, with or without a colon) is one too.
 - Plain IL: taken as it is.
 Step numbers are the exporting tool's own and are dropped (the target's step convention
 computes the addresses); operands are rewritten as the target writes them (`X000` -> `X0`);
@@ -91,7 +93,20 @@ class _Writer:
 
     def label(self, text: str) -> None:
         self.flush()
-        self.lines.append(f"{text.upper()}:")
+        self.lines.append(f"{text.rstrip(':：').upper()}:")
+
+    def is_label(self, text: str) -> bool:
+        """A label written alone in the instruction cell: P10 / I001, or on a target with named
+        labels a name (`SKIP_FILL`, `緊急停止`, either with a colon) that is no instruction."""
+        if _LABEL.fullmatch(text):
+            return True
+        name = text.rstrip(":：")
+        m = name.upper()
+        if not name or m in self.t.instructions or m in self.t.variants or m in self.t.unavailable:
+            return False
+        from mlctool.check.labels import is_label_name
+
+        return bool(self.t.settings.get("named_labels")) and is_label_name(name, self.t)
 
     def instruction(self, mnemonic: str, operands: list[str], row: int, note: str = "") -> None:
         self.flush()
@@ -145,7 +160,7 @@ def _gx(w: _Writer, text: str, delimiter: str) -> None:
         if statement:
             w.comment(statement)
         if instr:
-            if _LABEL.fullmatch(instr) and not device:
+            if not device and w.is_label(instr):
                 w.label(instr)
             else:
                 w.instruction(instr, device.split(), k, note)
@@ -177,7 +192,7 @@ def _wplsoft(w: _Writer, text: str) -> None:
             continue
         first = rest[0].split()
         words = first + rest[1:]
-        if _LABEL.fullmatch(words[0]) and len(words) == 1:
+        if len(words) == 1 and w.is_label(words[0]):
             w.label(words[0])
         else:
             w.instruction(words[0], words[1:], k)

@@ -9,6 +9,7 @@ import sys
 from mlctool import __version__
 from mlctool.codes import CODES
 from mlctool.diagnostics import Diagnostic
+from mlctool.syntax.source import display_width
 
 _STYLE = {"error": "bold red", "warning": "bold yellow", "note": "bold cyan"}
 
@@ -39,9 +40,12 @@ def render_text(diags: list[Diagnostic], lines: dict[str, list[str]], stream=Non
             text = src[d.span.line - 1].replace("\t", " ")
             if len(text) > 200:
                 text = text[:200] + " ..."
-            width = max(1, min(d.span.end_col, len(text) + 1) - d.span.col) if d.span.end_line == d.span.line else 1
+            end = min(d.span.end_col, len(text) + 1) if d.span.end_line == d.span.line else d.span.col + 1
+            # columns count characters; the carets go by display width (Chinese names take two)
+            lead = display_width(text[:d.span.col - 1])
+            width = max(1, display_width(text[d.span.col - 1:end - 1]))
             console.print(f"  {d.span.line:>5} | {escape(text)}")
-            console.print(f"        | {' ' * (d.span.col - 1)}[{style}]{'^' * width}[/{style}]")
+            console.print(f"        | {' ' * lead}[{style}]{'^' * width}[/{style}]")
         for n in d.notes:
             console.print(f"        = note: {escape(n)}")
 

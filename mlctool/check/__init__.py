@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 from mlctool.check.blocks import check_blocks
 from mlctool.check.interrupts import check_interrupts
-from mlctool.check.labels import assign_named_labels
+from mlctool.check.labels import assign_named_labels, restrict_names
 from mlctool.check.lint import cross_module_coils, lint_module, referenced_labels, set_without_reset
 from mlctool.check.resolve import resolve
 from mlctool.check.structure import check_layout, check_rungs
@@ -50,7 +50,7 @@ def check_texts(sources: list[SourceText], target: Target, config: Config | None
     noqa: dict[str, dict] = {}
     symbols, found = project_symbols(config)
     diags += found
-    parsed_files = [parse(src) for src in sources]
+    parsed_files = [restrict_names(parse(src), target) for src in sources]
     names, found = assign_named_labels(parsed_files, target)
     diags += found
     for parsed in parsed_files:

@@ -9,16 +9,17 @@ import re
 from dataclasses import dataclass
 
 from mlctool.check.interrupts import pointer_named, pointer_numbered
-from mlctool.check.labels import is_label_name
+from mlctool.check.labels import cjk_width, is_label_name, is_symbol_name
 from mlctool.check.tables import parse_row, table_kinds
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module
 from mlctool.syntax.operands import (
+    CJK_CHAR,
     DEFAULT_SYNTAX,
-    SYMBOL,
     Operand,
     OperandSyntax,
     OperandSyntaxError,
+    name_width,
     parse_operand,
 )
 from mlctool.syntax.parser import ParsedFile, Statement, Word
@@ -72,8 +73,12 @@ class _Resolver:
         ops = st.operands
         if name == ".define" and len(ops) == 2:
             sym, val = ops
-            if not SYMBOL.fullmatch(sym.text) or self._is_operand(sym.text, self.syntax):
+            if not is_symbol_name(sym.text, self.t) or self._is_operand(sym.text, self.syntax):
                 self.err(st.line, sym, "E106", f"{sym.text!r} cannot be a symbol name: it reads as an operand")
+            elif (wide := self.wide_name_over(sym.text)) is not None:
+                self.err(st.line, sym, "E106", f"symbol name {sym.text!r} is {wide} long: a name with Chinese "
+                         f"characters has at most {self.t.settings['named_labels'].get('max_length', 16)} "
+                         f"(a character counts {cjk_width(self.t)})")
             elif sym.text.upper() in self.module.symbols:
                 self.err(st.line, sym, "E106", f"symbol {sym.text!r} is already defined")
             elif not self._is_operand(val.text, self.syntax):
@@ -97,6 +102,16 @@ class _Resolver:
         else:
             self.err(st.line, st.name, "E105", f"unknown or malformed directive {st.name.text!r}",
                      "directives: .define NAME OPERAND, .export P10, .library")
+
+    def wide_name_over(self, text: str) -> int | None:
+        """The counted length of a `.define` name with Chinese characters past the target's name
+        limit (the manual's table names, 2-11: 8 Chinese characters or 16 letters); None if it fits.
+        DECISION: plain ASCII symbol names keep having no limit (mlctool's own directive)."""
+        wide = cjk_width(self.t)
+        if not wide or not CJK_CHAR.search(text):
+            return None
+        size = name_width(text, wide)
+        return size if size > int(self.t.settings["named_labels"].get("max_length", 16)) else None
 
     @staticmethod
     def _is_operand(text: str, syntax: OperandSyntax = DEFAULT_SYNTAX) -> bool:
@@ -200,7 +215,7 @@ class _Resolver:
                     continue
                 # a specific message (octal X8, hex H on NC5, ...) beats "undefined symbol"
                 generic = str(e).endswith("is not a device, constant or pointer")
-                if SYMBOL.fullmatch(a.text) and len(a.text) > 1 and generic:
+                if is_symbol_name(a.text, self.t) and len(a.text) > 1 and generic:
                     self.report(a, "E215", f"undefined symbol {a.text!r}")
                 else:
                     self.report(a, "E203", str(e))

@@ -58,9 +58,9 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, fi
     errors = sum(d.severity == "error" for d in diags)
     warnings = sum(d.severity == "warning" for d in diags)
     if fmt == "json":
-        sys.stdout.write(to_json(diags))
+        _write_utf8(to_json(diags))
     elif fmt == "sarif":
-        sys.stdout.write(to_sarif(diags))
+        _write_utf8(to_sarif(diags))
     else:
         show(diags, lines)
         if diags:
@@ -89,3 +89,14 @@ def targets_cmd():
     for name in available_targets():
         t = load_target(name)
         click.echo(f"{t.name:6} {t.title:22} manual: {t.manual} ({t.settings.get('manual_title', '')})")
+
+
+def _write_utf8(text: str) -> None:
+    """JSON and SARIF are UTF-8 whatever the locale's encoding (names may be Chinese, VS 2-10)."""
+    buf = getattr(sys.stdout, "buffer", None)
+    if buf is None:  # an in-memory text stream
+        sys.stdout.write(text)
+        return
+    sys.stdout.flush()
+    buf.write(text.encode("utf-8"))
+    buf.flush()

@@ -3,7 +3,8 @@
 - mnemonics upper-case, padded so operands start in one column; operands separated by one
   blank; device names and constants upper-case (symbols keep their spelling);
 - labels (`P10`, `P10:`) and directives at column 1, as written otherwise;
-- comments kept: whole-line comments as they are, trailing comments aligned;
+- comments kept: whole-line comments as they are, trailing comments aligned (by display
+  width: a Chinese label name takes two columns a character, so comments line up on screen);
 - one blank line before each rung (a load after an output, a label or a free-standing
   instruction), moved above the rung's leading comment lines; runs of blank lines folded;
 - step numbers dropped, kept, or renumbered with the computed addresses.
@@ -19,7 +20,7 @@ from dataclasses import dataclass
 from mlctool.diagnostics import Diagnostic
 from mlctool.syntax.operands import OperandSyntaxError, parse_operand
 from mlctool.syntax.parser import Statement, parse
-from mlctool.syntax.source import SourceText
+from mlctool.syntax.source import SourceText, display_width, pad
 from mlctool.targets import Target
 
 MNEMONIC_WIDTH = 8
@@ -54,7 +55,7 @@ def _statement_text(st: Statement, step: str | None) -> str:
     name = st.name.text.upper()
     if not st.operands:
         return head + name
-    return head + f"{name:<{MNEMONIC_WIDTH - 1}} " + " ".join(_operand(w.text) for w in st.operands)
+    return head + pad(name, MNEMONIC_WIDTH - 1) + " " + " ".join(_operand(w.text) for w in st.operands)
 
 
 def _starts_rung(cls: str | None, prev_cls: str | None) -> bool:
@@ -75,7 +76,9 @@ def _class_of(st: Statement, target: Target) -> str | None:
 def format_source(src: SourceText, target: Target, options: FormatOptions = FormatOptions()
                   ) -> tuple[str | None, list[Diagnostic]]:
     """Formatted text, or None with the syntax errors when the file cannot be formatted safely."""
-    parsed = parse(src)
+    from mlctool.check.labels import restrict_names
+
+    parsed = restrict_names(parse(src), target)  # Chinese names only where the target has them
     if parsed.diagnostics:
         return None, parsed.diagnostics
     addresses: dict[int, int] = {}
@@ -111,7 +114,8 @@ def format_source(src: SourceText, target: Target, options: FormatOptions = Form
             step = f"{addresses[number]:05d}"
         text = _statement_text(st, step)
         if comment:
-            text = f"{text:<{COMMENT_COLUMN - 1}} {comment}" if len(text) < COMMENT_COLUMN - 1 else f"{text} {comment}"
+            text = f"{pad(text, COMMENT_COLUMN - 1)} {comment}" if display_width(text) < COMMENT_COLUMN - 1 \
+                else f"{text} {comment}"
         out.append(text)
         if cls is not None:
             prev_cls = cls

@@ -212,3 +212,17 @@ def format_operand(op: Operand) -> str:
 
 
 SYMBOL = re.compile(r"[A-Za-z_][A-Za-z0-9_.]*")
+
+# Han ideographs of the BMP (CJK Unified Ideographs, Extension A, Compatibility Ideographs):
+# the Chinese characters VS names may hold (2-10 "8個中文字或16個英文數字"). The same ranges
+# stand in grammars/il.lark's MNEMONIC and OPERAND (tests/test_cjk_names.py compares them).
+# Only targets whose target.toml `named_labels` has `cjk_width` accept them (check/labels.py).
+CJK_RANGES = r"\u3400-\u4DBF\u4E00-\u9FFF\uF900-\uFAFF"
+CJK_CHAR = re.compile(f"[{CJK_RANGES}]")
+WIDE_SYMBOL = re.compile(f"[A-Za-z_{CJK_RANGES}][A-Za-z0-9_.{CJK_RANGES}]*")
+
+
+def name_width(text: str, cjk_width: int) -> int:
+    """Length of a name by the manual's count: a Han ideograph counts `cjk_width` (VS: 2, so
+    16 units are 16 letters/digits, 8 ideographs, or a mix like 變頻器1通訊 = 11)."""
+    return len(text) + (cjk_width - 1) * len(CJK_CHAR.findall(text))

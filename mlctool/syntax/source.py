@@ -56,3 +56,20 @@ def read_source(path: str) -> tuple[SourceText | None, list[Diagnostic]]:
     except OSError as e:
         return None, [diag(path, Span.at(1), "E100", f"cannot read: {e.strerror or e}")]
     return decode(path, data)
+
+
+def display_width(text: str) -> int:
+    """Columns `text` takes in a terminal or editor: East Asian wide and fullwidth characters
+    (Chinese label names, the ideographic space) take two, combining marks none. For aligning
+    text (`mlc fmt`, the carets under a diagnostic); diagnostic columns count characters."""
+    import unicodedata
+
+    if text.isascii():
+        return len(text)
+    return sum(0 if unicodedata.combining(c) else 2 if unicodedata.east_asian_width(c) in "WF" else 1
+               for c in text)
+
+
+def pad(text: str, width: int) -> str:
+    """`text` filled with blanks to `width` display columns (as f"{text:<width}" for ASCII)."""
+    return text + " " * max(0, width - display_width(text))
