@@ -59,8 +59,6 @@ _FLOAT = {"fadd": "+", "fsub": "-", "fmul": "*"}
 _ARITH = {"add": "+", "sub": "-", "wand": "&", "wor": "|", "wxor": "^"}
 
 
-# what run_scan does before the first step, where the target defines it (system relays)
-_before_scan = getattr(_scan, "system_relays", None)
 
 
 _T01 = bytes.maketrans(b"\x00\x01", b"01")  # device bits -> binary digits (Kn groups)
@@ -1070,6 +1068,7 @@ class Scanner:
         self._zero_t = bytes(len(m.t_seen))
         self._checked = False
         self._stale = None
+        self._before = _scan.before_scan_routine(m.target)  # what run_scan does before step 0
         if self.code is not None:
             self._runs = [s.run for s in prog.steps]
             self._bind()
@@ -1147,8 +1146,8 @@ class Scanner:
         m.stack.clear()
         m.calls = []
         m.fors = []
-        if _before_scan is not None:
-            _before_scan(m)
+        if self._before is not None:
+            self._before(m)
         fns = self.fns
         bsteps = self.bsteps
         g = self.g

@@ -6,6 +6,8 @@ clock. Fatal faults carry the step index so the caller can name the address and 
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from mlctool.program import Image
 from mlctool.sim.decode import Program, Step, decode
 from mlctool.sim.semantics import advance_timer, alarm
@@ -118,27 +120,47 @@ def run_scan(prog: Program, m: Machine, watchdog: int = DEFAULT_WATCHDOG) -> Non
 
 
 def system_relays(m: Machine) -> None:
-    """Special relays the system drives before each scan (target.toml [system_relays]):
-    always On/Off, On/Off in the first scan only, clocks with a period in ms (half On); then
-    the FX-family hooks (the virtual calendar's registers)."""
-    for hook in BEFORE_SCAN:
-        hook(m)
-    table = m.target.settings.get("system_relays")
-    if not table:
-        return
-    bits = m.bits["M"]
-    first = m.scans_done == 0
-    for n in table.get("always_on", ()):
-        bits[n] = 1
-    for n in table.get("always_off", ()):
-        bits[n] = 0
-    for n in table.get("first_scan_on", ()):
-        bits[n] = 1 if first else 0
-    for n in table.get("first_scan_off", ()):
-        bits[n] = 0 if first else 1
-    for n, period_ms in table.get("clocks", {}).items():
-        period = int(period_ms) * 1000
-        bits[int(n)] = 1 if m.now_us % period < period // 2 else 0
+    """Special relays the system drives before each scan, and the FX-family hooks (see
+    before_scan_routine)."""
+    routine = before_scan_routine(m.target)
+    if routine is not None:
+        routine(m)
+
+
+_BEFORE_SCAN: dict[int, tuple] = {}  # id(target) -> (target, its routine or None)
+
+
+def before_scan_routine(target) -> Callable[[Machine], None] | None:
+    """What the system does before each scan on this target, worked out once (None: nothing):
+    the FX-family hooks whose settings the target has (the virtual calendar's registers,
+    high-speed counters), then the special relays of target.toml [system_relays]: always
+    On/Off, On/Off in the first scan only, clocks with a period in ms (half On)."""
+    known = _BEFORE_SCAN.get(id(target))
+    if known is not None and known[0] is target:
+        return known[1]
+    hooks = tuple(hook for hook, needs in BEFORE_SCAN if any(k in target.settings for k in needs))
+    table = target.settings.get("system_relays") or {}
+    on, off = tuple(table.get("always_on", ())), tuple(table.get("always_off", ()))
+    first_on, first_off = tuple(table.get("first_scan_on", ())), tuple(table.get("first_scan_off", ()))
+    clocks = tuple((int(n), int(ms) * 1000) for n, ms in table.get("clocks", {}).items())
+
+    def routine(m: Machine) -> None:
+        for hook in hooks:
+            hook(m)
+        bits = m.bits["M"]
+        first = m.scans_done == 0
+        for n in on:
+            bits[n] = 1
+        for n in off:
+            bits[n] = 0
+        for n in first_on:
+            bits[n] = 1 if first else 0
+        for n in first_off:
+            bits[n] = 0 if first else 1
+        for n, period in clocks:
+            bits[n] = 1 if m.now_us % period < period // 2 else 0
+    known = _BEFORE_SCAN[id(target)] = (target, routine if hooks or table else None)
+    return known[1]
 
 
 def run_steps(prog: Program, m: Machine, pc: int, executed: int, watchdog: int) -> None:
@@ -170,9 +192,10 @@ def run_steps(prog: Program, m: Machine, pc: int, executed: int, watchdog: int) 
 
 def end_of_scan(m: Machine) -> None:
     # counter contacts act at the end of the scan (1.7 table)
-    for n in sorted(m.c_pending):
-        m.bits["C"][n] = 1
-    m.c_pending.clear()
+    if m.c_pending:
+        for n in sorted(m.c_pending):
+            m.bits["C"][n] = 1
+        m.c_pending.clear()
     # running timers whose TMR was not executed (CJ-skipped, subroutine not called): by the
     # target's `skipped` rule of their base; default (NC5) they keep timing and turn On at
     # the preset (4.1 API-00 item 3, example 2). VS (6-2 CJ): 10/100 ms timers pause, 1 ms
@@ -190,9 +213,10 @@ def end_of_scan(m: Machine) -> None:
             else:
                 advance_timer(m, n, m.t_preset[n])
     # step ladder: steps that transferred go Off now (4-1-3); the rail is whole again
-    for n in m.stl_leaving:
-        m.bits["S"][n] = 0
-    m.stl_leaving.clear()
+    if m.stl_leaving:
+        for n in m.stl_leaving:
+            m.bits["S"][n] = 0
+        m.stl_leaving.clear()
     m.scans_done += 1
     m.stl_step = None
     m.bus = True

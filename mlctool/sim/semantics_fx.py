@@ -228,6 +228,6 @@ FX_ACTIONS = {
 from mlctool.sim.fx import before_scan_hooks, family_actions  # noqa: E402
 
 FX_ACTIONS.update(family_actions())
-# Run by scan.system_relays before every scan; each does nothing on a target without its
-# settings (the calendar: target.toml `rtc`; high-speed counters: `high_speed_counters`).
+# Run by scan.system_relays before every scan on the targets that have the settings each
+# needs: (routine, target.toml settings of which one is enough).
 BEFORE_SCAN = before_scan_hooks()

@@ -39,11 +39,13 @@ FAMILIES = {
     "mlctool.sim.fx.positioning": "POSITIONING_ACTIONS",  # ZRN ... LIA, FNC 300-316 (8-3)
 }
 
-# routines run before every scan (module, name)
-BEFORE_SCAN = (("mlctool.sim.fx.clock", "refresh"), ("mlctool.sim.fx.hsc", "catch_up"))
+# routines run before every scan (module, name, the target.toml settings of which one is
+# enough for the routine to have something to do: other targets skip it)
+BEFORE_SCAN = (("mlctool.sim.fx.clock", "refresh", ("rtc",)),
+               ("mlctool.sim.fx.hsc", "catch_up", ("high_speed_counters", "hardware_counters")))
 # hardware that requests interrupts (IHC, IHHC) counts up to now before the interrupt queue of
 # the interval is built (fx/interrupts.py); counting again at the scan's start adds nothing
-INTERRUPT_SOURCES = (("mlctool.sim.fx.hsc", "catch_up"),)
+INTERRUPT_SOURCES = (("mlctool.sim.fx.hsc", "catch_up", ("high_speed_counters", "hardware_counters")),)
 
 
 def family_actions() -> dict:
@@ -58,4 +60,5 @@ def family_actions() -> dict:
 
 
 def before_scan_hooks(hooks: tuple = BEFORE_SCAN) -> tuple:
-    return tuple(getattr(importlib.import_module(m), name) for m, name in hooks)
+    """(routine, settings it needs) pairs."""
+    return tuple((getattr(importlib.import_module(m), name), needs) for m, name, needs in hooks)

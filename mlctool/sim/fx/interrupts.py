@@ -84,7 +84,7 @@ class Interrupts:
             before_scan_hooks,
         )
 
-        for count_up in before_scan_hooks(INTERRUPT_SOURCES):
+        for count_up, _ in before_scan_hooks(INTERRUPT_SOURCES):
             count_up(m)
         queue += [(Fraction(t), 1, self._next(), "request", n) for t, n in m.hsc.pop("irq", ())
                   if n in self.routines]
