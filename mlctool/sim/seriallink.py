@@ -96,6 +96,7 @@ class Port:
     end: int | None = None
     station: int = 0
     incoming: list[tuple[int, int]] = field(default_factory=list)  # (complete at us, byte) to the PLC
+    stations: dict[int, dict] = field(default_factory=dict)  # peer PLC station -> {device id: model}
 
     def attach(self, device_id: int, settings: LineSettings, timeout_us: int | None) -> None:
         """Devices and master must agree on the line settings (manual 003 7-1); the port

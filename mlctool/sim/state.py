@@ -109,6 +109,9 @@ class Machine:
         # memory card data bank (sim/fx/databank.py, VS DBRD/DBWR): address -> raw 16-bit word;
         # flash memory that keeps its data without power (2-8), so a power cycle keeps it
         self.databank: dict[int, int] = {}
+        # peer stations on the serial ports (sim/peers.py, VS LINK/CPUL): (port, station) ->
+        # (kind, number) -> raw value; other PLCs, so a power cycle of this one keeps them
+        self.peers: dict[tuple[int, int], dict[tuple[str, int], int]] = {}
         self.pin_window = None  # sim/pin_window.py PinWindow: pulse pins inside a window (kept over power)
         self.image = None  # the linked program (Image): data kept beside the code (.table rows)
         self.scans_done = 0  # scans completed since power-on (first-scan relays)  # 1 ms timers skipped by CJ: contact held until OUT runs
@@ -198,6 +201,7 @@ BFM = "BFM"  # DeviceView kind of a special module's buffer register: number = s
 BFM_SLOT = 1 << 16
 _BFM_NAME = re.compile(r"BFM(?P<slot>[0-9]+)#(?P<reg>[0-9]+)(?::(?P<view>[A-Za-z]+))?")
 DATABANK = "DB"  # DeviceView kind of a memory card data bank word: number = address
+PEER = "CP"  # DeviceView kinds "CP1#2.D": a register of peer station 2 on port CP1 (sim/peers.py)
 _DB_NAME = re.compile(r"DB#(?P<addr>[0-9]+)(?::(?P<view>[A-Za-z]+))?")
 
 
@@ -221,6 +225,9 @@ class DeviceView:
         if self.kind == BFM:  # BFM2#5, BFM2#5:d
             slot, reg = divmod(self.number, BFM_SLOT)
             return f"BFM{slot}#{reg}" + ("" if self.view == "w" else f":{self.view}")
+        if self.kind.startswith(PEER):  # CP1#2.D10, CP1#2.M5
+            return f"{self.kind}{device_number(self.number, self.radix)}" + \
+                ("" if self.view in ("w", "bit") else f":{self.view}")
         if self.kind == DATABANK:  # DB#100, DB#100:d
             return f"DB#{self.number}" + ("" if self.view == "w" else f":{self.view}")
         num = device_number(self.number, self.radix)
@@ -250,6 +257,9 @@ class DeviceView:
     # -- access
     def read(self, m: Machine) -> int | float:
         k, n, v = self.kind, self.number, self.view
+        if k.startswith(PEER):
+            from mlctool.sim.peers import read_view
+            return read_view(m, self)
         if k in (BFM, DATABANK):
             memory, key = _memory(m, k, n)
             raw = memory.get(key, 0)
@@ -275,6 +285,10 @@ class DeviceView:
 
     def write(self, m: Machine, value: int | float) -> None:
         k, n, v = self.kind, self.number, self.view
+        if k.startswith(PEER):
+            from mlctool.sim.peers import write_view
+            write_view(m, self, value)
+            return
         if k in (BFM, DATABANK):
             memory, key = _memory(m, k, n)
             raw = f32_bits(float(value)) if v == "f" else int(value) & 0xFFFFFFFF
@@ -379,6 +393,9 @@ def parse_device_name(text: str, target: Target) -> DeviceView:
         return _bfm_name(text, target)
     if text.strip().upper().startswith(DATABANK + "#"):
         return _bank_name(text, target)
+    if re.match(PEER + r"[0-9]+#", text.strip().upper()):
+        from mlctool.sim.peers import parse_name
+        return parse_name(text, target)
     m = _NAME.fullmatch(text.strip().upper())
     if not m:
         raise NameError_(f"{text!r} is not a device name (e.g. X0, T0:w, D0:d, K4M0)")

@@ -36,6 +36,7 @@ FAMILIES = {
     "mlctool.sim.fx.io_devices": "IO_DEVICE_ACTIONS",  # SEGD, PRUN (6-9, 6-10)
     "mlctool.sim.fx.keypad_display": "KEYPAD_DISPLAY_ACTIONS",  # TKY, HKY, SEGL, PR (6-9)
     "mlctool.sim.fx.serial_rs": "SERIAL_RS_ACTIONS",  # RS non-protocol send/receive (6-10)
+    "mlctool.sim.fx.plc_link": "PLC_LINK_ACTIONS",  # LINK, CPUL with peer PLCs (6-10)
     "mlctool.sim.fx.positioning": "POSITIONING_ACTIONS",  # ZRN ... LIA, FNC 300-316 (8-3)
 }
 
