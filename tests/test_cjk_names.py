@@ -154,6 +154,14 @@ def test_build_objdump_il_round_trip_is_byte_identical(tmp_path):
     assert (again / "a.mlo").read_bytes() == (tmp_path / "a.mlo").read_bytes()
     # the names as written, in UTF-8, are what the object keeps
     assert "緊急停止".encode() in (tmp_path / "a.mlo").read_bytes()
+    # objdump's columns line up by display width
+    text = run_mlc("objdump", "a.mlo", cwd=tmp_path).out.splitlines()
+    rows = [x for x in text if "t.il:" in x]
+    assert any("緊急停止" in x for x in rows)
+    assert len({display_width(x[:x.index("t.il:")]) for x in rows}) == 1
+    # and so does the terminal ladder: each wide character takes two cells
+    lad = run_mlc("ladder", "--target", "vs", "t.il", cwd=tmp_path)
+    assert lad.code == 0 and "緊急停止" in lad.out
 
 
 # ------------------------------------------------------------------ simulation, both engines

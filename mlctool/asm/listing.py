@@ -12,6 +12,7 @@ from mlctool.asm.encode import unit_instrs
 from mlctool.asm.objfile import ObjectFile
 from mlctool.program import Instr
 from mlctool.syntax.operands import format_operand
+from mlctool.syntax.source import pad
 
 
 def instr_text(ins: Instr) -> str:
@@ -47,7 +48,8 @@ def objdump_text(obj: ObjectFile) -> str:
     for k, ins in enumerate(obj.instrs):
         ops = " ".join(_shown(ins))
         mark = " (inserted by the linker)" if k in obj.inserted else ""
-        out.append(f"{ins.addr:0{w}d} {ins.steps:5d}  {ins.spec.mnemonic:8} {ops:28} {ins.file}:{ins.line}{mark}")
+        # by display width: a Chinese label name takes two columns a character
+        out.append(f"{ins.addr:0{w}d} {ins.steps:5d}  {ins.spec.mnemonic:8} {pad(ops, 28)} {ins.file}:{ins.line}{mark}")
     return "\n".join(out) + "\n"
 
 

@@ -12,6 +12,7 @@ from xml.sax.saxutils import escape
 
 from mlctool.ladder.document import RowView, RungView, Sheet, instr_text, operand_texts
 from mlctool.ladder.layout import Cell, Grid, Output
+from mlctool.syntax.source import display_width
 
 CW = 84  # contact column width
 RH = 64  # row height
@@ -78,7 +79,7 @@ def geometry(sheets: list[Sheet]) -> Geometry:
             text_chars = max([text_chars] + [min(MAX_COMMENT, len(c)) for c in it.comment])
             outs = it.grid.outputs if isinstance(it, RungView) else [it.row]
             for o in outs:
-                out_chars = max(out_chars, len(instr_text(o.ins)) + 2)
+                out_chars = max(out_chars, display_width(instr_text(o.ins)) + 2)  # CJK names: 2 each
                 note_chars = max(note_chars, min(MAX_NOTE, len(sh.notes.get(o.index, ""))))
     return Geometry(cols, max(64, _px(out_chars) + 16), _px(note_chars) + 8 if note_chars else 0,
                     LM + _px(text_chars))

@@ -12,6 +12,7 @@ from rich.text import Text
 
 from mlctool.ladder.document import RowView, RungView, Sheet, instr_text, operand_texts
 from mlctool.ladder.layout import Cell, Output
+from mlctool.syntax.source import display_width
 
 TW = 11  # characters per contact column
 LMT = 7  # characters left of the rail (step addresses, labels)
@@ -41,13 +42,17 @@ class Canvas:
             self.mask[y + 1][x] |= U
 
     def put(self, x: int, y: int, s: str, style: str = "") -> None:
-        for k, ch in enumerate(s):
-            if 0 <= x + k < self.width:
-                self.chars[(x + k, y)] = (ch, style)
+        k = 0
+        for ch in s:
+            wide = display_width(ch) == 2  # a Chinese label name: the next cell is its right half
+            for cell, c in ((x + k, ch), (x + k + 1, "")) if wide else ((x + k, ch),):
+                if 0 <= cell < self.width:
+                    self.chars[(cell, y)] = (c, style)
+            k += 2 if wide else 1
 
     def center(self, x0: int, x1: int, y: int, s: str, style: str = "") -> None:
         s = s[:max(1, x1 - x0 - 1)]
-        self.put(x0 + (x1 - x0 - len(s) + 1) // 2, y, s, style)
+        self.put(x0 + (x1 - x0 - display_width(s) + 1) // 2, y, s, style)
 
     def text(self) -> Text:
         out = Text()
