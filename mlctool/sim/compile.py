@@ -1068,6 +1068,7 @@ class Scanner:
         self._zero_t = bytes(len(m.t_seen))
         self._checked = False
         self._stale = None
+        self._layout = m.layout
         self._before = _scan.before_scan_routine(m.target)  # what run_scan does before step 0
         if self.code is not None:
             self._runs = [s.run for s in prog.steps]
@@ -1107,6 +1108,7 @@ class Scanner:
         if not isinstance(w, Writers) or w.groups is not self.code.groups:
             w = m.writer = Writers(w, self.code.groups, self.code.dyn)
         g["W"], g["G_R"], g["SP"], g["AT"] = w, w.marks, w.spill, w.at
+        self._writer = w
         for n, d in enumerate(w.dyn):
             g[f"DY{n}"] = d
         if self._stale is None:
@@ -1139,8 +1141,10 @@ class Scanner:
                 return
         m = self.m
         m.t_seen[:] = self._zero_t
-        if self._stale(m):
-            self._rebind()
+        if m.layout != self._layout or m.writer is not self._writer:  # power cycle, another Scanner
+            self._layout = m.layout
+            if self._stale(m):
+                self._rebind()
         m.acc = False
         m.blocks.clear()
         m.stack.clear()

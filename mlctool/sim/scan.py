@@ -108,7 +108,7 @@ def load_program(image: Image, target, probe=None) -> Program:
 
 def run_scan(prog: Program, m: Machine, watchdog: int = DEFAULT_WATCHDOG) -> None:
     """Execute one scan starting at virtual time m.now_us. Raises Fault on fatal faults."""
-    m.t_seen = bytearray(len(m.t_seen))
+    m.t_seen[:] = bytes(len(m.t_seen))  # in place: only power_cycle replaces containers
     m.acc = False
     m.blocks.clear()
     m.stack.clear()

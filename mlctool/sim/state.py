@@ -68,6 +68,7 @@ class Machine:
         self.cval = [0] * (d["C"].hi + 1)  # C0-C63 unsigned 16-bit, C64-C79 signed 32-bit
         self.c32_lo, _ = target.settings["counters32"]
         self.n_instrs = n_instrs
+        self.layout = 0  # bumped when power_cycle replaces device containers (compiled code holds them)
         # timer bookkeeping (1.6): running flag, virtual time (us) of the last update, remainder
         nt = len(self.words["T"])
         self.t_running = bytearray(nt)
@@ -184,6 +185,7 @@ class Machine:
         if self.interrupts is not None:  # enabled, nothing pending
             self.interrupts.reset()
         self.scans_done = 0
+        self.layout += 1
         n = len(self.t_running)
         self.t_running = bytearray(n)
         self.t_frac = [0] * n
