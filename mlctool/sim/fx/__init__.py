@@ -37,7 +37,8 @@ FAMILIES = {
     "mlctool.sim.fx.keypad_display": "KEYPAD_DISPLAY_ACTIONS",  # TKY, HKY, SEGL, PR (6-9)
     "mlctool.sim.fx.serial_rs": "SERIAL_RS_ACTIONS",  # RS non-protocol send/receive (6-10)
     "mlctool.sim.fx.plc_link": "PLC_LINK_ACTIONS",  # LINK, CPUL with peer PLCs (6-10)
-    "mlctool.sim.fx.positioning": "POSITIONING_ACTIONS",  # ZRN ... LIA, FNC 300-316 (8-3)
+    "mlctool.sim.fx.positioning": "POSITIONING_ACTIONS",  # JOGF ... LIA, FNC 301-316 (8-3)
+    "mlctool.sim.fx.homing": "HOMING_ACTIONS",  # ZRN, FNC 300, home modes, DOG search (8-1-2)
 }
 
 # routines run before every scan (module, name, the target.toml settings of which one is

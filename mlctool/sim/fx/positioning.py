@@ -1,4 +1,4 @@
-"""Positioning on the pulse axes Y0-Y3 (8-3 FNC 300 ZRN, 301/302 JOGF/R, 303/304 DRVR/A,
+"""Positioning on the pulse axes Y0-Y3 (8-3 FNC 301/302 JOGF/R, 303/304 DRVR/A,
 305/306 DV2R/A, 307 DVIT, 308 DV2I, 309/310 DVSR/A, 311 PLSV, 312 DTBL, 313 DABS, 314 MPG, 315/316 LIR/A), on virtual time: each instruction plans one speed
 profile (mlctool/sim/motion.py, solved analytically) from the axis parameters and replans it when the page lets a value
 change; every execution reads the profile at the scan's time and writes the axis registers,
@@ -9,7 +9,8 @@ Axis k (Y0 ... Y3) shares the relays and registers of the pulse outputs (target.
 relays; D9351:D9350+20k speed) plus target.toml `[positioning]`: the parameter registers
 (max speed, bias, accel/decel ms, origin, override, current position D9355:D9354) and the
 parts of the editor's positioning parameter form the program cannot see (home mode, DOG,
-interrupt and CLR signals, home and rotation direction).
+interrupt and CLR signals, limit switches LSF/LSR, home and rotation direction). ZRN (FNC
+300) and its DOG search are in fx/homing.py, on the moves and limits of this module.
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ from mlctool.sim.fx.pulse_out import (
     _set,
     _set_pair,
 )
-from mlctool.sim.state import Machine, SimFault, s16, s32
+from mlctool.sim.state import Machine, s16, s32
 
 MICRO = 1_000_000
 
@@ -116,6 +117,33 @@ def _now(m: Machine, memo: dict) -> float:
     return (m.now_us - memo["t0"]) / MICRO
 
 
+def limit_pin(m: Machine, axis: int, direction: int) -> tuple[str, int] | None:
+    """The travel-limit switch a move toward `direction` (+1: increasing position) runs into
+    (8-1-2): LSF limits the motor's forward rotation, LSR its reverse; which way the position
+    counts for "forward" is the form's rotation direction. None: not in the form."""
+    forward = direction > 0
+    if _cfg(m).get("reverse_rotation", False):
+        forward = not forward
+    return _pin(m, "lsf" if forward else "lsr", axis)
+
+
+def _at_limit(m: Machine, memo: dict, axis: int) -> bool:
+    """The limit switch ahead is On (any X or M: its level, 8-1-2 "Level"); a ZRN searching
+    for the DOG handles the one in the home direction itself (`own_limit`)."""
+    return memo.get("own_limit") != memo["dir"] and bool(_level(m, limit_pin(m, axis, memo["dir"])))
+
+
+def _new_leg(m: Machine, s, memo: dict, t: float, direction: int) -> None:
+    """Start a new leg of the move at t s (from the present leg's start): the travel so far
+    goes into the start position, the time origin moves to t and the direction may turn
+    (ZRN's DOG search). The caller plans the leg's profile from 0."""
+    x, _ = motion.at(memo["prof"], t)
+    memo["pos0"] += memo["dir"] * int(x + motion.EPS)
+    memo["t0"] += round(t * MICRO)
+    memo["dir"] = direction
+    _direction_pin(m, s, direction)
+
+
 def _start(m: Machine, s, memo: dict, axis: int, direction: int) -> dict | None:
     """Common start (condition OFF -> ON): take the axis, read the parameters, set the
     direction pin. None when the axis is held by another instruction (not executed)."""
@@ -146,6 +174,7 @@ def _advance(m: Machine, s, memo: dict, axis: int, replan=None) -> None:
     t = _now(m, memo)
     x, v = motion.at(memo["prof"], t)
     waiting = memo.get("wait_until") is not None  # JOGF/JOGR inside their buffer time
+    legs = memo.get("legs", False)  # ZRN's DOG search: a stop that turns back is no end
     if not memo["stopping"]:
         if _relay(m, axis, STOP):
             memo["prof"], memo["stopping"], memo["abnormal"] = motion.halt(t, x), True, True
@@ -154,17 +183,22 @@ def _advance(m: Machine, s, memo: dict, axis: int, replan=None) -> None:
         elif _relay(m, axis, DECEL_STOP) or not m.acc:
             memo["prof"], memo["stopping"] = motion.stop(t, x, v, p["bias"], p["down"]), True
             memo["abnormal"] = bool(m.acc)  # a stop relay, not the condition, ended it
-        elif replan is not None and (waiting or not motion.ended(memo["prof"], t)):
+        elif _at_limit(m, memo, axis) and (legs or not motion.ended(memo["prof"], t)):
+            # 8-1-2 LSF/LSR: a decelerating stop, abnormal end (DECISION: M9343, as a stop relay)
+            memo["prof"], memo["stopping"] = motion.stop(t, x, v, p["bias"], p["down"]), True
+            memo["abnormal"] = True
+        elif replan is not None and (waiting or legs or not motion.ended(memo["prof"], t)):
             replan(t, x, v)
+            t = _now(m, memo)  # a replan may have started a new leg (_new_leg)
         if memo["stopping"]:
-            memo["wait_until"] = None
+            memo["wait_until"], memo["legs"] = None, False
         x, v = motion.at(memo["prof"], t)
     pulses = int(x + motion.EPS)
     memo["moved"] = pulses
     if memo.get("home_at") is None:
         _set_position(m, axis, memo["pos0"] + memo["dir"] * pulses)
     prof = memo["prof"]
-    if motion.ended(prof, t) and memo.get("wait_until") is None:
+    if motion.ended(prof, t) and memo.get("wait_until") is None and not memo.get("legs"):
         reached = memo.get("done_on_end") or (prof.stop_at is not None
                                                and pulses >= int(prof.stop_at + motion.EPS))
         _finish(m, memo, axis, y, reached and not memo["stopping"])
@@ -481,7 +515,7 @@ def dvsa(m: Machine, s) -> None:
            _stoppable_replan)
 
 
-# ------------------------------------------------------------ ZRN (FNC 300)
+# ------------------------------------------------------------ CLR signal (ZRN, fx/homing.py)
 
 def _clr_tick(m: Machine, memo: dict, axis: int) -> None:
     if memo.get("clr_until") is not None and m.now_us >= memo["clr_until"]:
@@ -493,108 +527,6 @@ def _clr_off(m: Machine, memo: dict, axis: int) -> None:
     if pin and memo.get("clr_until") is not None:
         m.bits[pin[0]][pin[1]] = 0
         memo["clr_until"] = None
-
-
-def _home_done(m: Machine, s, memo: dict, axis: int) -> None:
-    """The zero point: the origin value (D9347:D9346) becomes the present position, CLR On
-    for its width (>= 20 ms), M9344 and M9342 On."""
-    _set_position(m, axis, _pair(m, axis, "origin"))
-    memo["home_at"] = m.now_us
-    pin = _pin(m, "clr", axis)
-    if pin:
-        m.bits[pin[0]][pin[1]] = 1
-        memo["clr_until"] = m.now_us + _cfg(m).get("clr_ms", 20) * 1000
-    _set(m, axis, _cfg(m)["home_done"], True)
-
-
-HOME_MODES = ("dog_rear", "dog_rear_pg0", "dog_front_pg0", "data_set")
-
-
-def _zrn_begin(m: Machine, s, memo: dict, axis: int) -> bool:
-    mode = _cfg(m).get("home_mode", "dog_rear")
-    if mode not in HOME_MODES:
-        raise SimFault(f"ZRN: home mode {mode!r} is not simulated ({', '.join(HOME_MODES)} are)")
-    for signal in (("dog",) if mode == "dog_rear" else ("dog", "pg0") if mode != "data_set" else ()):
-        if _pin(m, signal, axis) is None:
-            op_error(m, s, f"axis Y{axis}: no {signal.upper()} signal in the positioning parameters")
-            return False
-    p = _start(m, s, memo, axis, _cfg(m).get("home_direction", -1))
-    if p is None:
-        return False
-    _set(m, axis, _cfg(m)["home_done"], False)
-    memo["mode"] = mode
-    if mode == "data_set":  # no motion: the origin value becomes the position at once
-        memo["prof"] = motion.halt(0.0, 0.0)
-        memo["prof"].stop_at = 0.0  # reached: the move ends done
-        _home_done(m, s, memo, axis)
-        return True
-    # speeds read once: nothing may change while ZRN runs (8-3 ZRN)
-    memo["fast"] = _speed(m, axis, s.ops[0].get(m), p)
-    memo["creep"] = _speed(m, axis, s.ops[1].get(m), p, top=min(p["max"], _cfg(m)["creep_max_hz"]))
-    memo.update(dog=0, pg0_from=None)
-    memo["prof"] = motion.run_on(0.0, 0.0, 0.0, memo["fast"], p["bias"], p["up"], p["down"])
-    return True
-
-
-def _zero_at(m: Machine, s, memo: dict, axis: int, t: float) -> None:
-    x, _ = motion.at(memo["prof"], t)
-    memo["prof"] = motion.halt(t, x)
-    memo["prof"].stop_at = x  # reached: the move ends done
-    _home_done(m, s, memo, axis)
-
-
-def _pg0_edge_time(m: Machine, memo: dict, axis: int) -> float | None:
-    """Counting PG0 after the DOG edge: the time (s from the start) of the zero-signal edge
-    that makes the count (form `zero_count`), or None. A pulse train on PG0 (the stimulus's
-    `X0 pulses ...`) is counted edge by edge in time; a plain input counts a rising edge per
-    scan that shows it."""
-    kind, number = _pin(m, "pg0", axis)
-    level = m.bits[kind][number]
-    after, memo["pg0_last"] = memo["pg0_last"], m.now_us
-    need = _cfg(m).get("zero_count", 1) - memo["pg0_seen"]
-    if m.pulse_trains.get((kind, number)):
-        for train, first, n in pulses.edges(m, kind, number, after, m.now_us):
-            if n >= need:
-                return (float(train.edge_time(first + need - 1)) - memo["t0"]) / MICRO
-            need -= n
-            memo["pg0_seen"] += n
-    elif level and not memo["pg0_level"]:
-        memo["pg0_seen"] += 1
-        if need <= 1:
-            return _now(m, memo)
-    memo["pg0_level"] = level
-    return None
-
-
-def _zrn_replan(m: Machine, s, memo: dict, axis: int, t: float, x: float, v: float) -> None:
-    """Homing (8-1-2): the DOG's front edge (or DOG already On at the start, DECISION) ramps
-    down to the creep speed S2; "dog_rear" stops at once at its rear edge; "dog_rear_pg0" /
-    "dog_front_pg0" count the zero signal PG0 from the DOG's rear / front edge and stop at
-    once at the `zero_count`-th. DECISION: DOG edges are seen by the execution whose scan
-    first shows the new level; PG0 edges of a pulse train count from that scan's time."""
-    dog = _level(m, _pin(m, "dog", axis))
-    p, mode = memo["p"], memo["mode"]
-    rise, fall = dog and not memo["dog"], memo["dog"] and not dog
-    memo["dog"] = dog
-    if rise:
-        memo["prof"] = motion.run_on(t, x, v, memo["creep"], p["bias"], p["up"], p["down"])
-    if mode == "dog_rear" and fall:
-        return _zero_at(m, s, memo, axis, t)
-    if memo["pg0_from"] is None and (rise if mode == "dog_front_pg0" else fall):
-        pin = _pin(m, "pg0", axis)
-        memo.update(pg0_from=m.now_us, pg0_last=m.now_us, pg0_seen=0,
-                    pg0_level=m.bits[pin[0]][pin[1]])
-        return
-    if memo["pg0_from"] is not None:
-        at = _pg0_edge_time(m, memo, axis)
-        if at is not None:
-            _zero_at(m, s, memo, axis, at)
-
-
-def zrn(m: Machine, s) -> None:
-    """ZRN S1 S2 D1 D2 (FNC 300): homing at S1 toward the home direction, S2 the creep
-    speed (bias .. 30 kHz); done: M9344 and M9342 On, the position = the origin value."""
-    _drive(m, s, _zrn_begin, _zrn_replan)
 
 
 # ------------------------------------------------------------ DTBL (FNC 312)
@@ -1005,9 +937,11 @@ def _lin_begin(m: Machine, s, memos: list, absolute: bool) -> bool:
 
 
 def _lin_stops(m: Machine, memos: list) -> None:
-    """A stop relay of either axis stops both (M9346 at once, M9345 ramped), abnormal end."""
+    """A stop relay of either axis stops both (M9346 at once, M9345 ramped), abnormal end; so
+    does (ramped) a travel limit ahead of either (8-1-2 LSF/LSR)."""
+    limit = any(not memo["ended"] and _at_limit(m, memo, memo["shim"].axis) for memo in memos)
     for relay, ramped in ((STOP, False), (DECEL_STOP, True)):
-        if not any(_relay(m, memo["shim"].axis, relay) for memo in memos):
+        if not any(_relay(m, memo["shim"].axis, relay) for memo in memos) and not (ramped and limit):
             continue
         for memo in memos:
             if memo["ended"] or memo["stopping"]:
@@ -1053,7 +987,7 @@ def lia(m: Machine, s) -> None:
     _linear(m, s, True)
 
 
-POSITIONING_ACTIONS = {"zrn": zrn, "jogf": jogf, "jogr": jogr, "drvr": drvr, "drva": drva,
+POSITIONING_ACTIONS = {"jogf": jogf, "jogr": jogr, "drvr": drvr, "drva": drva,
                        "dv2r": dv2r, "dv2a": dv2a, "dvit": dvit, "dv2i": dv2i, "dvsr": dvsr,
                        "dvsa": dvsa, "plsv": plsv, "tbl": dtbl,
                        "dabs": dabs, "mpg": mpg,

@@ -1,0 +1,101 @@
+"""ZRN's DOG front-edge home mode, the automatic DOG search with limit switches and the travel
+limits LSF/LSR (8-1-2, 8-3 FNC 300; mlctool/sim/fx/homing.py, positioning.py). Limit and DOG
+inputs come from the stimulus as plain X inputs; numbers worked out by hand from the
+trapezoid (docs/vs.md "Positioning")."""
+
+from __future__ import annotations
+
+from test_vs_sim_positioning import form
+
+from vskit import run
+
+ZRN = "LD M0\nDZRN K5000 K1000 Y0 Y4\n"
+NO_RAMPS = "0ms D9343=0 D9344=0 D9346:d=7 M0=1\n"
+
+
+def test_dog_front_edge_mode_backs_out_of_the_dog_at_the_creep_speed():
+    # 8-1-2 "DOG前緣定位原點復歸": toward home at S1, the DOG's front edge ramps down to the
+    # creep speed, the motor turns the other way and the zero is where the DOG goes Off.
+    # Max 10 kHz, ramps 100 ms (100000 Hz/s): 5000 Hz after 50 ms (125); DOG at 200 ms
+    # (-875); down to 1000 Hz in 40 ms (80 in the first 20 ms, 120 in all: -995 at 240 ms), turn: 10 ms up to 1000 Hz
+    # (5), then 1000 Hz increasing (Y4 On); DOG Off at 300 ms: the origin value
+    with form(home_mode="dog_front"):
+        run(ZRN, "0ms D9340:d=10000 D9346:d=7 M0=1\n0ms expect Y4=0\n200ms X10=1\n"
+                 "200ms expect D9354:d=-875\n220ms expect D9354:d=-955 D9350:d=3000\n"
+                 "240ms expect D9354:d=-995 Y4=1\n260ms expect D9354:d=-980 D9350:d=1000\n"
+                 "290ms expect D9354:d=-950 M9344=0 M9342=0\n"
+                 "300ms X10=0\n300ms expect D9354:d=7 M9344=1 M9342=1 M9341=0\n")
+
+
+def test_dog_front_edge_mode_without_ramps_turns_at_the_front_edge():
+    # no ramps: the creep speed at once, so the turn is at the front edge itself (-500)
+    with form(home_mode="dog_front"):
+        run(ZRN, NO_RAMPS + "100ms X10=1\n100ms expect D9354:d=-500 Y4=1\n"
+                 "140ms expect D9354:d=-460\n150ms X10=0\n150ms expect D9354:d=7 M9344=1\n")
+
+
+def test_search_from_between_the_dog_and_the_limit_switch():
+    # 8-1-2 automatic search, case (3): home-ward at S1 to the limit switch (LSR X20: home is
+    # the decreasing position, motor reverse), stop, back at S1 past the whole DOG (On, then
+    # Off), stop, home-ward again; then the DOG rear-edge mode as usual. No ramps: every
+    # stop is at once; the turn is at the stop's instant
+    with form(lsr=["X20", "", "", ""]):
+        run(ZRN, NO_RAMPS + "100ms X20=1\n100ms expect D9354:d=-500 Y4=0\n"
+                 "150ms X20=0\n150ms expect D9354:d=-250 Y4=1 M9343=0\n"
+                 "200ms X10=1\n200ms expect D9354:d=0\n300ms X10=0\n300ms expect D9354:d=500\n"
+                 "350ms expect D9354:d=250 Y4=0\n400ms X10=1\n400ms expect D9354:d=0\n"
+                 "490ms expect D9354:d=-90 D9350:d=1000\n"
+                 "500ms X10=0\n500ms expect D9354:d=7 M9344=1 M9342=1 M9343=0\n")
+
+
+def test_search_starting_in_the_dog_or_on_the_limit_switch():
+    # case (2): the DOG On at the start: away from home until it goes Off, then as case (1)
+    with form(lsr=["X20", "", "", ""]):
+        run(ZRN, NO_RAMPS + "0ms X10=1\n0ms expect Y4=1\n100ms X10=0\n100ms expect D9354:d=500\n"
+                 "150ms expect D9354:d=250 Y4=0\n200ms X10=1\n300ms X10=0\n"
+                 "300ms expect D9354:d=7 M9344=1\n")
+    # case (4): on the limit switch: away past the whole DOG (X10 On at 100 ms, Off at 200 ms)
+    with form(lsr=["X20", "", "", ""]):
+        run(ZRN, NO_RAMPS + "0ms X20=1\n0ms expect Y4=1\n50ms X20=0\n100ms X10=1\n"
+                 "100ms expect D9354:d=500\n200ms X10=0\n200ms expect D9354:d=1000\n"
+                 "250ms expect D9354:d=750 Y4=0\n300ms X10=1\n300ms expect D9354:d=500\n"
+                 "400ms X10=0\n400ms expect D9354:d=7 M9344=1\n")
+    # without a limit switch in the form, a DOG On at the start is its front edge (creep)
+    run(ZRN, NO_RAMPS + "0ms X10=1\n0ms expect Y4=0\n90ms expect D9354:d=-90\n")
+
+
+def test_travel_limit_ramps_down_and_refuses_moves_toward_it():
+    # 8-1-2 LSF: the forward limit (X21) ramps the axis down and only moves the other way are
+    # accepted. DDRVR at 10 kHz, ramps 100 ms: 5500 at 600 ms, 500 more to stand (6000),
+    # abnormal end M9343 (DECISION), no M9342
+    with form(lsf=["X21", "", "", ""]):
+        run("LD M0\nDDRVR K100000 K10000 Y0 Y4\nLD M1\nDDRVR K-1000 K10000 Y0 Y4\n",
+            "0ms D9340:d=10000 M0=1\n600ms X21=1\n600ms expect D9354:d=5500\n"
+            "650ms expect D9354:d=5875 M9341=1\n700ms expect D9354:d=6000 M9343=1 M9342=0\n"
+            "800ms M0=0\n900ms M0=1\n900ms expect M9343=1 D9354:d=6000\n"   # toward it: no pulse
+            "1000ms expect D9354:d=6000 M9341=0\n1100ms M0=0\n"
+            "1200ms M1=1\n1200ms expect Y4=0\n1400ms expect D9354:d=5000 M9342=1 M9343=0\n")
+
+
+def test_reverse_limit_stops_jog_and_the_dtbl_table():
+    # LSR (X22) on a JOGR: a decelerating stop (no ramps: at once), abnormal end
+    with form(lsr=["X22", "", "", ""]):
+        run("LD M0\nDJOGR K0 K1000 Y0 Y4\n",
+            "0ms D9343=0 D9344=0 M0=1\n300ms X22=1\n300ms expect D9354:d=-300 M9343=1\n"
+            "400ms expect D9354:d=-300\n")
+    # a DTBL step running into LSF stops, and the table stays stopped (no next step)
+    with form(lsf=["X21", "", "", ""]):
+        run(".table Q0 DTBL K5000 K1000 K-1 K1\n.table Q0 DTBL K100 K1000 K-1 K1\n"
+            ".table Q0 DTBL K0 K0 K-1 K0\nLD M0\nDTBL Q0 D100 Y0 Y4\n",
+            "0ms D9343=0 D9344=0 M0=1\n10ms M9347=1\n200ms X21=1\n"
+            "200ms expect D9354:d=190 M9343=1 M9342=0\n300ms expect D9354:d=190 D100=0\n")
+
+
+def test_a_limit_of_either_axis_stops_the_straight_line():
+    # LIR (8-3 FNC 315) on Y0/Y1, no ramp: X 2400 Hz, Y 1800 Hz (the page's split of 3000 Hz
+    # over (4000, 3000)); Y1's LSF (X21) at 500 ms stops both (0.49 s: 1176, 882), abnormal end
+    with form(lsf=["", "X21", "", ""]):
+        run("LD M0\nLIR D1000 K0\n",
+            "0ms D1000=0 D1001=3000 D1002=0 D1003=4000 D1004=3000\n10ms M0=1\n500ms X21=1\n"
+            "500ms expect D9354:d=1176 D9374:d=882 M9343=1 M9363=1 M9342=0\n"
+            "600ms expect D9354:d=1176 D9374:d=882\n")
