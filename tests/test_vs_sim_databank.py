@@ -36,6 +36,12 @@ def test_32_bit_addresses_the_pair_and_the_far_end_of_the_bank():
         "10ms expect DB#100000=3 DB#100001=4 DB#100000:d=262147 DB#655359=-9 D30=12 D31=-9\n")
 
 
+def test_an_indexed_constant_address_takes_the_32_bit_index_v_z():
+    # the pages: an indexed K/H address uses both V and Z (2-9: written Zn, Vn high, Zn low):
+    # K5Z0 with (V0, Z0) = (1, 4) addresses 5 + 65540 = 65545
+    run("LD X0\nDBWR D0 K5Z0 K1\n", "0ms V0=1 Z0=4 D0=42 X0=1\n0ms expect DB#65545=42 DB#9=0\n")
+
+
 def test_the_bank_keeps_its_data_over_a_power_cycle():
     # 2-8: the card's flash keeps its data without power; D1000 (general) clears (X20 Off:
     # an On condition would write the cleared D1000 at the first scan after power-on)

@@ -29,12 +29,22 @@ def _address(m: Machine, ref) -> int:
     data"; a D or R takes two registers, the high word in the second). DECISION: other kinds
     (KnX ... T, C, V, Z) give their 16-bit value, unsigned."""
     if isinstance(ref, ConstRef):
-        return int(ref.value) + ref.index_value(m)
+        return int(ref.value) + _index32(m, ref)
     if isinstance(ref, WordRef) and ref.kind in ("D", "R"):
         a = ref.addr(m, 2)
         words = m.words[ref.kind]
         return s32(words[a] | (words[a + 1] << 16))
     return ref.get(m) & 0xFFFF
+
+
+def _index32(m: Machine, ref) -> int:
+    """A K/H address's index: the pages say it takes both V and Z, i.e. the 32-bit index of
+    2-9 (target.toml `index32`: written Zn, the pair Vn high, Zn low)."""
+    pair = m.target.settings.get("index32")
+    if ref.ix is None or not pair or ref.ix not in (pair["low"], pair["high"]):
+        return ref.index_value(m)
+    n = ref.ixn
+    return s32(m.words[pair["low"]][n] | (m.words[pair["high"]][n] << 16))
 
 
 def _span(m: Machine, s, address_ref, block_ref) -> tuple[int, int] | None:
