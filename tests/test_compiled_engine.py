@@ -71,9 +71,10 @@ def action(draw) -> list[str]:
                 f"{draw(st.one_of(word, const))} {draw(word)}"]
     if k == 8:
         return [f"{draw(st.sampled_from(['INC', 'DEC']))} {draw(word)}"]
-    if k == 9:
-        return [f"{draw(st.sampled_from(['DADD', 'DSUB']))} D0 K{draw(st.integers(-99999, 99999))} "
-                f"D{draw(st.sampled_from([2, 4, 6]))}"]
+    if k == 9:  # 32-bit pairs word by word: carries, borrows, overlapping and odd pairs
+        pair = st.sampled_from(["D0", "D1", "D2", "D3", "D5"])
+        return [f"{draw(st.sampled_from(['DADD', 'DSUB', 'DWAND', 'DWOR', 'DWXOR']))} {draw(pair)} "
+                f"{draw(st.one_of(pair, st.integers(-99999, 99999).map(lambda v: f'K{v}')))} {draw(pair)}"]
     if k == 10:
         return [f"MOV D{draw(st.integers(0, 4))}V0 D{draw(st.integers(5, 7))}"]
     if k == 11:

@@ -870,9 +870,35 @@ class _Gen:
         elif op == "cml":
             src = f"(~{self.value(ops[0], i, 0, 2, unsigned=True)} & {mask})"
         else:
+            pairs = [self.pair(r) for r in ops[:2]] if s.width == 32 and self.pair(dst) else None
+            if pairs and all(pairs) and not all(w.isdigit() for p in pairs for w in p):
+                self.pair_op(op, pairs, dst, keys, i)
+                return
             src = (f"({self.value(ops[0], i, 0, 2, unsigned=True)} {_ARITH[op]} "
                    f"{self.value(ops[1], i, 1, 2, unsigned=True)})")
         self.store(dst, src, s, di, masked)
+
+    def pair(self, ref) -> tuple[str, str] | None:
+        """The low and high words of a 32-bit constant or plain register pair (not V:Z)."""
+        if type(ref) is ConstRef and ref.ix is None:
+            v = ref.get(None) & 0xFFFFFFFF
+            return str(v & 0xFFFF), str(v >> 16)
+        if _word(ref) and ref.ix is None and ref.kind not in ("V", "Z") and ref.num + 1 <= ref.hi:
+            return self.known_word((ref.kind, ref.num)), self.known_word((ref.kind, ref.num + 1))
+        return None
+
+    def pair_op(self, op: str, pairs: list[tuple[str, str]], dst, keys, i: int) -> None:
+        """A 32-bit add, subtract or logic operation word by word: the low words' carry or
+        borrow (v >> 16, floor division for a borrow) goes into the high word; Python ints
+        stay below 2^30 (no multi-digit ints, unlike the 32-bit value)."""
+        (alo, ahi), (blo, bhi) = pairs
+        sym = _ARITH[op]
+        carry = " + (v >> 16)" if op in ("add", "sub") else ""
+        arr = self.use("w" + dst.kind)
+        self.emit(f"v = {alo} {sym} {blo}; h = {ahi} {sym} {bhi}{carry}", i, 2)
+        self.emit(f"{arr}[{dst.num}] = v & 65535; {arr}[{dst.num + 1}] = h & 65535", i, 2)
+        self.learn(keys, None)
+        self.gwrite(keys, i)
 
     def words_keys(self, ref, count: int) -> list[tuple[str, int]] | None:
         """Writer keys of `count` consecutive words from a plain D/T operand (set_words)."""
