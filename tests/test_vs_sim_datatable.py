@@ -57,3 +57,12 @@ def test_rows_are_checked(row, code):
 
 def test_legal_rows_and_index():
     assert codes(TABLE + "LD X0\nDTRDP RECIPE K0 D0 K7\nDTRD Q0Z1 D0 R0 D1\nEND\n") == []
+
+
+def test_page_example_with_its_chinese_table_name():
+    # 6-11 FNC 93 as printed: DTRDP 成分配方表 K0 D1000 K100 (a table name of Chinese
+    # characters, 2-10); 100 words from address 0 into D1000-D1099
+    words = " ".join(f"K{k * 3}" for k in range(100))
+    run(f".define 成分配方表 Q7\n.table 成分配方表 DTRD {words}\nLD X20\n"
+        "DTRDP 成分配方表 K0 D1000 K100\n",
+        "0ms D1100=-4\n10ms X20=1\n10ms expect D1000=0 D1001=3 D1050=150 D1099=297 D1100=-4\n")
