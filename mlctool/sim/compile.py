@@ -666,8 +666,7 @@ class _Gen:
         op = s.ins.spec.op
         ref = s.ops[0]
         if op in _CMP:
-            x, y = self.value(s.ops[0], i, 0), self.value(s.ops[1], i, 1)
-            expr = f"({x} {_CMP[op]} {y})"
+            expr = self.compare_const(s) or f"({self.value(s.ops[0], i, 0)} {_CMP[op]} {self.value(s.ops[1], i, 1)})"
             if "(m)" in expr:
                 t = self.new_tmp("c")
                 self.flush(i)
@@ -692,6 +691,21 @@ class _Gen:
         c, p = self.new_tmp("c"), self.new_tmp("e")
         self.emit(f"{c} = {b}; {p} = {e}[{i}]; {e}[{i}] = {c}", i)
         return f"({c} & ({p} ^ 1))" if op == "contact_rise" else f"({p} & ({c} ^ 1))"
+
+    def compare_const(self, s: Step) -> str | None:
+        """A register compared with a constant, without making the register's value signed:
+        x -> x ^ 2^(w-1) maps the signed order onto the unsigned one, so signed(u) > c is
+        (u ^ bias) > c + bias (one operation fewer). None: not that shape."""
+        x, y = s.ops
+        consts = [type(r) is ConstRef and r.ix is None for r in (x, y)]
+        if consts[0] == consts[1] or not _word(y if consts[0] else x):
+            return None
+        bias = 1 << (s.width - 1)
+        j = 1 if consts[0] else 0
+        reg = f"({self.value(s.ops[j], s.index, j, unsigned=True)} ^ {bias})"
+        c = str(s.ops[1 - j].get(None) + bias)
+        left, right = (c, reg) if consts[0] else (reg, c)
+        return f"({left} {_CMP[s.ins.spec.op]} {right})"
 
     # -- the rung result: an expression (`self.acc`) until something needs it in `a`
     def cur(self) -> str:
@@ -951,13 +965,18 @@ class _Gen:
         self.direct(("C", n), i)
         if type(pre) is ConstRef:
             pr = preset
-            self.emit(f"pe = {e}[{i}]; {e}[{i}] = 1 if a else 0; v = {cv}[{n}]", i)
         else:
             pr = "pr"
-            self.emit(f"pe = {e}[{i}]; {e}[{i}] = 1 if a else 0; v = {cv}[{n}]; pr = {preset}", i)
-        self.emit(f"if a and not pe and v < {pr}:", i)
-        self.emit(f"v += 1; {cv}[{n}] = v; {self.mark({('C', n): i})}", i, 2)
-        self.emit(f"if v >= {pr} and not {bc}[{n}]:", i)
+            self.emit(f"pr = {preset}", i)
+        # a rising rung counts below the preset; the edge memory follows the rung
+        self.emit("if a:", i)
+        self.emit(f"if not {e}[{i}]:", i, 2)
+        self.emit(f"{e}[{i}] = 1; v = {cv}[{n}]", i, 3)
+        self.emit(f"if v < {pr}:", i, 3)
+        self.emit(f"{cv}[{n}] = v + 1; {self.mark({('C', n): i})}", i, 4)
+        self.emit(f"elif {e}[{i}]:", i)
+        self.emit(f"{e}[{i}] = 0", i, 2)
+        self.emit(f"if {cv}[{n}] >= {pr} and not {bc}[{n}]:", i)
         self.emit(f"m.c_pending[{n}] = 1", i, 2)
 
     def fvalue(self, ref, i: int, j: int) -> str | None:
