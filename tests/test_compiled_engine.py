@@ -149,6 +149,8 @@ def program(draw) -> str:
             main += [f"FOR K{draw(st.integers(0, 3))}"] + body + ["NEXT"]
         elif shape == 2:
             main += [draw(contact("LD")), "CALL P2"]
+        elif shape == 4:  # the rung result crosses block boundaries: outputs after CJ and CALL
+            main += [draw(contact("LD")), draw(st.sampled_from(["CJ P1", "CALL P2"])), "OUT Y2", "P1:"]
         elif shape == 3:  # a loop counted by a register
             body = [x for _ in range(draw(st.integers(1, 2))) for x in draw(rung())]
             main += [f"FOR D{draw(st.integers(0, 2))}"] + body + ["NEXT"]

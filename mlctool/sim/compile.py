@@ -238,6 +238,18 @@ def compile_program(prog: Program) -> Code | None:
 
 # ---------------------------------------------------------------------------- code generation
 
+_ACC_FREE_FLOW = frozenset({"for", "next", "fend", "end", "sret"})  # run whatever the rung result
+
+
+def _reads_acc_at_entry(block: list[Step]) -> bool:
+    """The block's first instruction uses the rung result it is entered with."""
+    for s in block:
+        spec = s.ins.spec
+        if spec.cls == "label":
+            continue
+        return not (spec.cls == "load" and s.new_rung or spec.op in _ACC_FREE_FLOW)
+    return False
+
 def _bit_simple(ref) -> bool:
     return type(ref) is BitRef and ref.ix is None and ref.kind in BIT_KINDS
 
@@ -303,6 +315,9 @@ class _Gen:
         bounds = starts + [len(steps)]
         block_of = {st: j for j, st in enumerate(starts)}
         self.block_of = block_of
+        # the rung result crosses a block boundary only when some block begins by using it;
+        # if none does, blocks neither load nor leave it (m.acc is for the reference routines)
+        self.acc_live = any(_reads_acc_at_entry(steps[bounds[j]:bounds[j + 1]]) for j in range(len(starts)))
         block_steps = []
         for j in range(len(starts)):
             block = steps[bounds[j]:bounds[j + 1]]
@@ -333,7 +348,7 @@ class _Gen:
         self.tmp = 0
         self.acc: str | None = None  # the rung result when not (yet) in `a`
         self.depth = 0
-        self.emit("a = m.acc", first)
+        self.emit("a = m.acc" if self.acc_live else "a = False", first)
         ended = False
         for s in block:
             op = s.ins.spec.op
@@ -346,7 +361,8 @@ class _Gen:
             self.settle(block[-1].index)
             self.exit_checks(block[-1])
             self.flush(block[-1].index)
-            self.emit("m.acc = a", block[-1].index)
+            if self.acc_live:
+                self.emit("m.acc = a", block[-1].index)
             self.emit(f"return {j + 1}", block[-1].index)
         if self.self_loop:  # a FOR body of one block loops here (flow(), NEXT)
             self.lines[header_at:] = ["    " + line for line in self.lines[header_at:]]
@@ -1032,9 +1048,10 @@ class _Gen:
         self.settle(i)
         self.exit_checks(s)
         self.flush(i)
-        self.emit("m.acc = a", i)
-        # fault and alarm paths: the routine itself
-        ref_call = f"m.pc = {i}; AT[0] = ws; AT[1] = {self.pos()}; S{i}.run(m, S{i})"
+        if self.acc_live:
+            self.emit("m.acc = a", i)
+        # fault and alarm paths: the routine itself (it reads the rung result from m.acc)
+        ref_call = f"m.acc = a; m.pc = {i}; AT[0] = ws; AT[1] = {self.pos()}; S{i}.run(m, S{i})"
         if op in ("fend", "end"):
             self.emit("if m.calls or m.fors:", i)
             self.emit(ref_call, i, 2)
@@ -1087,7 +1104,7 @@ class _Gen:
             self.emit(ref_call, i, 2)
             self.emit("return BLK.get(m.calls.pop(), NB)", i)
         else:
-            self.emit(f"m.pc = {i}; AT[0] = ws; AT[1] = {self.pos()}", i)
+            self.emit(f"m.acc = a; m.pc = {i}; AT[0] = ws; AT[1] = {self.pos()}", i)
             self.emit(f"r = S{i}.run(m, S{i})", i)
             self.emit(f"if r is None: return {j + 1}", i)
             self.emit("return -1 if r == -1 else BLK[r]", i)
