@@ -334,7 +334,7 @@ class _Gen:
         first = block[0].index
         self.emit(f"def b{j}(m, ws, ex):", first, 0)
         header_at = len(self.lines)
-        self.self_loop = False
+        self.self_loop: int | None = None  # the NEXT ending a FOR body of this one block
         self.used: set[str] = set()
         self.block_marks = False
         self.pending: dict[tuple[str, int], int] = {}
@@ -364,10 +364,13 @@ class _Gen:
             if self.acc_live:
                 self.emit("m.acc = a", block[-1].index)
             self.emit(f"return {j + 1}", block[-1].index)
-        if self.self_loop:  # a FOR body of one block loops here (flow(), NEXT)
+        if self.self_loop is not None:  # a FOR body of one block loops here (flow(), NEXT)
+            # nothing in one block changes m.fors (flow ops end blocks): its frame is found once
             self.lines[header_at:] = ["    " + line for line in self.lines[header_at:]]
-            self.lines[header_at:header_at] = ["    w0 = ws", "    while True:"]
-            self.linemap[header_at:header_at] = [first, first]
+            self.lines[header_at:header_at] = [
+                "    w0 = ws", "    fs = m.fors",
+                f"    lp = fs[-1] if fs and fs[-1][1] == {self.self_loop} else None", "    while True:"]
+            self.linemap[header_at:header_at] = [first] * 4
         header = [f"{name} = G_{name}" for name in sorted(self.used - {"now"})]
         if self.block_marks:
             header.append("R = G_R")
@@ -1026,6 +1029,8 @@ class _Gen:
             return
         self.cond(keys, i)
         x, y = self.fvalue(s.ops[0], i, 0), self.fvalue(s.ops[1], i, 1)
+        for name in ("FF", "FH", "FI") if "raw:" in x + y else ("FF", "FH"):  # block locals (G_FF ...)
+            self.use(name)
         sym = _FLOAT[s.ins.spec.op]
         xload, yload = (v.split(":", 1)[1] if ":" in v else None for v in (x, y))
         if xload and yload:
@@ -1070,12 +1075,11 @@ class _Gen:
             # `while True:`) with its own stamp (ws + 1) and its steps counted as the driver
             # counts them; one that would pass the watchdog goes back to the driver, which runs
             # it on the interpreter. LX tells the driver the stamp and steps reached.
-            self.self_loop = True
+            self.self_loop = i
             n = self.nsteps
-            self.emit("fs = m.fors", i)
-            self.emit(f"if fs and fs[-1][1] == {i}:", i)
-            self.emit("lp = fs[-1]; lp[2] -= 1", i, 2)
-            self.emit("if lp[2] > 0:", i, 2)
+            self.emit("if lp is not None:", i)  # lp: the loop's frame, found before `while` (block())
+            self.emit("c = lp[2] - 1; lp[2] = c", i, 2)
+            self.emit("if c > 0:", i, 2)
             self.emit(f"if ex + {n} > WD: LX[0] = ws; LX[1] = ex; return {-2 - j}", i, 3)
             self.emit(f"ws += 1; ex += {n}; LX[0] = ws; continue", i, 3)
             self.emit("fs.pop()", i, 2)
@@ -1138,7 +1142,7 @@ class Scanner:
 
     def _bind(self) -> None:
         code, prog = self.code, self.prog
-        g: dict = {"__builtins__": __builtins__, "T01": _T01, "FF": _FF, "FI": _FI, "FH": _FH, "LX": [0, 0],
+        g: dict = {"__builtins__": __builtins__, "T01": _T01, "G_FF": _FF, "G_FI": _FI, "G_FH": _FH, "LX": [0, 0],
                    "WD": DEFAULT_WATCHDOG,
                    "FLT": _fault, "JMP": _drop_loops, "NB": len(code.starts),
                    "BLK": {st: j for j, st in enumerate(code.starts)}, **code.consts}
@@ -1147,6 +1151,7 @@ class Scanner:
             for k, ref in enumerate(s.ops):
                 g[f"O{s.index}_{k}"] = ref
         self.g = g
+        self._lx, self._watchdog = g["LX"], g["WD"]
         self._rebind()
         exec(code.code, g)  # noqa: S102 - our own generated code
         self.fns: list[Callable] = [g[f"b{j}"] for j in range(len(code.starts))] + [self._past_end]
@@ -1216,11 +1221,10 @@ class Scanner:
             self._before(m)
         fns = self.fns
         bsteps = self.bsteps
-        g = self.g
-        w = g["W"]
-        lx = g["LX"]
-        if g["WD"] != watchdog:
-            g["WD"] = watchdog
+        w = self._writer
+        lx = self._lx
+        if self._watchdog != watchdog:
+            self._watchdog = self.g["WD"] = watchdog
         k = w.k  # stamp of the next block execution (Writers)
         j = 0
         ex = 0
@@ -1245,7 +1249,9 @@ class Scanner:
             if lx[0] > k:  # a fault in a looping block: its iterations took stamps
                 k = lx[0]
             w.k = k
-            w.at[:] = k, _INF  # writes between scans: after this scan's
+            at = w.at  # writes between scans: after this scan's
+            at[0] = k
+            at[1] = _INF
         end_of_scan(m)
 
     def _check_instrumented(self) -> None:
