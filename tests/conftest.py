@@ -58,11 +58,14 @@ def _no_color(monkeypatch):
 
 
 SIM_ENGINES = ("compiled", "interp")
+SIM_MODULES = ("test_sim", "test_vs_sim", "test_vs_samples")
 
 
 def pytest_generate_tests(metafunc):
-    """Every simulator test module (test_sim_*) runs on both engines (mlctool/sim/compile.py)."""
-    if "sim_engine" in metafunc.fixturenames and metafunc.module.__name__.startswith("test_sim"):
+    """Every simulator test module (test_sim_*, test_vs_sim_*, test_vs_samples) runs on both
+    engines (mlctool/sim/compile.py; a program it cannot compile, such as step ladder, runs on
+    the interpreter either way)."""
+    if "sim_engine" in metafunc.fixturenames and metafunc.module.__name__.startswith(SIM_MODULES):
         metafunc.parametrize("sim_engine", SIM_ENGINES, indirect=True, scope="module")
 
 

@@ -238,6 +238,9 @@ def compile_program(prog: Program) -> Code | None:
 
 # ---------------------------------------------------------------------------- code generation
 
+# step ladder and master control (VS 4-6, 3-6) switch the rail every new rung's first load
+# reads (decode._combine: `contact and m.bus`); programs with them run on the interpreter
+_BUS_OPS = frozenset({"stl", "ret", "mc", "mcr"})
 _ACC_FREE_FLOW = frozenset({"for", "next", "fend", "end", "sret"})  # run whatever the rung result
 
 
@@ -294,6 +297,8 @@ class _Gen:
         # VS-style preset ranges change TMR/CNT; such targets keep the reference routines
         self.tmr_inline = settings.get("timer_preset_range") is None
         self.cnt_inline = settings.get("counter16_preset_range") is None
+        # targets with status flags (VS M9020-M9022, 5-3): ADD/SUB set them in their routines
+        self.flags = bool(settings.get("flags"))
         self.gopen = False  # an `if a:` group is open: application instructions under one rung result
         self.gpend: dict[tuple[str, int], int] = {}  # writer records of the open group
         self.known: dict[tuple[str, int], int] = {}
@@ -309,6 +314,9 @@ class _Gen:
         steps = self.prog.steps
         if not steps:
             raise Unsupported("empty program")
+        bus = next((s for s in steps if s.ins.spec.op in _BUS_OPS), None)
+        if bus is not None:
+            raise Unsupported(f"{bus.ins.mnemonic}: the rail state (m.bus) is the interpreter's")
         starts = sorted({0} | {s.index for s in steps if s.ins.spec.cls == "label"}
                         | {s.target for s in steps if s.ins.spec.op in ("cj", "call") and s.target >= 0}
                         | {s.index + 1 for s in steps if s.ins.spec.op in FLOW_OPS} - {len(steps)})
@@ -683,6 +691,8 @@ class _Gen:
         edge memories are done first, on lines of their own (faults name this step)."""
         i = s.index
         op = s.ins.spec.op
+        if not s.ops:
+            return None
         ref = s.ops[0]
         if op in _CMP:
             expr = self.compare_const(s) or f"({self.value(s.ops[0], i, 0)} {_CMP[op]} {self.value(s.ops[1], i, 1)})"
@@ -745,7 +755,11 @@ class _Gen:
     def rung(self, s: Step) -> None:
         spec = s.ins.spec
         op, cls, i = spec.op, spec.cls, s.index
-        if cls in ("load", "and", "or"):
+        if op in ("result_rise", "result_fall"):  # MEP/MEF (VS 3-3): the edge of the result so far
+            e, c, p = self.use("bE"), self.new_tmp("c"), self.new_tmp("e")
+            self.emit(f"{c} = {self.cur()}; {p} = {e}[{i}]; {e}[{i}] = {c}", i)
+            self.acc, self.depth = (f"({c} & ({p} ^ 1))" if op == "result_rise" else f"({p} & ({c} ^ 1))"), 0
+        elif cls in ("load", "and", "or"):
             c = self.contact(s)
             if c is None:
                 raise Unsupported(f"no compiled form for {s.ins.mnemonic}")
@@ -887,7 +901,8 @@ class _Gen:
             dst, di = ops[1], 1
         else:
             dst, di = ops[2], 2
-        if not self.storable(dst) or not all(self.readable(r) for k, r in enumerate(ops) if k != di):
+        if not self.storable(dst) or not all(self.readable(r) for k, r in enumerate(ops) if k != di) \
+                or self.flags and op in ("add", "sub"):
             self.reference(s)
             return
         keys = self.store_keys(dst)

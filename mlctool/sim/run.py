@@ -154,8 +154,8 @@ class Simulation:
         self.watchdog = watchdog
         # the compiled engine (compile.py) unless asked otherwise; coverage probes need the
         # reference interpreter
-        # a target may pin the reference interpreter (target.toml `engine`: VS's step-ladder,
-        # MC and flag semantics live in the interpreter's routines only)
+        # a target may pin the reference interpreter (target.toml `engine`: FBs, whose axis
+        # routines run on the interpreter only)
         pinned = target.settings.get("engine")
         self.scan = scanner(self.prog, self.m, "interp" if probe is not None else pinned or engine)
         names = program_devices(self.prog) | st.devices() | set(watch)
