@@ -16,6 +16,7 @@ from mlctool.sim.scan import Fault, load_program
 from mlctool.sim.state import Machine
 from mlctool.sim.stimulus import parse_stimulus_text
 from simkit import NC5, image_of
+from vskit import VS
 
 BIT_IN = [f"X{k}" for k in range(6)] + [f"M{k}" for k in range(8)] + ["T0", "T1", "C0", "C1", "Y0"]
 COILS = [f"Y{k}" for k in range(4)] + [f"M{k}" for k in range(8)] + ["M9", "M15", "M16", "M23"]
@@ -194,34 +195,62 @@ def stimulus(draw) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _image(il: str):
+_VS_FLOAT = {"FADD": "DEADD", "FSUB": "DESUB", "FMUL": "DEMUL", "FDIV": "DEDIV"}
+
+
+def vs_dialect(il: str) -> str:
+    """The generated NC5 program in the Vigor VS dialect (FX forms): OUT T/C coils, LDD>=
+    comparisons, the D-float family with E constants, 32-bit operands indexed by Z."""
+    out = []
+    for line in il.splitlines():
+        op, _, rest = line.partition(" ")
+        if op in ("TMR", "CNT"):
+            op = "OUT"
+        elif op in _VS_FLOAT:
+            op, rest = _VS_FLOAT[op], rest.replace("F", "E")
+        elif op.startswith("DLD"):
+            op = "LDD" + op[3:]
+        if op[:1] == "D" or op in _VS_FLOAT.values():
+            rest = rest.replace("V0", "Z0")
+        out.append(f"{op} {rest}".strip())
+    return "\n".join(out)
+
+
+def _image(il: str, target=NC5):
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "g.il")
         with open(path, "w", encoding="utf-8") as f:
             f.write(il + "\n")
-        image, diags, _ = program_from_paths([path], NC5)
+        image, diags, _ = program_from_paths([path], target)
     return image if image is not None and not any(d.severity == "error" for d in diags) else None
 
 
-def _run(image, stim: str, engine: str):
-    st_, diags = parse_stimulus_text("g.stim", stim, NC5)
+def _run(image, stim: str, engine: str, target=NC5):
+    st_, diags = parse_stimulus_text("g.stim", stim, target)
     assert not diags
-    sim = Simulation(image, NC5, st_, [], 10_000, [], True, watchdog=400, engine=engine)
+    sim = Simulation(image, target, st_, [], 10_000, [], True, watchdog=400, engine=engine)
     r = sim.run(plan_scans(st_, 10_000, None, None))
     return r, sim
 
 
+def _own_words(m) -> dict:
+    return {k: v for k, v in m.words.items() if type(v) is list}
+
+
 @settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(program(), stimulus())
-def test_compiled_engine_matches_the_interpreter(il, stim):
-    image = _image(il)
+@given(program(), stimulus(), st.sampled_from(["nc5", "vs"]))
+def test_compiled_engine_matches_the_interpreter(il, stim, target_name):
+    target = NC5 if target_name == "nc5" else VS
+    image = _image(il if target is NC5 else vs_dialect(il), target)
     assume(image is not None)
-    a, sim_a = _run(image, stim, "compiled")
-    b, sim_b = _run(image, stim, "interp")
+    a, sim_a = _run(image, stim, "compiled", target)
+    b, sim_b = _run(image, stim, "interp", target)
     assert sim_a.scan.engine == "compiled" and sim_b.scan.engine == "interp"
     assert repr(a.trace) == repr(b.trace)  # repr: a float view may hold NaN (nan != nan)
     assert repr(a.devices) == repr(b.devices)
-    assert sim_a.m.words == sim_b.m.words and sim_a.m.cval == sim_b.m.cval  # raw patterns
+    # raw patterns; module registers (VS UnG) are views of the buffer memory, compared as such
+    assert _own_words(sim_a.m) == _own_words(sim_b.m) and sim_a.m.cval == sim_b.m.cval
+    assert sim_a.m.bfm == sim_b.m.bfm
     assert sim_a.m.bits == sim_b.m.bits
     assert a.scans == b.scans and a.fault == b.fault and a.alarms == b.alarms
     assert a.expectations == b.expectations  # failures include the last writer
