@@ -302,3 +302,30 @@ def test_coverage_table_matches_the_tests():
     me = me.replace("\\nP1\\n", "\\nP 1\\n")  # a label line `P1` is the instruction P
     missing = [m for m in sorted(listed) if not re.search(rf"(^|[\s\"]|\\n){re.escape(m)}(\s|\\n)", me, re.M)]
     assert not missing, missing
+
+
+def test_float_arithmetic_flags():
+    """6-12 EADD-EDIV: M9020 when the result is 0, M9022 past the largest magnitude, M9021
+    below the smallest (2-13: 2^-126); each execution sets all three."""
+    run("""
+LD M9000
+DEADD E3.0+38 E3.0+38 D50
+LD M9022
+OUT M60
+LD M9000
+DEMUL E1.0-20 E1.0-20 D52
+LD M9021
+OUT M61
+LDI M9022
+OUT M63
+LD M9000
+DESUB E1.5 E1.5 D54
+LD M9020
+OUT M62
+LD M9000
+DEDIV E1.0 E4.0 D56
+LDI M9020
+ANI M9021
+ANI M9022
+OUT M64
+""", "0ms expect M60=1 M61=1 M62=1 M63=1 M64=1 D50:f=inf D54:f=0 D56:f=0.25")

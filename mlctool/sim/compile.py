@@ -297,7 +297,8 @@ class _Gen:
         # VS-style preset ranges change TMR/CNT; such targets keep the reference routines
         self.tmr_inline = settings.get("timer_preset_range") is None
         self.cnt_inline = settings.get("counter16_preset_range") is None
-        # targets with status flags (VS M9020-M9022, 5-3): ADD/SUB set them in their routines
+        # targets with status flags (VS M9020-M9022, 5-3): ADD/SUB and the float arithmetic
+        # set them in their routines
         self.flags = bool(settings.get("flags"))
         self.gopen = False  # an `if a:` group is open: application instructions under one rung result
         self.gpend: dict[tuple[str, int], int] = {}  # writer records of the open group
@@ -1037,7 +1038,7 @@ class _Gen:
         i = s.index
         dst = s.ops[2]
         keys = self.words_keys(dst, 2) if type(dst) is WordRef and dst.kind == "D" else None
-        if keys is None or not all(type(r) is ConstRef and r.ix is None and math.isfinite(to_f32(r.getf(None)))
+        if keys is None or self.flags or not all(type(r) is ConstRef and r.ix is None and math.isfinite(to_f32(r.getf(None)))
                                    or _word(r) and r.kind == "D" and (r.ix is not None or r.num + 1 <= r.hi)
                                    for r in s.ops[:2]):
             self.reference(s)

@@ -34,6 +34,14 @@ def alarm(m: Machine, name: str, message: str) -> None:
             m.bits["M"][n] = 1
 
 
+def set_flags(m: Machine, **values: bool) -> None:
+    """M9020 zero / M9021 borrow / M9022 carry ... (target.toml [flags]); none on NC5."""
+    flags = m.target.settings.get("flags", {})
+    for name, on in values.items():
+        if name in flags:
+            m.bits["M"][flags[name]] = 1 if on else 0
+
+
 def _mask(width: int) -> int:
     return 0xFFFFFFFF if width == 32 else 0xFFFF
 
@@ -414,6 +422,9 @@ def vrt(m: Machine, s) -> None:
     dst.set(m, s.table[_source_bits(m, src, nref.get(m))])
 
 
+_F32_MIN = 2.0 ** -126  # the smallest normal single-precision magnitude (VS 2-13)
+
+
 def _float(fn):
     @_on
     def run(m: Machine, s) -> None:
@@ -421,6 +432,11 @@ def _float(fn):
         r = fn(m, s, a, b)
         if r is not None:
             s.ops[2].setf(m, r)
+            # targets with flags (VS 6-12 EADD-EDIV): zero; carry past the largest magnitude
+            # (D holds the infinity); borrow below the smallest (D holds what single precision
+            # keeps: a subnormal or 0). DECISION: judged on the exact result, before rounding
+            if m.target.settings.get("flags"):
+                set_flags(m, zero=r == 0, carry=math.isinf(to_f32(r)), borrow=0 < abs(r) < _F32_MIN)
     return run
 
 

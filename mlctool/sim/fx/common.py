@@ -9,17 +9,10 @@ from __future__ import annotations
 
 from mlctool.sim import semantics as base
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, GroupRef, WordRef
+from mlctool.sim.semantics import set_flags  # noqa: F401 - the FX routines' import of it
 from mlctool.sim.state import Machine, SimFault, s16, s32
 
 OPERATION_ERROR_CODE = 6706  # "operand or operand value out of range" (vs_reading.md 5.8)
-
-
-def set_flags(m: Machine, **values: bool) -> None:
-    """M9020 zero / M9021 borrow / M9022 carry ... (target.toml [flags]); none on NC5."""
-    flags = m.target.settings.get("flags", {})
-    for name, on in values.items():
-        if name in flags:
-            m.bits["M"][flags[name]] = 1 if on else 0
 
 
 def flag(m: Machine, name: str) -> int:
