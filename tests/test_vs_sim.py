@@ -329,3 +329,29 @@ ANI M9021
 ANI M9022
 OUT M64
 """, "0ms expect M60=1 M61=1 M62=1 M63=1 M64=1 D50:f=inf D54:f=0 D56:f=0.25")
+
+
+def test_mul_div_flags():
+    """6-4 MUL/DIV: M9023 when the product or the quotient is 0, M9025 when the quotient
+    passes 32,767 (-32768 / -1); the next execution clears them."""
+    run("""
+LD M9000
+MUL K0 K5 D60
+LD M9023
+OUT M70
+LD M9000
+DIV K-32768 K-1 D62
+LD M9025
+OUT M71
+LDI M9023
+OUT M72
+LD M9000
+DIV K3 K7 D64
+LD M9023
+ANI M9025
+OUT M73
+LD M9000
+MUL K2 K3 D66
+LDI M9023
+OUT M74
+""", "0ms expect M70=1 M71=1 M72=1 M73=1 M74=1 D62=-32768 D64=0 D65=3 D66=6")

@@ -297,8 +297,8 @@ class _Gen:
         # VS-style preset ranges change TMR/CNT; such targets keep the reference routines
         self.tmr_inline = settings.get("timer_preset_range") is None
         self.cnt_inline = settings.get("counter16_preset_range") is None
-        # targets with status flags (VS M9020-M9022, 5-3): ADD/SUB and the float arithmetic
-        # set them in their routines
+        # targets with status flags (VS M9020-M9025, 5-3): ADD/SUB, MUL and the float
+        # arithmetic set them in their routines
         self.flags = bool(settings.get("flags"))
         self.gopen = False  # an `if a:` group is open: application instructions under one rung result
         self.gpend: dict[tuple[str, int], int] = {}  # writer records of the open group
@@ -836,7 +836,7 @@ class _Gen:
             self.tmr(s)
         elif op in ("mov", "inc", "dec", "cml") or op in _ARITH:
             self.word_op(s)
-        elif op == "mul":
+        elif op == "mul" and not self.flags:
             self.mul(s)
         elif op == "cnt":
             self.cnt(s)

@@ -321,6 +321,7 @@ def mul(m: Machine, s) -> None:
     p = s.ops[0].get(m) * s.ops[1].get(m)
     n = 2 if s.width == 16 else 4
     s.ops[2].set_words(m, [(p >> (16 * k)) & 0xFFFF for k in range(n)])
+    set_flags(m, mul_div_zero=p == 0)  # VS 6-4 MUL: M9023 when the product is 0
 
 
 @_on
@@ -337,6 +338,8 @@ def div(m: Machine, s) -> None:
     else:
         words = [q & 0xFFFF, (q >> 16) & 0xFFFF, r & 0xFFFF, (r >> 16) & 0xFFFF]
     s.ops[2].set_words(m, words)
+    # VS 6-4 DIV: M9023 when the quotient is 0, M9025 when it passes 32,767 / 2,147,483,647
+    set_flags(m, mul_div_zero=q == 0, div_overflow=q > _mask(s.width) >> 1)
 
 
 def _unary(fn):
