@@ -58,11 +58,12 @@ def _no_color(monkeypatch):
 
 
 SIM_ENGINES = ("compiled", "interp")
-SIM_MODULES = ("test_sim", "test_vs_sim", "test_vs_samples")
+SIM_MODULES = ("test_sim", "test_vs_sim", "test_vs_samples", "test_fbs_sim", "test_fbs_mpg",
+               "test_fbs_pulse_window", "test_xc100_cosim")
 
 
 def pytest_generate_tests(metafunc):
-    """Every simulator test module (test_sim_*, test_vs_sim_*, test_vs_samples) runs on both
+    """Every simulator test module (SIM_MODULES: NC5, VS, FBs, co-simulation) runs on both
     engines (mlctool/sim/compile.py; a program it cannot compile, such as step ladder, runs on
     the interpreter either way)."""
     if "sim_engine" in metafunc.fixturenames and metafunc.module.__name__.startswith(SIM_MODULES):

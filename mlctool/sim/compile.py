@@ -683,6 +683,9 @@ class _Gen:
         i = s.index
         self.flush(i)
         self.ix_clobber()
+        if self.blocks:  # FBs functions take their extra inputs from the block stack (m.blocks)
+            self.emit(f"m.blocks[:] = [{', '.join(self.blocks)}]", i)
+            self.blocks = []
         self.emit(f"m.acc = a; m.pc = {i}; AT[0] = ws; AT[1] = {self.pos()}", i)
         self.emit(f"S{i}.run(m, S{i})", i)
         self.emit("a = m.acc", i)
