@@ -85,11 +85,6 @@ def _set_relay(m: Machine, which: str, n: int, on: bool) -> None:
         m.bits["M"][r] = 1 if on else 0
 
 
-def _port_count(m: Machine) -> int:
-    count = m.target.settings.get("serial_ports", {}).get("count", {})
-    return count.get(m.target.model or "", max(count.values(), default=5)) if isinstance(count, dict) else count
-
-
 def _write_work(m: Machine, st: Master, offset: int, value: int) -> None:
     kind, n = st.work
     m.words[kind][n + offset] = value & 0xFFFF
@@ -98,9 +93,7 @@ def _write_work(m: Machine, st: Master, offset: int, value: int) -> None:
 
 def mbus(m: Machine, s) -> None:
     n = s.ops[2].get(m)
-    if not 1 <= n <= _port_count(m):
-        raise SimFault(f"MBUS {' '.join(s.ins.texts)}: port CP{n} does not exist on this model "
-                       f"(CP1-CP{_port_count(m)})")
+    seriallink.check_port(m, s, n)
     port = seriallink.port(m, f"CP{n}")
     st = port.master if isinstance(port.master, Master) and port.master.owner == s.index else None
     if not m.acc:

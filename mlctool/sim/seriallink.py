@@ -19,6 +19,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from mlctool.sim.state import SimFault
+
 DEFAULT_TIMEOUT_US = 500_000  # [P] the manual leaves it to the port settings (Ladder Master S)
 PORT_NAMES = ("CP1", "CP2", "CP3", "CP4", "CP5")
 
@@ -164,3 +166,19 @@ def port(machine, name: str) -> Port:
     if name not in ports:
         ports[name] = Port(name)
     return ports[name]
+
+
+def port_count(machine) -> int:
+    """How many ports CP1..CPn the model has (target.toml [serial_ports] count, per model)."""
+    count = machine.target.settings.get("serial_ports", {}).get("count", {})
+    if isinstance(count, dict):
+        return count.get(machine.target.model or "", max(count.values(), default=5))
+    return count
+
+
+def check_port(machine, s, n: int) -> None:
+    """RS, MBUS, LINK, CPUL: a port the model lacks is a run-time fault naming the step."""
+    count = port_count(machine)
+    if not 1 <= n <= count:
+        raise SimFault(f"{s.ins.mnemonic} {' '.join(s.ins.texts)}: port CP{n} does not exist on "
+                       f"this model (CP1-CP{count})")

@@ -25,7 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from mlctool.sim import peers, seriallink
-from mlctool.sim.fx_mbus import _enabled, _port_count, _set_relay, tables
+from mlctool.sim.fx_mbus import _enabled, _set_relay, tables
 from mlctool.sim.state import Machine, SimFault
 
 OK, DEVICE_ERROR, TIMEOUT, COMM_ERROR = 0, 4, 0x0A, 0x0B
@@ -72,9 +72,7 @@ def _error(m: Machine, st: LinkState, status: int, station: int, n: int | None) 
 
 def _begin(m: Machine, s, kind: str) -> tuple[int, seriallink.Port, LinkState | None]:
     n = s.ops[2].get(m)
-    if not 1 <= n <= _port_count(m):
-        raise SimFault(f"{kind} {' '.join(s.ins.texts)}: port CP{n} does not exist on this model "
-                       f"(CP1-CP{_port_count(m)})")
+    seriallink.check_port(m, s, n)
     port = seriallink.port(m, f"CP{n}")
     st = port.master if isinstance(port.master, LinkState) and port.master.owner == s.index else None
     return n, port, st

@@ -40,11 +40,6 @@ def _ports(m: Machine) -> dict:
     return m.target.settings.get("serial_ports", {})
 
 
-def _port_count(m: Machine) -> int:
-    count = _ports(m).get("count", {})
-    return count.get(m.target.model or "", max(count.values(), default=5)) if isinstance(count, dict) else count
-
-
 def _number(m: Machine, key: str, port: int) -> int:
     return _ports(m)[key] + _ports(m).get("stride", 10) * (port - 1)
 
@@ -57,9 +52,7 @@ def _set(m: Machine, kind: str, n: int, value: int) -> None:
 def rs(m: Machine, s) -> None:
     src, count_ref, dst, n_ref, port_ref = s.ops
     port = port_ref.get(m)
-    if not 1 <= port <= _port_count(m):
-        raise SimFault(f"RS {' '.join(s.ins.texts)}: port CP{port} does not exist on this model "
-                       f"(CP1-CP{_port_count(m)})")
+    seriallink.check_port(m, s, port)
     sending = m.ext.setdefault("rs_sending", {})
     receiving = m.ext.setdefault("rs_receiving", {})
     if not m.acc:
