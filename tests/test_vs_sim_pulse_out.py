@@ -74,3 +74,65 @@ def test_plsr_short_move_peaks_lower_and_off_decelerates():
     run("LD X20\nPLSR K1000 K30000 K1000 Y0\n",
         "0ms X20=1\n1s X20=0\n1500ms expect D9352:d=875 M9341=1 M9340=1\n"
         "2010ms expect D9352:d=1000 M9341=0 M9340=0 M9343=0\n")
+
+
+def test_plsr_raised_s1_while_cruising_ramps_at_the_new_rate_and_keeps_the_count():
+    # 6-7 FNC 59: S1 may change while running. D0 = 1000, S3 = 1 s, 10000 pulses: 500 on the
+    # ramp, cruising at 1000 Hz; at 2 s (1500 out) D0 = 2000: the rate is now 2000 Hz/s
+    # (S3 is the time from 0 to S1), so 1000 -> 2000 Hz takes 0.5 s and 750 pulses
+    # (1500 + 1000 x 0.25 + 2000 x 0.25^2 / 2 = 1812.5 at 2.25 s); the final ramp 2000 -> 0
+    # takes 1 s and 1000 pulses, so the cruise is (10000 - 1500 - 750 - 1000) / 2000 =
+    # 3.375 s, from 2.5 s (2250 out) to 5.875 s (9000 out); done at 6.875 s
+    run("LD X20\nPLSR D0 K10000 K1000 Y0\n",
+        "0ms D0=1000 X20=1\n2s expect D9352:d=1500 D9350:d=1000\n2s D0=2000\n"
+        "2250ms expect D9352:d=1812 D9350:d=1500\n2500ms expect D9352:d=2250 D9350:d=2000\n"
+        "3s expect D9352:d=3250 D9350:d=2000\n5870ms expect D9352:d=8990\n"
+        # 6.4 s: 0.525 s into the ramp down: 9000 + 2000 x 0.525 - 2000 x 0.525^2 / 2
+        "6400ms expect D9352:d=9774 D9350:d=950 M9342=0\n"
+        "6870ms expect D9352:d=9999 M9341=1\n6880ms expect D9352:d=10000 M9342=1 M9341=0\n")
+
+
+def test_plsr_lowered_s1_ramps_down_to_it_then_cruises():
+    # D0 = 2000: ramp 1 s (1000 pulses), cruise; at 2 s (3000 out) D0 = 1000: rate 1000 Hz/s,
+    # 2000 -> 1000 Hz in 1 s (1500 pulses; 3875 at 2.5 s), final ramp 1000 -> 0 in 1 s (500),
+    # so cruising (10000 - 3000 - 1500 - 500) / 1000 = 5 s from 3 s: 9500 at 8 s, done at 9 s
+    run("LD X20\nPLSR D0 K10000 K1000 Y1\n",
+        "0ms D0=2000 X20=1\n1s expect D9372:d=1000 D9370:d=2000\n2s D0=1000\n"
+        "2500ms expect D9372:d=3875 D9370:d=1500\n3s expect D9372:d=4500 D9370:d=1000\n"
+        "8s expect D9372:d=9500\n8500ms expect D9372:d=9875 D9370:d=500\n"
+        "8990ms expect M9362=0\n9s expect D9372:d=10000 M9362=1\n")
+
+
+def test_plsr_raised_s1_on_a_short_rest_peaks_lower_and_off_stops_at_the_new_rate():
+    # 1875 pulses, D0 = 1000, S3 = 1 s: cruising from 1 s; at 1.5 s (1000 out, 875 left) D0 =
+    # 2000 (2000 Hz/s): up and down meet at sqrt((2 x 2000 x 875 + 1000^2) / 2) = 1500 Hz,
+    # reached at 1.75 s (1312.5 out), then down for 0.75 s: done at 2.5 s; at 2.1 s
+    # 1312.5 + 1500 x 0.35 - 2000 x 0.35^2 / 2 = 1715 out at 800 Hz
+    run("LD X20\nPLSR D0 K1875 K1000 Y0\n",
+        "0ms D0=1000 X20=1\n1500ms D0=2000\n1750ms expect D9352:d=1312 D9350:d=1500\n"
+        "2100ms expect D9352:d=1715 D9350:d=800\n2500ms expect D9352:d=1875 M9342=1\n")
+    # the decelerating stop after a change uses the new rate: raised to 2000 at 2 s as in the
+    # first test, 3250 out at 3 s at 2000 Hz; X20 Off: 1 s and 1000 pulses to stop
+    run("LD X20\nPLSR D0 K30000 K1000 Y0\n",
+        "0ms D0=1000 X20=1\n2s D0=2000\n3s X20=0\n3500ms expect D9352:d=4000 D9350:d=1000 M9341=1\n"
+        "4010ms expect D9352:d=4250 M9340=0\n")
+
+
+def test_plsr_lowered_s1_near_the_end_stops_exactly_and_final_ramp_ignores_changes():
+    # 3000 pulses at 1000 Hz, S3 = 1 s: at 2.5 s (2000 out, 1000 left) D0 = 100: the new rate
+    # 100 Hz/s would need 5000 pulses to stop, so (DECISION) the speed falls to 0 at
+    # 1000^2 / (2 x 1000) = 500 Hz/s, ending at 3000 exactly at 4.5 s (2750 at 3.5 s, 500 Hz)
+    run("LD X20\nPLSR D0 K3000 K1000 Y0\n",
+        "0ms D0=1000 X20=1\n2500ms D0=100\n3500ms expect D9352:d=2750 D9350:d=500\n"
+        "4490ms expect M9342=0 M9341=1\n4500ms expect D9352:d=3000 M9342=1 M9343=0\n")
+    # a change read in the final ramp (from 3 s) is ignored: 2875 out at 3.5 s either way
+    run("LD X20\nPLSR D0 K3000 K1000 Y0\n",
+        "0ms D0=1000 X20=1\n3200ms D0=5000\n3500ms expect D9352:d=2875 D9350:d=500\n"
+        "4s expect D9352:d=3000 M9342=1\n")
+
+
+def test_plsr_without_ramp_changes_speed_at_once():
+    # S3 = 0: 100 Hz, at 1 s (100 out) D0 = 200: 300 at 2 s, the rest of 1000 at 5.5 s
+    run("LD X20\nPLSR D0 K1000 K0 Y2\n",
+        "0ms D0=100 X20=1\n1s D0=200\n1s expect D9392:d=100 D9390:d=200\n2s expect D9392:d=300\n"
+        "5490ms expect M9382=0\n5500ms expect D9392:d=1000 M9382=1\n")

@@ -179,22 +179,32 @@ def pwm(m: Machine, s) -> None:
 
 # ------------------------------------------------------------------ PLSR (FNC 59)
 
-def _trapezoid(total: int, hz: int, ramp_s: float) -> list[tuple[float, float, float, float]]:
-    """Motion segments (start s, position, speed, acceleration) of `total` pulses: a linear
-    ramp from 0 to hz in ramp_s, cruise, the same ramp down; a short move whose ramps would
-    pass total peaks lower (triangle)."""
-    if ramp_s <= 0:
-        return [(0.0, 0.0, float(hz), 0.0)]
-    a = hz / ramp_s
-    if total >= hz * ramp_s:
-        cruise = (total - hz * ramp_s) / hz
-        peak, t_up = float(hz), ramp_s
-    else:
-        peak = math.sqrt(total * a)
-        t_up, cruise = peak / a, 0.0
-    x_up = peak * t_up / 2
-    return [(0.0, 0.0, 0.0, a), (t_up, x_up, peak, 0.0),
-            (t_up + cruise, x_up + peak * cruise, peak, -a)]
+def _plan(t0: float, x0: float, v0: float, total: int, target: float,
+          a: float) -> list[tuple[float, float, float, float]]:
+    """Motion segments (start s, position, speed, acceleration) from (t0, x0, v0) to `total`
+    pulses at speed 0: a linear ramp at rate a toward target, cruise, the ramp down at the
+    same rate. A move too short to reach target peaks lower (triangle); a = 0 (S3 = 0)
+    jumps to target at once. DECISION: when even a ramp straight down at rate a would pass
+    `total` (a lowered S1 lowered the rate), the speed falls to 0 at the rate v0^2 / 2 rest
+    that ends exactly at `total` (the count stays exact)."""
+    rest = total - x0
+    if a <= 0:
+        return [(t0, x0, float(target), 0.0)]
+    if v0 * v0 / (2 * a) > rest:
+        return [(t0, x0, v0, -v0 * v0 / (2 * rest))]
+    if v0 <= target:  # up toward target; a short move peaks where up and down meet
+        peak = float(target)
+        if (2 * peak * peak - v0 * v0) / (2 * a) > rest:
+            peak = math.sqrt((2 * a * rest + v0 * v0) / 2)
+    else:  # down to target first
+        peak = float(target)
+    ramp = (peak - v0) / a if peak >= v0 else (v0 - peak) / a
+    x_ramp = abs(peak * peak - v0 * v0) / (2 * a)
+    cruise = (rest - x_ramp - peak * peak / (2 * a)) / peak if peak > 0 else 0.0
+    cruise = max(cruise, 0.0)
+    t1, x1 = t0 + ramp, x0 + x_ramp
+    return [(t0, x0, v0, a if peak >= v0 else -a), (t1, x1, peak, 0.0),
+            (t1 + cruise, x1 + peak * cruise, peak, -a)]
 
 
 def _at(segments, t: float) -> tuple[float, float]:
@@ -206,14 +216,24 @@ def _at(segments, t: float) -> tuple[float, float]:
     return x0 + v0 * dt + a * dt * dt / 2, v0 + a * dt
 
 
+def _rate(hz: int, ramp_ms: int) -> float:
+    """Hz per second of a ramp that takes S3 ms between 0 and S1 Hz (0: no ramp)."""
+    return hz * 1000 / ramp_ms if ramp_ms else 0.0
+
+
 def plsr(m: Machine, s) -> None:
     """PLSR S1 S2 S3 D: S2 pulses with a ramp of S3 ms from 0 to S1 Hz and back (6-7 chart).
     S2 <= 0: operation error; S3 < 0 is 0, > 32000 is 32000. Condition Off or M9345 while
     running: decelerating stop at the ramp's rate from the present speed (M9340/M9341 stay
     On until it stops); M9346: stop at once. M9343 when stopped by a stop relay before S2.
-    DECISIONS: S1, S2, S3 are read at the start (the page lets S1 change while running:
-    not modelled); the ramp starts at 0 Hz (no bias speed); count = whole pulses of the area
-    under the speed curve."""
+    S1 may change while running (6-7: "本指令執行當中，可以透過程序改變S1的內容值，其他參數
+    改變均視為無效"); S2 and S3 are read at the start only. DECISIONS (the page says no more):
+    a new S1 applies from the execution that reads it; the ramp rate is S1/S3 of the S1 in
+    force (S3 stays the time between 0 and the target), so the speed moves from the present
+    one to the new S1 at that rate, cruises, and the final deceleration at that rate is
+    planned to end exactly at S2; a change read once the final deceleration (or a
+    decelerating stop) has begun is ignored; the ramp starts at 0 Hz (no bias speed);
+    count = whole pulses of the area under the speed curve."""
     f_ref, n_ref, ramp_ref, y = s.ops
     axis = y.addr(m)
     memo = state(m, s, {})
@@ -229,8 +249,9 @@ def plsr(m: Machine, s) -> None:
             return
         hz = _frequency(m, f_ref)
         ramp_ms = min(max(ramp_ref.get(m), 0), 32000)
-        memo.update(total=total, hz=hz, a=hz * 1000 / ramp_ms if ramp_ms else 0.0, start=m.now_us,
-                    segments=_trapezoid(total, hz, ramp_ms / 1000), count0=_get_pair(m, axis, 2),
+        a = _rate(hz, ramp_ms)
+        memo.update(total=total, hz=hz, ramp_ms=ramp_ms, a=a, start=m.now_us,
+                    segments=_plan(0.0, 0.0, 0.0, total, hz, a), count0=_get_pair(m, axis, 2),
                     ended=False, stopping=False)
     if memo.get("refused"):
         if not m.acc:
@@ -241,6 +262,15 @@ def plsr(m: Machine, s) -> None:
     x = min(x, memo["total"])
     stop_now = _relay(m, axis, STOP)
     slow_down = not m.acc or _relay(m, axis, DECEL_STOP)
+    if not memo["ended"] and not stop_now and not slow_down and not memo["stopping"]:
+        hz = _frequency(m, f_ref)
+        last = memo["segments"][-1]
+        final = last[3] < 0 and t >= last[0]
+        if hz != memo["hz"] and not final and x < memo["total"]:
+            memo["hz"], memo["a"] = hz, _rate(hz, memo["ramp_ms"])
+            memo["segments"] = [seg for seg in memo["segments"] if seg[0] < t]
+            memo["segments"] += _plan(t, x, v, memo["total"], hz, memo["a"])
+            x, v = _at(memo["segments"], t)
     if not memo["ended"] and (stop_now or (slow_down and not memo["stopping"])):
         memo["abnormal"] = m.acc  # a stop relay, not the condition, ended it early
         if stop_now or memo["a"] == 0:
@@ -256,7 +286,7 @@ def plsr(m: Machine, s) -> None:
         _set(m, axis, DONE if pulses >= memo["total"] else ABNORMAL,
              pulses >= memo["total"] or memo.get("abnormal", False))
     elif not memo["ended"]:
-        _show(m, memo, axis, y, pulses, int(v), (x - pulses) < 0.5)
+        _show(m, memo, axis, y, pulses, int(v + 1e-9), (x - pulses) < 0.5)
     if not m.acc and memo["ended"]:
         _release(m, s, axis, y)
         memo.clear()
