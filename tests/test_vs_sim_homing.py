@@ -99,3 +99,35 @@ def test_a_limit_of_either_axis_stops_the_straight_line():
             "0ms D1000=0 D1001=3000 D1002=0 D1003=4000 D1004=3000\n10ms M0=1\n500ms X21=1\n"
             "500ms expect D9354:d=1176 D9374:d=882 M9343=1 M9363=1 M9342=0\n"
             "600ms expect D9354:d=1176 D9374:d=882\n")
+
+
+MPG = "LD M0\nMPG K1 D100 Y0 Y4\n"
+MPG_SETUP = "0ms D100=5 D101=1 D102=1 M0=1\n"
+
+
+def test_mpg_stops_at_once_on_the_limit_ahead_and_follows_the_wheel_away():
+    # 8-3 FNC 314: "脈衝輸出中，若碰到正/反轉極限開關，則會立即停止 ... 此時僅能接受相反方向的脈衝
+    # 輸出要求". A/B on X3/X4 (S1 = K1), gear 1:1, response 5 ms: x1 events at 102.5,
+    # 112.5 ... ms, each seen 5 ms late. LSF X21 On at 300 ms: the 20 events up to 295 ms
+    # went out before; the 10 of 302.5-392.5 ms toward the limit are dropped (DECISION: not
+    # owed). B leads from 500 ms (10 events): away from the limit with LSF still On; LSF Off,
+    # A leads again from 800 ms: +10
+    with form(lsf=["X21", "", "", ""]):
+        run(MPG, MPG_SETUP + "100ms X3/X4 pulses 100Hz until 400ms\n"
+            "290ms expect D9354:d=19 Y4=1\n300ms X21=1\n300ms expect D9354:d=20\n"
+            "350ms expect D9354:d=20 D9350:d=0 M9341=0 Y0=0\n"
+            "450ms expect D9354:d=20 M9343=0 M9342=0 M9340=1\n"
+            "500ms X3/X4 pulses -100Hz until 600ms\n700ms expect D9354:d=10 Y4=0\n"
+            "700ms X21=0\n800ms X3/X4 pulses 100Hz until 900ms\n1000ms expect D9354:d=20 Y4=1\n")
+
+
+def test_mpg_limits_follow_the_motor_rotation():
+    # "position increasing: motor reverse" (8-1-1): A leads = the motor forward (the page: D2
+    # On), so the position counts down; LSR (X22) limits the reverse rotation (B leads) only
+    with form(lsf=["X21", "", "", ""], lsr=["X22", "", "", ""], reverse_rotation=True):
+        run(MPG, MPG_SETUP + "100ms X3/X4 pulses 100Hz until 200ms\n"
+            "250ms expect D9354:d=-10 Y4=1\n250ms X22=1\n"
+            "300ms X3/X4 pulses 100Hz until 400ms\n450ms expect D9354:d=-20 Y4=1\n"
+            "500ms X3/X4 pulses -100Hz until 600ms\n700ms expect D9354:d=-20 Y4=1\n"
+            "700ms X22=0 X21=1\n800ms X3/X4 pulses -100Hz until 900ms\n"
+            "1000ms expect D9354:d=-10 Y4=0\n")

@@ -838,9 +838,16 @@ def _mpg_begin(m: Machine, s, memo: dict, axis: int) -> bool:
     for offset in (DONE, ABNORMAL):
         _set(m, axis, offset, False)
     a, b = (_pin_named(m, name) for name in pairs[k])
-    memo.update(a=a, b=b, in_t=m.now_us, out=Fraction(0), sent=0, at=m.now_us,
-                pos0=_pair(m, axis, "position"), axis=axis)
+    memo.update(a=a, b=b, in_t=m.now_us, out=Fraction(0), sent=0, moved=0, at=m.now_us,
+                pos0=_pair(m, axis, "position"), axis=axis, limits=_mpg_limits(m, axis))
     return True
+
+
+def _mpg_limits(m: Machine, axis: int) -> tuple[int, int]:
+    """8-3 MPG: "脈衝輸出中，若碰到正/反轉極限開關，則會立即停止 ... 此時僅能接受相反方向的脈衝
+    輸出要求": the levels of the limit switches of the motor's forward (LSF) and reverse
+    (LSR) rotation, as this scan shows them; they hold back the pulses put out after it."""
+    return _level(m, _pin(m, "lsf", axis)), _level(m, _pin(m, "lsr", axis))
 
 
 def _pin_named(m: Machine, name: str) -> tuple[str, int]:
@@ -850,7 +857,9 @@ def _pin_named(m: Machine, name: str) -> tuple[str, int]:
 def mpg(m: Machine, s) -> None:
     """MPG S1 S2 D1 D2 (FNC 314): a handwheel's A/B pulses on input pair S1 (target.toml
     [positioning] mpg_inputs) put out on D1 as input x S2+1 / S2+2, after the response time
-    S2 (1-500 ms, else 5); D2 On while A leads. The override does not apply (the page)."""
+    S2 (1-500 ms, else 5); D2 On while A leads. The override does not apply (the page). A
+    travel limit ahead (LSF/LSR of the form) stops the output at once; pulses the other way
+    still go out (the page)."""
     y = s.ops[-2]
     memo = state(m, s, {})
     if not memo:
@@ -868,12 +877,21 @@ def mpg(m: Machine, s) -> None:
         memo["off_at"] = m.now_us  # DECISION: Off stops the input; the owed pulses still go out
     _mpg_count(m, s, memo)
     sent = int(memo["out"])  # whole pulses, toward zero
+    step, forward = sent - memo["sent"], sent > memo["sent"]  # A leads: the motor forward
+    if step and memo["limits"][0 if forward else 1]:
+        # the pulses since the previous execution, toward a limit switch that execution saw
+        # On: stopped at once, dropped (DECISION: not owed when the wheel turns back)
+        step = 0
+    memo["limits"] = _mpg_limits(m, axis)
     dt = (m.now_us - memo["at"]) / MICRO
-    hz = abs(sent - memo["sent"]) / dt if dt > 0 else 0.0
-    if sent != memo["sent"]:
-        _direction_pin(m, s, 1 if sent > memo["sent"] else -1)
-    memo.update(sent=sent, at=m.now_us)
-    _set_position(m, axis, memo["pos0"] + sent)
+    hz = abs(step) / dt if dt > 0 else 0.0
+    if step:
+        s.ops[-1].setbit(m, 1 if forward else 0)  # the page: A leads, D2 On, motor forward
+    memo.update(sent=sent, at=m.now_us, moved=memo["moved"] + step)
+    # the position counts the motor's way: up forward unless the form says "position
+    # increasing: motor reverse" (8-1-1 rotation direction)
+    way = -1 if _cfg(m).get("reverse_rotation", False) else 1
+    _set_position(m, axis, memo["pos0"] + way * memo["moved"])
     _set_pair(m, axis, 0, int(hz + 1e-6))
     _set(m, axis, OUTPUT, hz > 0)
     y.setbit(m, 1 if hz > 0 else 0)  # DECISION: On while pulses go out (no pulse phase)
