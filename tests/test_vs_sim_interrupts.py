@@ -153,3 +153,53 @@ def test_ihhc1_at_the_hardware_counters_set_value():
     # 10 kHz from 0 ms: count 1005 at 100.5 ms (the edge at 0 ms is before the mode is set)
     run(il, "0ms X0 pulses 10kHz for 300ms\n400ms expect D0=1 D1=10 D2=0 D9226:d=2999\n")
     run(il, "0ms X0 pulses 10kHz for 300ms\n0ms M9062=1\n400ms expect D0=0 D9226:d=2999\n")
+
+
+REF_ROUTINE = ("FEND\nIX0P:\nLD X10\nOUT Y1\nLD M9000\nREF X10 K8\nLD X10\nOUT Y0\n"
+               "LDI X11\nOUT Y2\nIRET\n")
+
+
+def test_ref_in_a_routine_reads_the_inputs_at_the_request_time():
+    # 2-12 / 6-7 FNC 50: the image holds what the scan at 10 ms read (X10 Off); X10 goes On
+    # at 13 ms and X0 rises at 15 ms: before its REF the routine still sees X10 Off (Y1 Off),
+    # after `REF X10 K8` On (Y0 On); X11 (in the REF's 8 points) too
+    run(REF_ROUTINE,
+        "0ms X11=1\n13ms X10=1\n14ms X11=0\n15ms X0=1\n20ms expect Y0=1 Y1=0 Y2=1\n"
+        # X10 Off again at 33 ms, X0 rises at 40 ms, exactly at the scan's time: the lines
+        # come first, the routine before the scan's read: Y1 still On, Y0 Off
+        "25ms X0=0\n33ms X10=0\n40ms X0=1\n40ms expect Y0=0 Y1=1\n")
+
+
+def test_ref_in_a_routine_reads_a_pulse_train_at_the_request_time():
+    # X10 pulses 100 Hz: On in the first 5 ms of each 10 ms, so every scan reads it On; the
+    # routine at 17 ms sees the image On (Y1) but REF reads the train's level then: Off
+    run(REF_ROUTINE,
+        "0ms X10 pulses 100Hz\n0ms X11=1\n17ms X0=1\n20ms expect Y0=0 Y1=1 X10=1\n"
+        "21ms X0=0\n22ms X0=1\n30ms expect Y0=1\n")
+
+
+def test_ref_y_in_a_routine_puts_the_output_out_at_the_request_time():
+    # the routine sets Y0 and puts it out by REF Y0 K8 (Y0-Y7) at 15 ms; Y10 it sets without
+    # REF goes out after the next scan (20 ms); the main program clears Y0 at every scan, so
+    # the trace (and the VCD) show Y0 On from 15 ms to the scan at 20 ms and Y10 from 20 ms
+    from mlctool.sim.run import Simulation
+    from mlctool.sim.vcd import to_vcd
+
+    image = image_of("LD M9000\nRST Y0\nFEND\nIX0P:\nLD M9000\nSET Y0\nSET Y10\nLD M9000\nREF Y0 K8\n"
+                     "IRET\nEND\n")
+    st, sd = parse_stimulus_text("t.stim", "15ms X0=1\n30ms expect Y0=0 Y10=1\n", VS)
+    assert not sd
+    r = Simulation(image, VS, st, [], 10_000, [], True).run(4)
+    assert r.ok
+    names = [v.name for v in r.views]
+    y0, y10 = names.index("Y0"), names.index("Y10")
+    seen = [(t, names[i], v) for t, changes in r.trace for i, v in changes if i in (y0, y10)]
+    assert (15_000, "Y0", 1) in seen and (20_000, "Y0", 0) in seen
+    assert (20_000, "Y10", 1) in seen and not any(n == "Y10" and t == 15_000 for t, n, _ in seen)
+    vcd = to_vcd(r, image, VS)
+    assert "#15000" in vcd.splitlines()
+
+
+def test_ref_in_the_main_program_changes_nothing():
+    # the scan is instantaneous at its start: its inputs are current, REF is accepted
+    run("LD M9000\nREF X0 K16\nREF Y0 K8\nLD X10\nOUT Y0\n", "5ms X10=1\n10ms expect Y0=1\n")

@@ -82,9 +82,11 @@ def _series(result: RunResult, views: list[DeviceView], scans: int) -> dict[str,
     wanted = {pos[v]: v.name for v in views if v in pos}
     out: dict[str, list[tuple[int, object]]] = {name: [] for name in wanted.values()}
     for t, changes in result.trace:
-        k = t // result.period_us
+        k, between = divmod(t, result.period_us)
         if k >= scans:
             break
+        if between:  # an output a routine's REF put out between scans: the columns are scans
+            continue
         for i, value in changes:
             if i in wanted:
                 out[wanted[i]].append((k, value))

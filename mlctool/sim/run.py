@@ -254,6 +254,10 @@ class Simulation:
         outcomes: list[ExpectOutcome] = []
         trace: list[tuple[int, list[tuple[int, int | float]]]] = []
         last: list[int | float | None] = [None] * len(self.views)
+        # Y bits a routine's REF put out between scans (fx/interrupts.py): trace entries at
+        # their own time; the scan after records each such view again
+        y_views = {v.number: i for i, v in enumerate(self.views) if v.kind == "Y" and v.view == "bit"}
+        moved: set[int] = set()
         fault = None
         seen_alarms = 0
         alarms: list[AlarmReport] = []
@@ -285,14 +289,28 @@ class Simulation:
                 alarms.append(AlarmReport(a[0], k, a[2], a[3], ins.addr, ins.file, ins.line,
                                           a[2] in self.alarm_names))
             seen_alarms = len(m.alarms)
+            outputs = self.irq.outputs if self.irq is not None else []
+            if self.tracing and outputs:
+                for t, n, level in outputs:
+                    i = y_views.get(n)
+                    if i is None or t >= m.now_us or level == last[i]:
+                        continue  # at the scan's own time the scan's entry shows it
+                    if trace and trace[-1][0] == t:
+                        trace[-1][1].append((i, level))
+                    else:
+                        trace.append((t, [(i, level)]))
+                    last[i] = level
+                    moved.add(i)
+            outputs.clear()
             if self.tracing:
                 changes = []
                 for i, v in enumerate(self.views):
                     val = v.read(m)
-                    if val != last[i] or (isinstance(val, float) and math.isnan(val)
-                                          and not (isinstance(last[i], float) and math.isnan(last[i]))):
+                    if i in moved or val != last[i] or (isinstance(val, float) and math.isnan(val)
+                                                        and not (isinstance(last[i], float) and math.isnan(last[i]))):
                         changes.append((i, val))
                         last[i] = val
+                moved.clear()
                 if changes:
                     trace.append((m.now_us, changes))
             if fault:

@@ -2,7 +2,8 @@
 
 Bits are 1-bit wires, 16-bit words and timer/counter values 16-bit vectors, 32-bit views
 32-bit vectors (raw two's-complement patterns), floats `real`. Time unit 1 us; each scan's
-results are dumped at the scan's start time. No date header, so equal runs give equal bytes.
+results are dumped at the scan's start time (outputs an interrupt routine's REF put out
+between scans at the routine's time). No date header, so equal runs give equal bytes.
 """
 
 from __future__ import annotations

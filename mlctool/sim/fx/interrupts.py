@@ -16,6 +16,14 @@ A request is dropped while its disable relay (M9050-M9063) is On; it is remember
 in force (DI executed, no EI since) and served when EI executes, in request order, once per
 pointer. Routines do not nest. The fixed first line `LD M9163 / MOV Kxx D9163` delays the
 routine xx ms (2-15-1).
+
+Inputs and outputs in a routine (6-7 FNC 50 REF, 2-12: "中斷子程序中經常需要立即讀取外部狀態或
+立即驅動外部負載。此時，應于中斷子程序中使用 I/O更新指令REF"): the X image is what the last scan
+read (REF page: inputs are read before STEP0), so a routine sees a stimulus line that changed
+an input since that scan only after `REF X0/X10 n`, which reads the level the stimulus gives
+at the request's time (pulse trains included) into the image; `REF Y0 n` puts Y out at that
+time (recorded in `outputs` for the trace and VCD). The pointer's own edge and the requests
+are judged on those stimulus levels, as before.
 """
 
 from __future__ import annotations
@@ -56,12 +64,18 @@ class Interrupts:
         self.pending: list[int] = []  # requests held by DI, served by EI
         self.delayed: list[tuple[Fraction, int]] = []  # (time, I number): delayed past the last scan
         self.seq = 0
+        self.held: dict[int, int] = {}  # X number -> image level, for inputs the stimulus has moved
+        self.phys: dict[int, int] = {}  # while a routine runs: X number -> stimulus level of `held`
+        self.exact: Fraction | None = None  # request time of the routine running between scans
+        self.outputs: list[tuple[int, int, int]] = []  # (us, Y number, level) put out by REF Y
+        self.sim = None
 
     # -- between scans
     def before_scan(self, sim, k: int, events) -> None:
         """Stimulus lines of scan k and the requests of (previous scan, this scan], in time order."""
         m: Machine = sim.m
         now = m.now_us
+        self.sim, self.held = sim, {}  # the image is the last scan's: nothing moved yet
         after = (k - 1) * sim.period if k > 0 else -1
         # (time, order, sequence, what, item): at one instant stimulus lines first, in file
         # order, then requests; the sequence keeps the heap from comparing items
@@ -96,13 +110,18 @@ class Interrupts:
             if t > now:  # a delayed request due after this scan
                 self.delayed.append((t, item))
                 continue
-            m.now_us = math.floor(t)
+            m.now_us, self.exact = math.floor(t), t  # routines run at the request's time
             if what == "event":
-                before = {p.unit: m.bits["X"][p.unit] for p in self.inputs}
+                xs = m.bits["X"]
+                before = xs[:]
                 sim.apply(item)
                 sim.apply_forces()
+                if item.kind != "power":  # the image keeps what the last scan read
+                    for n in range(len(xs)):
+                        if xs[n] != before[n]:
+                            self.held.setdefault(n, before[n])
                 for p in self.inputs:
-                    level = m.bits["X"][p.unit]
+                    level = xs[p.unit]
                     if level != before[p.unit] and level == p.family["edge_level"][p.suffix]:
                         self._request(m, p.number, t, queue)
             elif what == "due":
@@ -110,6 +129,7 @@ class Interrupts:
             else:
                 self._request(m, item, t, queue)
         m.now_us = now
+        self.held, self.exact = {}, None  # the scan reads every input now
 
     def _next(self) -> int:
         self.seq += 1
@@ -186,6 +206,10 @@ class Interrupts:
         m.stack.clear()
         m.mc_stack.clear()
         self.active = True
+        xs = m.bits["X"]
+        self.phys = {n: xs[n] for n in self.held}  # the routine sees the image
+        for n, level in self.held.items():
+            xs[n] = level
         relays = m.target.settings.get("system_relays") or {}
         for n in relays.get("always_on", ()):  # M9000 also in a routine before the first scan
             m.bits["M"][n] = 1
@@ -213,8 +237,42 @@ class Interrupts:
             raise Fault(e.message, s) from None
         finally:
             self.active = False
+            for n in self.held:  # back to the stimulus levels; REF took its inputs out of held
+                self.held[n], xs[n] = xs[n], self.phys[n]
+            self.phys = {}
             (m.acc, m.blocks[:], m.stack[:], m.calls, m.fors, m.pc, m.bus, m.stl_step,
              m.mc_stack[:]) = saved
+
+
+    # -- REF (6-7 FNC 50) inside a routine
+    def refresh_inputs(self, m: Machine, first: int, n: int) -> None:
+        """X first .. first+n-1 take the level the stimulus gives at the request's time: a
+        pulse train's level then, else the latest stimulus line's (forces win, as at a scan).
+        DECISION: the page's ~10 ms input delay is not modelled (as REFF: levels are exact)."""
+        if not self.active:
+            return
+        t = self.exact if self.exact is not None else Fraction(m.now_us)
+        xs = m.bits["X"]
+        for i in range(first, min(first + n, len(xs))):
+            self.held.pop(i, None)
+            level = self.phys.pop(i, xs[i])
+            live = [tr for tr in m.pulse_trains.get(("X", i), ()) if tr.start_us <= t]
+            if live:
+                level = live[-1].level(t)
+            xs[i] = level
+        if self.sim is not None:
+            self.sim.apply_forces()
+
+    def refresh_outputs(self, m: Machine, first: int, n: int) -> None:
+        """Y first .. first+n-1 go out at the request's time (a routine run between scans);
+        the run's trace shows them then. DECISION: the page's ~10 ms relay delay is not
+        modelled; a routine served by EI inside a scan puts them out at the scan's time, which
+        the scan's own trace entry shows."""
+        if not self.active or self.exact is None:
+            return
+        ys = m.bits["Y"]
+        for i in range(first, min(first + n, len(ys))):
+            self.outputs.append((m.now_us, i, ys[i]))
 
 
 # -- the instructions
