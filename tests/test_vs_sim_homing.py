@@ -131,3 +131,33 @@ def test_mpg_limits_follow_the_motor_rotation():
             "500ms X3/X4 pulses -100Hz until 600ms\n700ms expect D9354:d=-20 Y4=1\n"
             "700ms X22=0 X21=1\n800ms X3/X4 pulses -100Hz until 900ms\n"
             "1000ms expect D9354:d=-10 Y4=0\n")
+
+
+def test_dog_on_a_normally_closed_contact_homes_as_the_normally_open_one():
+    # input polarity (the positioning parameter word 2-17-9 BFM#115, b10 DOG: 1 = N/C): the
+    # page example of 8-3 FNC 300 (test_zrn_page_example_dog_rear_edge_homing) with X10's
+    # levels inverted homes the same: X10 On at the start is "not at the DOG" (an N/O DOG On
+    # at the start would creep at once)
+    zrn = "LD M0\nDZRN K50000 K1000 Y0 Y4\n"
+    with form(input_polarity=[0x400, 0, 0, 0]):
+        run(zrn, "0ms X10=1 D9346:d=100 M9344=0 M0=1\n0ms expect Y4=0 M9340=1\n200ms X10=0\n"
+            "200ms expect D9354:d=-9375\n490ms expect D9354:d=-10265 D9350:d=1000 M9344=0\n"
+            "500ms X10=1\n500ms expect D9354:d=100 M9344=1 M9342=1 M9341=0 Y0=0\n")
+    # b9 (STR) has no input on the built-in axes: the N/O stimulus homes as ever
+    with form(input_polarity=[0x200, 0, 0, 0]):
+        run(zrn, "0ms D9346:d=100 M0=1\n200ms X10=1\n200ms expect D9354:d=-9375\n"
+            "500ms X10=0\n500ms expect D9354:d=100 M9344=1\n")
+
+
+def test_pg0_on_a_normally_closed_contact_counts_its_opening():
+    # b11 PG0 N/C, "DOG rear edge, count PG0", 2 zero signals, no ramps: 5000 Hz to the DOG
+    # (100 ms, 500), 1000 Hz creep, DOG rear at 200 ms (600). Plain levels: X0 falling at
+    # 210 and 230 ms are the zero signals (an N/O PG0 would see one rise, at 220 ms)
+    ramps = "0ms D9340:d=5000 D9343=0 D9344=0 D9346:d=-5 M0=1\n100ms X10=1\n200ms X10=0\n"
+    with form(home_mode="dog_rear_pg0", input_polarity=[0x800, 0, 0, 0]):
+        run(ZRN, "0ms X0=1\n" + ramps + "210ms X0=0\n220ms X0=1\n"
+            "220ms expect D9354:d=-620 M9344=0\n230ms X0=0\n230ms expect D9354:d=-5 M9344=1\n")
+        # a train (50 Hz from 201 ms: rising at 201, 221 ms, falling at 211, 231 ms): the
+        # falling edges count, the zero at 231 ms (an N/O PG0: 221 ms)
+        run(ZRN, ramps + "201ms X0 pulses 50Hz\n230ms expect D9354:d=-630 M9344=0\n"
+            "240ms expect D9354:d=-5 M9344=1 M9342=1\n")

@@ -135,6 +135,15 @@ def test_dvit_page_example_travel_after_the_interrupt():
     run("LD M0\nDVIT K-100 K1000 Y0 Y4\n",
         "0ms D9343=0 D9344=0 M9350=1 X0=1 M0=1\n200ms X0=0\n200ms expect D9354:d=-200 Y4=0\n"
         "300ms expect D9354:d=-300 M9342=1\n")
+    # b12 INT N/C (input polarity, 2-17-9 BFM#115): the contact opening is the signal's
+    # rising edge (M9350 Off), its closing the falling one (M9350 On)
+    with form(input_polarity=[0x1000, 0, 0, 0]):
+        run("LD M0\nDVIT K-100 K1000 Y0 Y4\n",
+            "0ms D9343=0 D9344=0 X0=1 M0=1\n100ms expect D9354:d=-100\n200ms X0=0\n"
+            "200ms expect D9354:d=-200 Y4=0\n300ms expect D9354:d=-300 M9342=1\n")
+        run("LD M0\nDVIT K100 K1000 Y0 Y4\n",
+            "0ms D9343=0 D9344=0 M9350=1 M0=1\n200ms X0=1\n200ms expect D9354:d=200\n"
+            "300ms expect D9354:d=300 M9342=1\n")
     # without an interrupt signal in the form: operation error, not executed
     with form(interrupt=["", "", "", ""]):
         run("LD M0\nDVIT K100 K1000 Y0 Y4\n", "0ms M0=1\n10ms expect M9340=0 M9067=1\n",

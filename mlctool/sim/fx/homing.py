@@ -24,9 +24,11 @@ from mlctool.sim.fx.positioning import (
     _pin,
     _set,
     _set_position,
+    _signal,
     _speed,
     _start,
     limit_pin,
+    normally_closed,
 )
 from mlctool.sim.state import Machine, SimFault
 
@@ -59,7 +61,7 @@ def _zrn_begin(m: Machine, s, memo: dict, axis: int) -> bool:
             return False
     home = _cfg(m).get("home_direction", -1)
     search = limit_pin(m, axis, home) is not None
-    dog = _level(m, _pin(m, "dog", axis)) if mode != "data_set" else 0
+    dog = _signal(m, "dog", axis) if mode != "data_set" else 0
     at_limit = search and _level(m, limit_pin(m, axis, home))
     away = search and (dog or at_limit)
     p = _start(m, s, memo, axis, -home if away else home)
@@ -90,17 +92,35 @@ def _zero_at(m: Machine, s, memo: dict, axis: int, t: float) -> None:
     _home_done(m, s, memo, axis)
 
 
+def _pg0_edges(m: Machine, axis: int, after: int, upto: int) -> list:
+    """The zero signal's edges in (after, upto] of the pulse trains on PG0, as pulses.edges
+    runs: the rising edges, or for an N/C contact (the form's polarity) the falling ones, half
+    a period later (DECISION: a train cut off while On adds no edge at its end)."""
+    kind, number = _pin(m, "pg0", axis)
+    if not normally_closed(m, "pg0", axis):
+        return pulses.edges(m, kind, number, after, upto)
+    out = []
+    for tr in m.pulse_trains.get((kind, number), ()):
+        if tr.period_us is None:
+            continue
+        falling = pulses.Train(tr.start_us + tr.period_us / 2, tr.period_us, tr.end_us)
+        first, last = falling.edges_upto(after), falling.edges_upto(upto)
+        if last > first:
+            out.append((falling, first, last - first))
+    return out
+
+
 def _pg0_edge_time(m: Machine, memo: dict, axis: int) -> float | None:
     """Counting PG0 after the DOG edge: the time (s from the start) of the zero-signal edge
     that makes the count (form `zero_count`), or None. A pulse train on PG0 (the stimulus's
-    `X0 pulses ...`) is counted edge by edge in time; a plain input counts a rising edge per
-    scan that shows it."""
+    `X0 pulses ...`) is counted edge by edge in time; a plain input counts a rising edge of
+    the signal (after the form's polarity) per scan that shows it."""
     kind, number = _pin(m, "pg0", axis)
-    level = m.bits[kind][number]
+    level = _signal(m, "pg0", axis)
     after, memo["pg0_last"] = memo["pg0_last"], m.now_us
     need = _cfg(m).get("zero_count", 1) - memo["pg0_seen"]
     if m.pulse_trains.get((kind, number)):
-        for train, first, n in pulses.edges(m, kind, number, after, m.now_us):
+        for train, first, n in _pg0_edges(m, axis, after, m.now_us):
             if n >= need:
                 return (float(train.edge_time(first + need - 1)) - memo["t0"]) / MICRO
             need -= n
@@ -114,8 +134,7 @@ def _pg0_edge_time(m: Machine, memo: dict, axis: int) -> float | None:
 
 
 def _count_pg0(m: Machine, memo: dict, axis: int) -> None:
-    pin = _pin(m, "pg0", axis)
-    memo.update(pg0_from=m.now_us, pg0_last=m.now_us, pg0_seen=0, pg0_level=m.bits[pin[0]][pin[1]])
+    memo.update(pg0_from=m.now_us, pg0_last=m.now_us, pg0_seen=0, pg0_level=_signal(m, "pg0", axis))
 
 
 def _turn(m: Machine, s, memo: dict, t: float, speed: float, phase: str) -> None:
@@ -160,7 +179,7 @@ def _zrn_replan(m: Machine, s, memo: dict, axis: int, t: float, x: float, v: flo
     / "dog_front_pg0" count the zero signal PG0 from the DOG's rear / front edge and stop at
     once at the `zero_count`-th. DECISION: DOG edges are seen by the execution whose scan
     first shows the new level; PG0 edges of a pulse train count from that scan's time."""
-    dog = _level(m, _pin(m, "dog", axis))
+    dog = _signal(m, "dog", axis)
     p, mode = memo["p"], memo["mode"]
     rise, fall = dog and not memo["dog"], memo["dog"] and not dog
     memo["dog"] = dog

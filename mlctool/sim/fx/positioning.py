@@ -79,6 +79,29 @@ def _level(m: Machine, pin: tuple[str, int] | None) -> int:
     return m.bits[pin[0]][pin[1]] if pin else 0
 
 
+# The form's input polarity word (target.toml `input_polarity`, one per axis), in the bit
+# layout of the positioning parameter table 2-17-9 BFM#115 "參數設定": b9 STR, b10 DOG, b11
+# PG0, b12 INT; 0 = N/O contact, 1 = N/C contact. The built-in axes have no STR input.
+POLARITY_BITS = {"str": 9, "dog": 10, "pg0": 11, "interrupt": 12}
+
+
+def normally_closed(m: Machine, key: str, axis: int) -> bool:
+    """The form's signal `key` of the axis is wired to an N/C contact."""
+    words = _cfg(m).get("input_polarity", [])
+    bit = POLARITY_BITS.get(key)
+    return bit is not None and axis < len(words) and bool(int(words[axis]) >> bit & 1)
+
+
+def _signal(m: Machine, key: str, axis: int) -> int:
+    """The form's signal `key` as the positioning sees it: the input's level, inverted for an
+    N/C contact (On = the switch is actuated, its contact open); 0 without a signal."""
+    pin = _pin(m, key, axis)
+    if pin is None:
+        return 0
+    level = m.bits[pin[0]][pin[1]]
+    return level ^ 1 if normally_closed(m, key, axis) else level
+
+
 def _params(m: Machine, axis: int) -> dict:
     """The axis parameters as the instruction reads them at its start, clamped as 8-1-1
     says: max 1 .. the model's maximum, bias 0-20 kHz, ramps 0-32000 ms, override 1-30000
@@ -408,14 +431,14 @@ def _dvit_begin(m: Machine, s, memo: dict, axis: int) -> bool:
     if p is None:
         return False
     memo.update(travel=abs(travel), cruise=_speed(m, axis, s.ops[1].get(m), p), after_int=None,
-                int_level=_level(m, _pin(m, "interrupt", axis)))
+                int_level=_signal(m, "interrupt", axis))
     memo["prof"] = motion.run_on(0.0, 0.0, 0.0, memo["cruise"], p["bias"], p["up"], p["down"])
     return True
 
 
 def _interrupted(m: Machine, memo: dict, axis: int) -> bool:
     """The interrupt signal's edge since the last execution (M9350 Off rising, On falling)."""
-    level = _level(m, _pin(m, "interrupt", axis))
+    level = _signal(m, "interrupt", axis)
     falling = _relay(m, axis, _cfg(m)["interrupt_edge"])
     edge = (memo["int_level"] and not level) if falling else (level and not memo["int_level"])
     memo["int_level"] = level
@@ -485,7 +508,7 @@ def _stoppable_begin(m: Machine, s, memo: dict, axis: int, absolute: bool) -> bo
     travel = s.ops[0].get(m) - (_pair(m, axis, "position") if absolute else 0)
     if not _move(m, s, memo, axis, travel):
         return False
-    memo["int_level"] = _level(m, _pin(m, "interrupt", axis))
+    memo["int_level"] = _signal(m, "interrupt", axis)
     return True
 
 
