@@ -335,15 +335,27 @@ def table(name: str, instrs: int, mlc_c: float, mlc_i: float, awl, pyr) -> None:
         print(f"  {label:<28}{sps:>12,.0f}{sps * instrs / 1e6:>13.2f} M{mlc_c / sps:>21.1f}x")
 
 
+def mlc_and_awlsim(image, setup, awl: str, rounds: int = 3) -> tuple[float, tuple[float, float] | None]:
+    """The compiled engine and awlsim measured in turns, each system's best round: on a machine
+    whose speed drifts, both see the same stretches of it."""
+    best_mlc, best_awl = 0.0, None
+    for _ in range(rounds):
+        c, engine = mlc_scans_per_s(image, "compiled", setup)
+        assert engine == "compiled"
+        best_mlc = max(best_mlc, c)
+        a = awlsim_figures(awl)
+        if a is not None and (best_awl is None or a[1] > best_awl[1]):
+            best_awl = a
+    return best_mlc, best_awl
+
+
 def bench_bool1000() -> None:
     image = build(bool1000_il())
     instrs = executed_per_scan(image, lambda m: None)
-    c, engine = mlc_scans_per_s(image, "compiled", lambda m: None)
-    assert engine == "compiled"
+    c, awl = mlc_and_awlsim(image, lambda m: None, bool1000_awl())
     i, _ = mlc_scans_per_s(image, "interp", lambda m: None)
     plc = pyrung_bool1000()
-    table("bool1000", instrs, c, i, awlsim_figures(bool1000_awl()),
-          pyrung_scans_per_s(plc) if plc is not None else None)
+    table("bool1000", instrs, c, i, awl, pyrung_scans_per_s(plc) if plc is not None else None)
     print(f"  goal: >= 30 M basic instr/s (FX3U 0.065 us/instr = 15.4 M/s): "
           f"{c * instrs / 1e6:.1f} M/s = {c * instrs * 0.065e-6:.2f}x FX3U")
 
@@ -354,16 +366,14 @@ def bench_mixed() -> None:
     def setup(m):
         m.bits["M"][1000] = 1
     instrs = executed_per_scan(image, setup)
-    c, engine = mlc_scans_per_s(image, "compiled", setup)
-    assert engine == "compiled"
+    c, awl = mlc_and_awlsim(image, setup, mixed_awl())
     i, _ = mlc_scans_per_s(image, "interp", setup)
     plc = None
     try:
         plc = pyrung_mixed()
     except Exception as e:  # noqa: BLE001 - a peer's API changing must not stop the bench
         print(f"  pyrung mixed program failed to build: {e}")
-    table("mixed", instrs, c, i, awlsim_figures(mixed_awl()),
-          pyrung_scans_per_s(plc) if plc is not None else None)
+    table("mixed", instrs, c, i, awl, pyrung_scans_per_s(plc) if plc is not None else None)
 
 
 def bench_batch(n: int = 1024, scans: int = 1000) -> None:
