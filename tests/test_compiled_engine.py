@@ -30,6 +30,10 @@ const = st.integers(-40000, 40000).map(lambda v: f"K{max(-32768, min(32767, v))}
 @st.composite
 def contact(draw, cls: str) -> str:
     kind = draw(st.sampled_from(["", "I", "P", "F", "cmp", "ix"]))
+    if kind == "ix" and draw(st.booleans()):  # index registers compared (VS; NC5 refuses them)
+        d = draw(st.sampled_from(["", "D"])) if cls == "LD" else ""
+        return f"{d}{cls}{draw(st.sampled_from(['<', '>=']))} " \
+               f"{draw(st.sampled_from(['Z0', 'V0', 'V1']))} {draw(st.sampled_from(['K0', 'K-1', 'D2']))}"
     if kind == "ix":  # index-modified compares (NC5 contacts take no index)
         return f"{cls}> D{draw(st.integers(0, 4))}V0 {draw(st.sampled_from(['K0', 'D1Z0']))}"
     if kind == "cmp":
@@ -374,3 +378,11 @@ def test_a_one_block_for_body_loops_in_its_block_like_the_interpreter():
         assert found[0] == found[1], setup
     prog = load_program(image, NC5)
     assert "while True:" in Scanner(prog, Machine(NC5, len(prog.steps))).code.source
+
+
+def test_a_16_bit_index_register_in_a_32_bit_compare_is_sign_extended_on_both_engines():
+    """VS: Z0 in LDD< is read as 16 bits and sign-extended (-1 < 0), not as a 32-bit pair."""
+    image = _image("LD M9000\nMOV K-1 Z0\nLDD< Z0 K0\nOUT Y0\nLDD>= Z0 K-1\nOUT Y1\nEND", VS)
+    for engine in ("compiled", "interp"):
+        r, sim = _run(image, "#1 expect Y0=1 Y1=1\nrun #2\n", engine, VS)
+        assert sim.scan.engine == engine and not r.failed, (engine, r.failed)

@@ -731,7 +731,10 @@ class _Gen:
         (u ^ bias) > c + bias (one operation fewer). None: not that shape."""
         x, y = s.ops
         consts = [type(r) is ConstRef and r.ix is None for r in (x, y)]
-        if consts[0] == consts[1] or not _word(y if consts[0] else x):
+        reg_ref = y if consts[0] else x
+        # the register's unsigned read must be as wide as the comparison (Z in a 32-bit
+        # compare is read as 16 bits and sign-extended: not this shape)
+        if consts[0] == consts[1] or not _word(reg_ref) or s.width == 32 and reg_ref.kind == "Z":
             return None
         bias = 1 << (s.width - 1)
         j = 1 if consts[0] else 0
