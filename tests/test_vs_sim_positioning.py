@@ -350,13 +350,72 @@ MPG K1 D100 Y0Z0 Y4Z0
         "400ms X12=0 X11=1\n700ms expect D9354:d=311 M9341=0 D9350:d=0 Y0=0\n"
         # turning back (B leads): D2 Off, the position counts down
         "800ms X3/X4 pulses -200Hz until 900ms\n1000ms expect D9354:d=291 Y4=0\n"
-        # Off: released once the response time has passed; then the Y axis (Z0 = 1)
-        "1000ms X7=0\n1000ms expect M9340=1\n1010ms expect M9340=0\n"
+        # Off with the wheel still (speed 0): the decelerating stop ends at once, released in
+        # the same scan; then the Y axis (Z0 = 1)
+        "1000ms X7=0\n1000ms expect M9340=0 M9343=0 M9342=0\n"
         "1100ms X10=0 X7=1\n1100ms X3/X4 pulses 100Hz until 1200ms\n"
         "1300ms expect D9374:d=10 D9354:d=291 M9360=1\n")
     # S1 from a register outside 0-3: operation error, not executed
     run("LD M0\nMPG D0 D100 Y0 Y4\n", "0ms D0=4 M0=1\n10ms expect M9067=1 M9340=0\n",
         alarms=True)
+
+
+MPG = "LD M0\nMPG K1 D100 Y0 Y4\n"
+# gear 10:1, response 5 ms; the axis: max 1000 Hz, bias 200 Hz, deceleration 1000 ms, so the
+# ramp rate is (1000 - 200) / 1 s = 800 Hz/s. A/B on X3/X4 at 100 Hz from 100 ms (x1: one
+# input pulse a cycle, at 102.5, 112.5 ... ms, seen 5 ms late): each 10 ms scan puts out 10
+# pulses, 1000 Hz; the 500 ms scan sees 40 input pulses (up to 492.5 ms): 400 out
+MPG_RAMP = "0ms D100=5 D101=10 D102=1 D9340:d=1000 D9342=200 D9344=1000 M0=1\n"
+
+
+def test_mpg_condition_off_ramps_down_from_the_output_speed():
+    # 8-3 FNC 314 "當條件接點于脈衝輸出中變為OFF時，會做減速停止": from 1000 Hz at 500 ms down
+    # to the bias 200 Hz in 1 s, (1000 + 200) / 2 x 1 s = 600 pulses more: 1000 at 1500 ms.
+    # At 1000 ms: 600 Hz, 1000 x 0.5 - 800 x 0.5^2 / 2 = 400 (800); at 1250 ms: 400 Hz,
+    # 750 - 225 = 525 (925). The wheel still turning is no longer followed; M9340 holds the
+    # axis until the ramp ends, then neither M9342 nor M9343
+    run(MPG, MPG_RAMP + "100ms X3/X4 pulses 100Hz until 2000ms\n"
+        "300ms expect D9354:d=200 D9350:d=1000\n500ms M0=0\n"
+        "500ms expect D9354:d=400 D9350:d=1000 M9341=1 M9340=1 Y0=1\n"
+        "1000ms expect D9354:d=800 D9350:d=600 M9341=1 M9340=1 Y0=1 Y4=1\n"
+        "1250ms expect D9354:d=925 D9350:d=400\n1490ms expect M9340=1 M9341=1\n"
+        "1500ms expect D9354:d=1000 D9350:d=0 M9341=0 M9340=0 M9342=0 M9343=0 Y0=0\n"
+        "2100ms expect D9354:d=1000\n")
+    # B leads: the ramp runs the way the output went (D2 Off, the position down)
+    run(MPG, MPG_RAMP + "100ms X3/X4 pulses -100Hz until 2000ms\n500ms M0=0\n"
+        "1000ms expect D9354:d=-800 Y4=0\n1500ms expect D9354:d=-1000 M9340=0\n")
+    # no deceleration time (D9344 = 0): the stop is at once, released in the Off scan
+    run(MPG, MPG_RAMP + "0ms D9344=0\n100ms X3/X4 pulses 100Hz until 2000ms\n500ms M0=0\n"
+        "500ms expect D9354:d=400 M9340=0 M9341=0\n600ms expect D9354:d=400\n")
+
+
+def test_mpg_stop_relays_decelerate_or_stop_at_once_and_end_the_instruction():
+    # M9345 (8-2, the positioning pages: "當M9345為ON時，會減速停止輸出脈衝。停止信號解除後，必須
+    # 重新啟動指令，才能輸出脈衝"): the ramp of the Off test, then an abnormal end (M9343) with the
+    # axis held; M9345 Off does not resume following, the condition's OFF -> ON does (the 10
+    # input pulses 1902.5 ... 1992.5 ms: 100 more)
+    run(MPG, MPG_RAMP + "100ms X3/X4 pulses 100Hz until 2000ms\n500ms M9345=1\n"
+        "1000ms expect D9354:d=800 D9350:d=600 M9343=0 M9340=1\n"
+        "1500ms expect D9354:d=1000 D9350:d=0 M9341=0 M9343=1 M9342=0 M9340=1 Y0=0\n"
+        "1600ms M9345=0\n1700ms expect D9354:d=1000 M9343=1 M9340=1\n"
+        "1800ms M0=0\n1800ms expect M9343=0 M9340=0\n1900ms M0=1\n"
+        "2100ms expect D9354:d=1100 M9340=1 M9343=0\n")
+    # M9346: at once, the pulses up to the scan that sees it went out (400); abnormal end
+    run(MPG, MPG_RAMP + "100ms X3/X4 pulses 100Hz until 2000ms\n500ms M9346=1\n"
+        "500ms expect D9354:d=400 D9350:d=0 M9341=0 M9343=1 M9340=1 Y0=0\n"
+        "700ms expect D9354:d=400\n")
+    # M9346 during the condition-Off ramp ends it at once (800 at 1000 ms), released
+    run(MPG, MPG_RAMP + "100ms X3/X4 pulses 100Hz until 2000ms\n500ms M0=0\n1000ms M9346=1\n"
+        "1000ms expect D9354:d=800 M9340=0 M9343=0\n1200ms expect D9354:d=800\n")
+
+
+def test_mpg_ramp_stops_at_once_on_the_limit_ahead():
+    # a limit switch ahead stops MPG's output at once, its ramp too: LSF X21 On at 1000 ms (800
+    # out, as the Off test) holds back the ramp's pulses after that scan; released then
+    with form(lsf=["X21", "", "", ""]):
+        run(MPG, MPG_RAMP + "100ms X3/X4 pulses 100Hz until 2000ms\n500ms M0=0\n1000ms X21=1\n"
+            "1000ms expect D9354:d=800\n1010ms expect D9354:d=800 M9340=0 M9343=0\n"
+            "1200ms expect D9354:d=800\n")
 
 
 def test_lir_page_example_straight_line_both_axes_arrive_together():

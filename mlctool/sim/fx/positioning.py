@@ -841,13 +841,11 @@ def _mpg_count(m: Machine, s, memo: dict) -> None:
     exact fraction so a ratio change never loses a part pulse."""
     work = s.ops[1]
     delay = _mpg_setting(m, work, 0, 1, 500, 5) * 1000
-    off = memo.get("off_at")
-    upto = max(memo["in_t"], min(m.now_us - delay, m.now_us if off is None else off))
+    upto = max(memo["in_t"], m.now_us - delay)
     n = pulses.quadrature_count(m, memo["a"], memo["b"], 1, memo["in_t"], upto)
     gear = Fraction(_mpg_setting(m, work, 1, 1, 32767, 1), _mpg_setting(m, work, 2, 1, 32767, 1))
     memo["out"] += n * gear
     memo["in_t"] = upto
-    memo["owed"] = off is not None and upto < off
 
 
 def _mpg_begin(m: Machine, s, memo: dict, axis: int) -> bool:
@@ -862,7 +860,8 @@ def _mpg_begin(m: Machine, s, memo: dict, axis: int) -> bool:
         _set(m, axis, offset, False)
     a, b = (_pin_named(m, name) for name in pairs[k])
     memo.update(a=a, b=b, in_t=m.now_us, out=Fraction(0), sent=0, moved=0, at=m.now_us,
-                pos0=_pair(m, axis, "position"), axis=axis, limits=_mpg_limits(m, axis))
+                pos0=_pair(m, axis, "position"), axis=axis, limits=_mpg_limits(m, axis),
+                p=_params(m, axis), forward=True, phase="follow")
     return True
 
 
@@ -882,7 +881,9 @@ def mpg(m: Machine, s) -> None:
     [positioning] mpg_inputs) put out on D1 as input x S2+1 / S2+2, after the response time
     S2 (1-500 ms, else 5); D2 On while A leads. The override does not apply (the page). A
     travel limit ahead (LSF/LSR of the form) stops the output at once; pulses the other way
-    still go out (the page)."""
+    still go out (the page). The condition Off or M9345 ramps the output down from the speed
+    it has (a decelerating stop), M9346 stops it at once; after a stop relay the wheel is not
+    followed again until the condition's next OFF -> ON (M9343 On, the axis held)."""
     y = s.ops[-2]
     memo = state(m, s, {})
     if not memo:
@@ -896,8 +897,36 @@ def mpg(m: Machine, s) -> None:
             memo.clear()
         return
     axis = memo["axis"]
-    if not m.acc and memo.get("off_at") is None:
-        memo["off_at"] = m.now_us  # DECISION: Off stops the input; the owed pulses still go out
+    hz = 0.0
+    if memo["phase"] == "follow":
+        hz = _mpg_follow(m, s, memo, axis)
+        if _relay(m, axis, STOP):
+            memo.update(phase="stopped", abnormal=True)
+            hz = 0.0
+        elif _relay(m, axis, DECEL_STOP) or not m.acc:
+            # DECISION: the ramp starts from the speed this execution shows (its interval's
+            # output rate) at the axis's deceleration rate (max - bias) / decel time
+            p = memo["p"]
+            memo.update(phase="ramp", abnormal=bool(m.acc), t0=m.now_us, ramp_sent=0,
+                        prof=motion.stop(0.0, 0.0, hz, p["bias"], p["down"]))
+    if memo["phase"] == "ramp":
+        hz = _mpg_ramp(m, memo, axis)
+    # the position counts the motor's way: up forward unless the form says "position
+    # increasing: motor reverse" (8-1-1 rotation direction)
+    way = -1 if _cfg(m).get("reverse_rotation", False) else 1
+    _set_position(m, axis, memo["pos0"] + way * memo["moved"])
+    _set_pair(m, axis, 0, int(hz + 1e-6))
+    _set(m, axis, OUTPUT, hz > 0)
+    y.setbit(m, 1 if hz > 0 else 0)  # DECISION: On while pulses go out (no pulse phase)
+    if memo["phase"] == "stopped":
+        _set(m, axis, ABNORMAL, memo["abnormal"])
+        if not m.acc:
+            _release(m, s, axis, y)
+            memo.clear()
+
+
+def _mpg_follow(m: Machine, s, memo: dict, axis: int) -> float:
+    """Follow the handwheel up to this execution; the output rate of its interval (Hz)."""
     _mpg_count(m, s, memo)
     sent = int(memo["out"])  # whole pulses, toward zero
     step, forward = sent - memo["sent"], sent > memo["sent"]  # A leads: the motor forward
@@ -907,20 +936,31 @@ def mpg(m: Machine, s) -> None:
         step = 0
     memo["limits"] = _mpg_limits(m, axis)
     dt = (m.now_us - memo["at"]) / MICRO
-    hz = abs(step) / dt if dt > 0 else 0.0
     if step:
         s.ops[-1].setbit(m, 1 if forward else 0)  # the page: A leads, D2 On, motor forward
+        memo["forward"] = forward
     memo.update(sent=sent, at=m.now_us, moved=memo["moved"] + step)
-    # the position counts the motor's way: up forward unless the form says "position
-    # increasing: motor reverse" (8-1-1 rotation direction)
-    way = -1 if _cfg(m).get("reverse_rotation", False) else 1
-    _set_position(m, axis, memo["pos0"] + way * memo["moved"])
-    _set_pair(m, axis, 0, int(hz + 1e-6))
-    _set(m, axis, OUTPUT, hz > 0)
-    y.setbit(m, 1 if hz > 0 else 0)  # DECISION: On while pulses go out (no pulse phase)
-    if memo.get("off_at") is not None and not memo["owed"]:
-        _release(m, s, axis, y)
-        memo.clear()
+    return abs(step) / dt if dt > 0 else 0.0
+
+
+def _mpg_ramp(m: Machine, memo: dict, axis: int) -> float:
+    """A decelerating stop under way: its pulses (the area under its speed line up to now, in
+    whole pulses) go the way the output last went; M9346 ends it at once, and so does a limit
+    ahead (as while following: the level the previous execution saw holds back the pulses
+    since). Its speed now; 0 once it has ended (phase "stopped")."""
+    t = (m.now_us - memo["t0"]) / MICRO
+    x, v = motion.at(memo["prof"], t)
+    n = int(x + motion.EPS)
+    forward = memo["forward"]
+    if memo["limits"][0 if forward else 1]:
+        n = memo["ramp_sent"]
+        memo["phase"] = "stopped"
+    elif _relay(m, axis, STOP) or motion.ended(memo["prof"], t):
+        memo["phase"] = "stopped"
+    memo["limits"] = _mpg_limits(m, axis)
+    step, memo["ramp_sent"] = n - memo["ramp_sent"], n
+    memo["moved"] += step if forward else -step
+    return 0.0 if memo["phase"] == "stopped" else v
 
 
 # ------------------------------------------------------------ LIR, LIA (FNC 315, 316)
