@@ -77,6 +77,22 @@ def test_travel_limit_ramps_down_and_refuses_moves_toward_it():
             "1200ms M1=1\n1200ms expect Y4=0\n1400ms expect D9354:d=5000 M9342=1 M9343=0\n")
 
 
+def test_m9346_cuts_the_ramp_down_of_a_travel_limit_and_of_zrn():
+    # the LSF case above: 5875 at 650 ms, 50 ms into the limit's ramp down; M9346 then stops
+    # the output at once (it would have run to 6000); abnormal end M9343 as the limit set it
+    with form(lsf=["X21", "", "", ""]):
+        run("LD M0\nDDRVR K100000 K10000 Y0 Y4\n",
+            "0ms D9340:d=10000 M0=1\n600ms X21=1\n600ms expect D9354:d=5500\n650ms M9346=1\n"
+            "650ms expect D9354:d=5875 M9341=0 D9350:d=0 M9343=1 M9340=1 M9342=0\n"
+            "800ms expect D9354:d=5875 M9343=1\n")
+    # ZRN toward home at 5000 Hz (max 10 kHz, ramps 100 ms): -875 at 200 ms, the condition
+    # Off ramps down (50 ms, 125 pulses); 20 ms in: 100 - 20 = 80 more (-955); M9346 then:
+    # stopped at once (the ramp would end at -1000), released, neither M9343 nor M9344
+    run(ZRN, "0ms D9340:d=10000 M0=1\n200ms M0=0\n200ms expect D9354:d=-875\n220ms M9346=1\n"
+             "220ms expect D9354:d=-955 M9341=0 M9340=0\n"
+             "300ms expect D9354:d=-955 M9343=0 M9344=0 M9342=0\n")
+
+
 def test_reverse_limit_stops_jog_and_the_dtbl_table():
     # LSR (X22) on a JOGR: a decelerating stop (no ramps: at once), abnormal end
     with form(lsr=["X22", "", "", ""]):

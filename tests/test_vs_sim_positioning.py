@@ -50,6 +50,32 @@ def test_drva_condition_off_decelerates_without_done_and_speed_changes_replan():
         "600ms expect D9354:d=6000 D9350:d=5000\n800ms expect D9354:d=7000\n")
 
 
+def test_m9346_cuts_a_decelerating_stop_under_way():
+    # 8-2 M9346 "會立即停止輸出脈衝" also while a decelerating stop ramps down (docs/vs.md
+    # DECISION: M9343 as that stop set it). DDRVA as above: Off at 600 ms (5500, 10 kHz), 50 ms
+    # into the 100 ms ramp 10000 x 0.05 - 100000 x 0.05^2 / 2 = 375 more (5875); M9346 there:
+    # no more pulses (the ramp would have run to 6000); the condition is Off: released, no M9343
+    run("LD M0\nDDRVA K10000 D20 Y0 Y4\n",
+        "0ms D9340:d=10000 D20:d=10000 M0=1\n600ms M0=0\n650ms M9346=1\n"
+        "650ms expect D9354:d=5875 D9350:d=0 M9341=0 Y0=0 M9340=0 M9343=0 M9342=0\n"
+        "800ms expect D9354:d=5875 M9340=0 M9343=0\n")
+    # DPLSV 10 kHz: 500 on the ramp up, 4500 at 500 ms; M9345 ramps down (abnormal end);
+    # 40 ms into it 400 - 80 = 320 more (4820); M9346 then: stopped at once, M9343 On, the
+    # axis held until the condition goes Off (the ramp would have ended at 5000)
+    run("LD M0\nDPLSV K10000 Y0 Y4\n",
+        "0ms D9340:d=10000 M0=1\n500ms M9345=1\n500ms expect D9354:d=4500\n540ms M9346=1\n"
+        "540ms expect D9354:d=4820 D9350:d=0 M9341=0 M9343=1 M9340=1 M9342=0\n"
+        "700ms expect D9354:d=4820 M9343=1 M9340=1\n800ms M0=0\n"
+        "800ms expect D9354:d=4820 M9340=0 M9343=0\n")
+    # JOGF's short press: the one pulse's move runs on after the Off; ramps 32000 ms (312.5
+    # Hz/s): a triangle peaking at sqrt(312.5) Hz after 56.6 ms, 0.39 of the pulse at 50 ms,
+    # 0.56 at 60 ms; M9346 there: the pulse never goes out (it would at 113 ms)
+    run("LD M0\nJOGF K300 K1000 Y0 Y4\n",
+        "0ms D9340:d=10000 D9343=32000 D9344=32000 M0=1\n50ms M0=0\n"
+        "50ms expect D9354:d=0 M9340=1\n60ms M9346=1\n"
+        "60ms expect D9354:d=0 M9341=0 M9340=0\n200ms expect D9354:d=0 M9343=0 M9342=0\n")
+
+
 def test_drvr_relative_move_direction_pin_level_and_immediate_stop():
     # 8-3 FNC 303: DDRVR K-3000 K1000 Y1 Y5 on axis Y1 (registers +20): no ramps (0 ms),
     # 1000 Hz toward the decreasing position from 0; a period is 1 ms, so every 10 ms scan
@@ -453,3 +479,15 @@ def test_lia_page_example_absolute_on_y2_y3_and_stops():
     run("LD M0\nLIR D1000 K0\n",
         "0ms D1001=5000 D1002=200 D1003=6000 D1004=8000 M0=1\n1000ms M0=0\n"
         "1000ms expect D9354:d=2700\n1200ms expect D9354:d=3000 D9374:d=4000 M9340=0 M9342=0\n")
+
+
+def test_m9346_of_either_axis_cuts_the_straight_lines_ramp_down():
+    # LIR as above (run 5000, 200 ms, travel (6000, 8000): X 3000 Hz, Y 4000 Hz, rates 15000
+    # and 20000 Hz/s): Off at 1000 ms (2700, 3600); 100 ms into the ramp X 300 - 75 = 225, Y 400
+    # - 100 = 300 more; the Y axis's M9366 then stops both at once (the ramp would end at
+    # 3000, 4000); the condition is Off: released, no M9343/M9363
+    run("LD M0\nLIR D1000 K0\n",
+        "0ms D1001=5000 D1002=200 D1003=6000 D1004=8000 M0=1\n1000ms M0=0\n"
+        "1000ms expect D9354:d=2700 D9374:d=3600\n1100ms M9366=1\n"
+        "1100ms expect D9354:d=2925 D9374:d=3900 M9341=0 M9361=0 M9340=0 M9360=0\n"
+        "1300ms expect D9354:d=2925 D9374:d=3900 M9343=0 M9363=0 M9342=0 M9362=0\n")

@@ -216,6 +216,13 @@ def _advance(m: Machine, s, memo: dict, axis: int, replan=None) -> None:
         if memo["stopping"]:
             memo["wait_until"], memo["legs"] = None, False
         x, v = motion.at(memo["prof"], t)
+    elif _relay(m, axis, STOP) and not motion.ended(memo["prof"], t):
+        # M9346 ("會立即停止輸出脈衝") also cuts a decelerating stop under way (condition Off,
+        # M9345, a limit; JOGF/R's one pulse): the pulses up to this scan went out. M9343 as
+        # that stop set it (DECISION: after the condition's Off it stays Off, as the pages:
+        # "當指令條件接點變為OFF時，M9343也會變為OFF"; MPG and PLSR do the same)
+        memo["prof"] = motion.halt(t, x)
+        x, v = motion.at(memo["prof"], t)
     pulses = int(x + motion.EPS)
     memo["moved"] = pulses
     if memo.get("home_at") is None:
@@ -1025,13 +1032,16 @@ def _lin_stops(m: Machine, memos: list) -> None:
         if not any(_relay(m, memo["shim"].axis, relay) for memo in memos) and not (ramped and limit):
             continue
         for memo in memos:
-            if memo["ended"] or memo["stopping"]:
+            if memo["ended"]:
                 continue
             t = _now(m, memo)
+            if memo["stopping"] and (ramped or motion.ended(memo["prof"], t)):
+                continue  # M9346 also cuts a ramp under way (as _advance), M9343 as it was
             x, v = motion.at(memo["prof"], t)
             memo["prof"] = (motion.stop(t, x, v, memo["p"]["bias"], memo["p"]["down"]) if ramped
                             else motion.halt(t, x))
-            memo["stopping"], memo["abnormal"] = True, True
+            if not memo["stopping"]:
+                memo["stopping"], memo["abnormal"] = True, True
 
 
 def _linear(m: Machine, s, absolute: bool) -> None:
