@@ -386,3 +386,16 @@ def test_a_16_bit_index_register_in_a_32_bit_compare_is_sign_extended_on_both_en
     for engine in ("compiled", "interp"):
         r, sim = _run(image, "#1 expect Y0=1 Y1=1\nrun #2\n", engine, VS)
         assert sim.scan.engine == engine and not r.failed, (engine, r.failed)
+
+
+def test_a_nan_result_is_the_one_quiet_nan_however_often_it_runs():
+    """Two NaN operands: CPython's multiply keeps either payload depending on how the bytecode
+    was specialised, so every NaN result is stored as 7FC00000H (state.F32_QUIET_NAN), the
+    same on both engines from the first scan to the last (repeated runs warm the code up)."""
+    image = image_of("LDI M0\nFMUL D0 D2 D4\nFADD D0 F1.5 D6\nFSUB D2 D0 D8\nEND")
+    stim = "#0 D0=-171 D1=-1 D2=0 D3=-1\nrun #40\n"  # D0:D1 FFFFFF55H, D2:D3 FFFF0000H: NaNs
+    for _ in range(3):
+        for engine in ("compiled", "interp"):
+            r, sim = _run(image, stim, engine)
+            d = sim.m.words["D"]
+            assert sim.scan.engine == engine and d[4:10] == [0, 0x7FC0, 0, 0x7FC0, 0, 0x7FC0]

@@ -43,7 +43,7 @@ from mlctool.sim import semantics
 from mlctool.sim.decode import Program, Step
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, GroupRef, WordRef
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, end_of_scan, run_scan, run_steps
-from mlctool.sim.state import Machine, SimFault, s16, s32, to_f32
+from mlctool.sim.state import F32_QUIET_NAN, Machine, SimFault, s16, s32, to_f32
 
 ENGINES = ("compiled", "interp")
 DEFAULT_ENGINE = "compiled"
@@ -294,9 +294,9 @@ class _Gen:
         self.c32_lo = settings["counters32"][0]
         self.for_depth = settings["for_depth"]
         self.call_depth = settings["call_depth"]
-        # VS-style preset ranges change TMR/CNT; such targets keep the reference routines
-        self.tmr_inline = settings.get("timer_preset_range") is None
-        self.cnt_inline = settings.get("counter16_preset_range") is None
+        # VS 3-9: presets outside a range are taken as 0 (timers) or 1 (counters)
+        self.timer_range = settings.get("timer_preset_range")
+        self.counter_range = settings.get("counter16_preset_range")
         # targets with status flags (VS M9020-M9025, 5-3): ADD/SUB, MUL and the float
         # arithmetic set them in their routines
         self.flags = bool(settings.get("flags"))
@@ -871,14 +871,12 @@ class _Gen:
         i = s.index
         t, pre = s.ops
         target = self.prog.target
-        if t.ix is not None or not self.tmr_inline or target.timer_base(t.num).get("retentive") \
-                or not (type(pre) is ConstRef and pre.ix is None
-                        or type(pre) is WordRef and pre.ix is None and pre.kind == "D"):
+        preset = self.preset(pre, self.timer_range, 0, 0)
+        if t.ix is not None or preset is None or target.timer_base(t.num).get("retentive"):
             self.reference(s)
             return
         n = t.num
         base = target.timer_base_ms(n) * 1000
-        preset = str(pre.get(None) & 0xFFFF) if type(pre) is ConstRef else f"{self.use('wD')}[{pre.num}]"
         wt, bt, tr, tl, tf, tp, ts = (self.use(x) for x in ("wT", "bT", "tr", "tl", "tf", "tp", "ts"))
         self.use("now")
         self.direct(("T", n), i)
@@ -990,18 +988,33 @@ class _Gen:
         self.learn(keys, words)
         self.gwrite(keys, i)
 
+    def preset(self, pre, rng, floor: int, outside: int) -> str | None:
+        """A timer or counter preset as semantics.tmr/cnt take it from a K or plain D operand:
+        at least `floor` (its 16-bit value), and `outside` when the signed value is outside the
+        target's range; None: another operand, or a range the unsigned word cannot test."""
+        if type(pre) is ConstRef and pre.ix is None:
+            v = pre.get(None)
+            return str(outside if rng and not rng[0] <= v <= rng[1] else max(v & 0xFFFF, floor))
+        if not (type(pre) is WordRef and pre.ix is None and pre.kind == "D"):
+            return None
+        word = f"{self.use('wD')}[{pre.num}]"
+        if rng is None:
+            return f"max({word}, {floor})" if floor else word
+        if not 0 <= rng[0] <= rng[1] <= 32767:
+            return None
+        # in range as a signed value <=> in range as the unsigned word (negative words > 32767)
+        p = f"max(p, {floor})" if floor > rng[0] else "p"
+        return f"({p} if {rng[0]} <= (p := {word}) <= {rng[1]} else {outside})"
+
     def cnt(self, s: Step) -> None:
         """semantics.cnt for a 16-bit counter with a K or plain D preset."""
         i = s.index
         c, pre = s.ops
-        if c.ix is not None or c.num >= self.c32_lo or not self.cnt_inline or not (
-                type(pre) is ConstRef and pre.ix is None
-                or type(pre) is WordRef and pre.ix is None and pre.kind == "D"):
+        preset = self.preset(pre, self.counter_range, 1, 1)
+        if c.ix is not None or c.num >= self.c32_lo or preset is None:
             self.reference(s)
             return
         n = c.num
-        preset = (str(max(pre.get(None) & 0xFFFF, 1)) if type(pre) is ConstRef
-                  else f"max({self.use('wD')}[{pre.num}], 1)")
         e, cv, bc = self.use("bE"), self.use("cv"), self.use("bC")
         self.direct(("C", n), i)
         if type(pre) is ConstRef:
@@ -1051,18 +1064,20 @@ class _Gen:
             return
         self.cond(keys, i)
         x, y = self.fvalue(s.ops[0], i, 0), self.fvalue(s.ops[1], i, 1)
-        for name in ("FF", "FH", "FI") if "raw:" in x + y else ("FF", "FH"):  # block locals (G_FF ...)
+        for name in ("FF", "FH", "FI"):  # block locals (G_FF ...)
             self.use(name)
         sym = _FLOAT[s.ins.spec.op]
         xload, yload = (v.split(":", 1)[1] if ":" in v else None for v in (x, y))
         if xload and yload:
-            self.emit(f"{xload}; f = FF[0]; {yload}; FF[0] = f {sym} FF[0]", i, 2)
+            self.emit(f"{xload}; f = FF[0]; {yload}; r = f {sym} FF[0]; FF[0] = r", i, 2)
         elif xload:
-            self.emit(f"{xload}; FF[0] = FF[0] {sym} {y}", i, 2)
+            self.emit(f"{xload}; r = FF[0] {sym} {y}; FF[0] = r", i, 2)
         elif yload:
-            self.emit(f"{yload}; FF[0] = {x} {sym} FF[0]", i, 2)
-        else:
+            self.emit(f"{yload}; r = {x} {sym} FF[0]; FF[0] = r", i, 2)
+        else:  # finite constants: never NaN
             self.emit(f"FF[0] = {x} {sym} {y}", i, 2)
+        if xload or yload:
+            self.emit(f"if r != r: FI[0] = {F32_QUIET_NAN}", i, 2)  # semantics._float
         arr = self.use("wD")
         self.emit(f"{arr}[{dst.num}] = FH[{_FL}]; {arr}[{dst.num + 1}] = FH[{_FHI}]", i, 2)
         self.learn(keys, None)

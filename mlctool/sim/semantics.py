@@ -14,7 +14,7 @@ import math
 import operator
 
 from mlctool.sim.operands import BitRef, ConstRef, WordBitRef
-from mlctool.sim.state import Machine, f32_bits, s32, to_f32
+from mlctool.sim.state import F32_QUIET_NAN, Machine, bits_f32, f32_bits, s32, to_f32
 
 ARITH_ALARM = "MLC_ARITH_ERROR"  # named by 4.3 API-16 (DIV by 0)
 OPERATION_ALARM = "OPERATION_ERROR"  # 4.8 API-61 "運算錯誤"; also our undefined-input cases
@@ -426,6 +426,7 @@ def vrt(m: Machine, s) -> None:
 
 
 _F32_MIN = 2.0 ** -126  # the smallest normal single-precision magnitude (VS 2-13)
+_QUIET_NAN = bits_f32(F32_QUIET_NAN)  # every NaN result (state.F32_QUIET_NAN)
 
 
 def _float(fn):
@@ -434,7 +435,7 @@ def _float(fn):
         a, b = to_f32(s.ops[0].getf(m)), to_f32(s.ops[1].getf(m))
         r = fn(m, s, a, b)
         if r is not None:
-            s.ops[2].setf(m, r)
+            s.ops[2].setf(m, r if r == r else _QUIET_NAN)
             # targets with flags (VS 6-12 EADD-EDIV): zero; carry past the largest magnitude
             # (D holds the infinity); borrow below the smallest (D holds what single precision
             # keeps: a subnormal or 0). DECISION: judged on the exact result, before rounding

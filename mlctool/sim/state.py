@@ -44,6 +44,12 @@ def f32_bits(x: float) -> int:
         return 0x7F800000 if x > 0 else 0xFF800000
 
 
+# DECISION: a float operation whose result is NaN stores this quiet NaN (7FC00000H): the
+# manuals define no NaN results, and CPython keeps no one payload when both operands are NaN
+# (the product of two NaNs can take either one's, depending on how the multiply was compiled)
+F32_QUIET_NAN = 0x7FC00000
+
+
 def bits_f32(v: int) -> float:
     return struct.unpack("<f", struct.pack("<I", v & 0xFFFFFFFF))[0]
 
