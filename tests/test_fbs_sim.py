@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import tempfile
 from pathlib import Path
@@ -234,3 +235,23 @@ def test_mhspo_waits_for_an_axis_fun140_holds():
     tables = {"R5000": "001 SPD 1000\n DRV ADR,+,1000,Ps\n MEND\n",
               "R5100": "001 SPD 1000\n LIN ADR,1000,1000, , ,Ps\n MEND\n"}
     assert ok(run(il, stim, tables))
+
+
+def test_cli_tables_with_a_batch_of_scenarios_match_single_runs(tmp_path):
+    """--table with a stimulus pattern: every scenario starts with the tables loaded, and its
+    JSON document is the one a single run gives (the second scenario ends after step 1)."""
+    stim = (SAMPLES / "home_and_run.stim").read_text()
+    (tmp_path / "a.stim").write_text(stim)
+    (tmp_path / "b.stim").write_text(stim.split("5.6s")[0] + "run 3.4s\n")  # step 1 only
+    args = ["sim", "--target", "fbs", str(SAMPLES / "home_and_run.il"),
+            "--table", f"R5000={SAMPLES / 'home.pos'}", "--table", f"R5100={SAMPLES / 'run.pos'}"]
+    batch = mlc(*args, "--stimulus", str(tmp_path / "*.stim"), "--json")
+    assert batch.returncode == 0, batch.stdout + batch.stderr
+    docs = json.loads(batch.stdout)["scenarios"]
+    for name in ("a.stim", "b.stim"):
+        one = mlc(*args, "--stimulus", str(tmp_path / name), "--json")
+        assert one.returncode == 0, one.stdout + one.stderr
+        assert docs[str(tmp_path / name)] == json.loads(one.stdout)
+    without = mlc("sim", "--target", "fbs", str(SAMPLES / "home_and_run.il"),
+                  "--stimulus", str(tmp_path / "*.stim"))
+    assert without.returncode == 1  # no tables: the axis never moves, the expectations fail

@@ -100,15 +100,13 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     if window is not None and not hasattr(extension(target), "pulse_pins"):
         raise click.UsageError(f"--pulse-window: target {target.name} has no pulse outputs")
     if is_batch(stim_path):  # many scenarios: mlctool/cli/sim_batch.py
-        if preload:
-            raise click.UsageError("--table takes one stimulus file, not a pattern")
         if vcd_path or report_path:
             raise click.UsageError("--vcd and --report take one stimulus file, not a pattern")
         watch_views, watch_diags = _watch(watch, target)
         if watch_diags:
             show(watch_diags, {})
             sys.exit(2)
-        opts = Options(scan_us, until_us, scans, watch_views, watchdog, engine)
+        opts = Options(scan_us, until_us, scans, watch_views, watchdog, engine, preload)
         sys.exit(batch_cmd(image, target, stim_path, opts, jobs, as_json, junit_path, program, lines))
 
     st, stim_diags = (load_stimulus(stim_path, target) if stim_path

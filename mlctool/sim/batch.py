@@ -61,6 +61,7 @@ class Options:
     watch: list[DeviceView] = field(default_factory=list)
     watchdog: int = DEFAULT_WATCHDOG
     engine: str | None = None
+    preload: list = field(default_factory=list)  # --table: register tables loaded with the program
 
 
 @dataclass
@@ -84,7 +85,7 @@ def run_one(image: Image, target: Target, path: str, opts: Options,
         return Scenario(path, None, diags + model_diags, st.lines)
     period = st.scan_us or opts.scan_us or DEFAULT_SCAN_US
     sim = Simulation(image, target, st, models, period, list(opts.watch), trace=False,
-                     watchdog=opts.watchdog, engine=opts.engine)
+                     watchdog=opts.watchdog, engine=opts.engine, preload=opts.preload)
     result = sim.run(plan_scans(st, period, opts.until_us, opts.scans))
     return Scenario(path, result, run_diagnostics(result, path), st.lines)
 
@@ -701,7 +702,7 @@ def run_batch(image: Image, target: Target, paths: list[str], opts: Options, job
     loaded = {p: load_stimulus(p, target) for p in paths}
     rest = []
     lp = wp = None
-    if lanes and (opts.engine or "compiled") != "interp" and _lanes_target(target):
+    if lanes and (opts.engine or "compiled") != "interp" and _lanes_target(target) and not opts.preload:
         prog = load_program(image, target)
         if prog.steps and sum(s.steps for s in prog.steps) <= opts.watchdog:
             lp = LaneProgram(prog)
