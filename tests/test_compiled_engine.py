@@ -204,11 +204,14 @@ _VS_FLOAT = {"FADD": "DEADD", "FSUB": "DESUB", "FMUL": "DEMUL", "FDIV": "DEDIV"}
 
 def vs_dialect(il: str) -> str:
     """The generated NC5 program in the Vigor VS dialect (FX forms): OUT T/C coils, LDD>=
-    comparisons, the D-float family with E constants, 32-bit operands indexed by Z."""
+    comparisons, the D-float family with E constants, 32-bit operands indexed by Z, MEP/MEF
+    for some INVs."""
     out = []
-    for line in il.splitlines():
+    for k, line in enumerate(il.splitlines()):
         op, _, rest = line.partition(" ")
-        if op in ("TMR", "CNT"):
+        if op == "INV":  # the result's edges (VS 3-3) in place of some inversions
+            op = ("INV", "MEP", "MEF")[k % 3]
+        elif op in ("TMR", "CNT"):
             op = "OUT"
         elif op in _VS_FLOAT:
             op, rest = _VS_FLOAT[op], rest.replace("F", "E")
