@@ -37,7 +37,11 @@ FAMILIES = {
     "mlctool.sim.fx.keypad_display": "KEYPAD_DISPLAY_ACTIONS",  # TKY, HKY, SEGL, PR (6-9)
     "mlctool.sim.fx.serial_rs": "SERIAL_RS_ACTIONS",  # RS non-protocol send/receive (6-10)
     "mlctool.sim.fx.plc_link": "PLC_LINK_ACTIONS",  # LINK, CPUL with peer PLCs (6-10)
-    "mlctool.sim.fx.positioning": "POSITIONING_ACTIONS",  # JOGF ... LIA, FNC 301-316 (8-3)
+    "mlctool.sim.fx.positioning": "POSITIONING_ACTIONS",  # JOGF ... PLSV, FNC 301-311 (8-3)
+    "mlctool.sim.fx.pos_table": "POS_TABLE_ACTIONS",  # DTBL, FNC 312 (8-3)
+    "mlctool.sim.fx.pos_abs": "POS_ABS_ACTIONS",  # DABS, FNC 313 (8-3)
+    "mlctool.sim.fx.pos_mpg": "POS_MPG_ACTIONS",  # MPG, FNC 314 (8-3)
+    "mlctool.sim.fx.pos_lines": "POS_LINES_ACTIONS",  # LIR, LIA, FNC 315/316 (8-3)
     "mlctool.sim.fx.homing": "HOMING_ACTIONS",  # ZRN, FNC 300, home modes, DOG search (8-1-2)
 }
 
