@@ -34,7 +34,8 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 from mlctool.asm import program_from_paths  # noqa: E402
 from mlctool.sim.batch import Options, run_batch  # noqa: E402
-from mlctool.sim.compile import Scanner, compile_program  # noqa: E402
+from mlctool.sim.compile import compile_program  # noqa: E402
+from mlctool.sim.engine import Scanner  # noqa: E402
 from mlctool.sim.scan import load_program  # noqa: E402
 from mlctool.sim.state import Machine  # noqa: E402
 from mlctool.targets import load_target  # noqa: E402
@@ -335,7 +336,7 @@ def table(name: str, instrs: int, mlc_c: float, mlc_i: float, awl, pyr) -> None:
         print(f"  {label:<28}{sps:>12,.0f}{sps * instrs / 1e6:>13.2f} M{mlc_c / sps:>21.1f}x")
 
 
-def mlc_and_awlsim(image, setup, awl: str, rounds: int = 3) -> tuple[float, tuple[float, float] | None]:
+def mlc_and_awlsim(image, setup, awl: str, rounds: int = 5) -> tuple[float, tuple[float, float] | None]:
     """The compiled engine and awlsim measured in turns, each system's best round: on a machine
     whose speed drifts, both see the same stretches of it."""
     best_mlc, best_awl = 0.0, None

@@ -64,7 +64,7 @@ SIM_MODULES = ("test_sim", "test_vs_sim", "test_vs_samples", "test_fbs_sim", "te
 
 def pytest_generate_tests(metafunc):
     """Every simulator test module (SIM_MODULES: NC5, VS, FBs, co-simulation) runs on both
-    engines (mlctool/sim/compile.py; a program it cannot compile, such as step ladder, runs on
+    engines (mlctool/sim/compile.py and engine.py; a program it cannot compile, such as step ladder, runs on
     the interpreter either way)."""
     if "sim_engine" in metafunc.fixturenames and metafunc.module.__name__.startswith(SIM_MODULES):
         metafunc.parametrize("sim_engine", SIM_ENGINES, indirect=True, scope="module")
@@ -78,7 +78,7 @@ def sim_engine(request):
         yield None
         return
     import simkit
-    from mlctool.sim.compile import ENGINE_ENV
+    from mlctool.sim.engine import ENGINE_ENV
 
     old_env, old = os.environ.get(ENGINE_ENV), simkit.ENGINE
     os.environ[ENGINE_ENV] = simkit.ENGINE = engine

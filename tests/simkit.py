@@ -6,7 +6,7 @@ import os
 import tempfile
 
 from mlctool.asm import program_from_paths
-from mlctool.sim.compile import scanner
+from mlctool.sim.engine import scanner
 from mlctool.sim.run import RunResult, Simulation, build_models, plan_scans
 from mlctool.sim.scan import load_program
 from mlctool.sim.state import Machine, parse_device_name

@@ -10,7 +10,8 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from mlctool.asm import program_from_paths
-from mlctool.sim.compile import Scanner, compile_program
+from mlctool.sim.compile import compile_program
+from mlctool.sim.engine import Scanner
 from mlctool.sim.run import Simulation, plan_scans
 from mlctool.sim.scan import Fault, load_program
 from mlctool.sim.state import Machine

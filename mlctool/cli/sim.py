@@ -18,8 +18,8 @@ from mlctool.cli.sim_batch import batch_cmd, is_batch
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.fileio import write_atomic
 from mlctool.sim.batch import Options
-from mlctool.sim.compile import ENGINE_ENV, ENGINES
 from mlctool.sim.decode import unsimulated
+from mlctool.sim.engine import ENGINE_ENV, ENGINES
 from mlctool.sim.extension import extension
 from mlctool.sim.output import json_value, run_diagnostics, summary, to_json
 from mlctool.sim.pin_window import EDGE_LIMIT, parse_window

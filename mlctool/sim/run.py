@@ -15,8 +15,8 @@ from mlctool.devices import MODELS, DeviceModel, ModelIO, ParamError
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image
 from mlctool.sim import seriallink
-from mlctool.sim.compile import scanner
 from mlctool.sim.decode import Program, program_devices
+from mlctool.sim.engine import scanner
 from mlctool.sim.extension import extension
 from mlctool.sim.fx.interrupts import Interrupts
 from mlctool.sim.pin_window import PinWindow
@@ -152,7 +152,7 @@ class Simulation:
         self.io = ModelIO(self.m)
         self.period = period_us
         self.watchdog = watchdog
-        # the compiled engine (compile.py) unless asked otherwise; coverage probes need the
+        # the compiled engine (compile.py, engine.py) unless asked otherwise; coverage probes need the
         # reference interpreter
         # a target may pin the reference interpreter (target.toml `engine`: FBs, whose axis
         # routines run on the interpreter only)

@@ -1,0 +1,313 @@
+"""Running compiled code (compile.py) on a Machine: the Scanner binds a program's generated
+functions to the machine's containers and runs them block by block, with the reference
+interpreter (scan.py) for the watchdog's last block and for programs the compiler leaves to
+it; `Writers` gives the machine the interpreter's writer records from the stamps the code
+keeps; the helpers the generated code calls on its fault paths.
+"""
+
+from __future__ import annotations
+
+import array
+import os
+from collections.abc import Callable
+
+from mlctool.sim import scan as _scan
+from mlctool.sim.compile import compile_program
+from mlctool.sim.decode import Program, Step
+from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, end_of_scan, run_scan, run_steps
+from mlctool.sim.state import Machine, SimFault
+
+ENGINES = ("compiled", "interp")
+DEFAULT_ENGINE = "compiled"
+ENGINE_ENV = "MLC_SIM_ENGINE"
+
+_T01 = bytes.maketrans(b"\x00\x01", b"01")  # device bits -> binary digits (Kn groups)
+
+# Single-precision conversions without struct calls: one 4-byte buffer seen as a float (FF)
+# and as an unsigned 32-bit word (FI). `FI[0] = raw; FF[0]` is bits_f32(raw) and
+# `FF[0] = x; FI[0]` is f32_bits(x) (both round through a C float cast, as struct's "<f" does;
+# overflow gives the signed infinity f32_bits returns; NaN payloads are kept the same way).
+_FF = array.array("f", [0.0])
+_FI = memoryview(_FF).cast("B").cast("I")
+
+# The same buffer as two 16-bit halves (FH): a D pair goes in and comes out word by word,
+# without building the 32-bit pattern (compile._FL/_FHI: the halves of the low and high word).
+_FH = memoryview(_FF).cast("B").cast("H")
+
+
+def _fault(m: Machine, writers: dict | None, ref, extent: int, q: int = 0, pos: float = 0) -> None:
+    """An index-modified operand outside its device: the writer records deferred so far are
+    applied (the interpreter had made them), then Ref.addr raises the interpreter's fault."""
+    if writers:
+        w = m.writer
+        if isinstance(w, Writers):
+            for k, v in writers.items():
+                w.spill[k] = (q, pos, v)
+        else:  # pragma: no cover - the engine always runs with Writers
+            w.update(writers)
+    ref.addr(m, extent)
+    raise SimFault(f"{ref.text}: address out of range")  # pragma: no cover - addr raised
+
+
+def _drop_loops(m: Machine, target: int) -> None:
+    """scan._jump_to: a CJ out of FOR bodies drops those loops (4.1 API-08 item 3)."""
+    fors = m.fors
+    while fors and not (fors[-1][0] < target <= fors[-1][1]):
+        fors.pop()
+
+
+_INF = float("inf")
+
+
+class Writers(dict):
+    """`Machine.writer` while a compiled Scanner runs the machine: the interpreter's records
+    (device -> index of its last writing instruction, or -line of a stimulus line), made lazy.
+
+    The generated code stores, per group of writes whose devices it knows, the stamp of the
+    block execution that ran it (`marks[g] = ws`; groups are numbered in code order, so
+    (stamp, group) orders them); other writes (index-modified destinations, reference routines,
+    the stimulus, the interpreter fallback) go through `__setitem__` into `spill` with the
+    position `at` (the generated code sets it before a reference routine; between scans it is
+    after the last block). Reading the dict applies what happened since the last read, in
+    order, so it holds exactly what the interpreter's dict holds."""
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __init__(self, base: dict, groups: list[dict], dyn: list[tuple] = ()):
+        if isinstance(base, Writers):
+            base.resolve()
+        super().__init__(base)
+        self.groups = groups  # record group -> {device: instruction index}
+        self.marks = [0] * len(groups)  # stamp of each group's last execution (0: never)
+        self.dyn_specs = dyn  # index-modified store -> (position, ((kind, offset), ...), writer)
+        self.dyn = [{} for _ in dyn]  # index-modified store -> {address: stamp}
+        self.spill: dict = {}  # device -> (stamp, position, writer)
+        self.k = 0  # last stamp given to a block execution
+        self.mat = 0  # stamps <= mat are applied
+        self.at = [0, _INF]  # (stamp, position) of writes made through __setitem__
+
+    def resolve(self) -> None:
+        spill = self.spill
+        if self.k == self.mat and not spill:
+            return
+        mat, groups = self.mat, self.groups
+        ev = [(s, g, None) for g, s in enumerate(self.marks) if s > mat]
+        ev += [(s, p, (key, v)) for key, (s, p, v) in spill.items()]
+        for (p, parts, v), d in zip(self.dyn_specs, self.dyn):
+            for addr, s in d.items():
+                ev += [(s, p, ((kind, addr + off), v)) for kind, off in parts]
+            d.clear()
+        ev.sort(key=lambda e: (e[0], e[1]))
+        put, update = dict.__setitem__, dict.update
+        for _, g, kv in ev:
+            if kv is None:
+                update(self, groups[g])
+            else:
+                put(self, kv[0], kv[1])
+        spill.clear()
+        self.mat = self.k
+
+    def __setitem__(self, key, value) -> None:
+        at = self.at
+        self.spill[key] = (at[0], at[1], value)
+
+    def update(self, *args, **kw) -> None:
+        for key, value in dict(*args, **kw).items():
+            self[key] = value
+
+    def _read(name: str):  # noqa: N805 - builds the read methods
+        base = getattr(dict, name)
+
+        def method(self, *args, **kw):
+            self.resolve()
+            return base(self, *args, **kw)
+        method.__name__ = name
+        return method
+
+    for _name in ("__getitem__", "__contains__", "__iter__", "__len__", "__eq__", "__ne__", "__repr__",
+                  "get", "keys", "values", "items", "copy", "pop", "setdefault", "popitem"):
+        locals()[_name] = _read(_name)
+    del _name, _read
+
+    def __delitem__(self, key) -> None:
+        self.resolve()
+        dict.__delitem__(self, key)
+
+    def clear(self) -> None:
+        self.resolve()
+        dict.clear(self)
+
+
+# ---------------------------------------------------------------------------- running
+
+# generated-code names of Machine containers other than the device dicts (bX, wD ...)
+_CONTAINERS = {"cv": "cval", "bE": "edge", "ts": "t_seen", "tr": "t_running", "tl": "t_last",
+               "tf": "t_frac", "tp": "t_preset"}
+
+
+class Scanner:
+    """Runs scans of one program on one Machine; `engine` names the engine actually used."""
+
+    def __init__(self, prog: Program, m: Machine, engine: str = DEFAULT_ENGINE):
+        if engine not in ENGINES:
+            raise ValueError(f"unknown engine {engine!r}; engines: {', '.join(ENGINES)}")
+        self.prog = prog
+        self.m = m
+        self.code = compile_program(prog) if engine == "compiled" else None
+        self.engine = "compiled" if self.code is not None else "interp"
+        self._zero_t = bytes(len(m.t_seen))
+        self._checked = False
+        self._stale = None
+        self._layout = m.layout
+        self._before = _scan.before_scan_routine(m.target)  # what run_scan does before step 0
+        if self.code is not None:
+            self._runs = [s.run for s in prog.steps]
+            self._bind()
+
+    def _bind(self) -> None:
+        code, prog = self.code, self.prog
+        g: dict = {"__builtins__": __builtins__, "T01": _T01, "G_FF": _FF, "G_FI": _FI, "G_FH": _FH, "LX": [0, 0],
+                   "WD": DEFAULT_WATCHDOG,
+                   "FLT": _fault, "JMP": _drop_loops, "NB": len(code.starts),
+                   "BLK": {st: j for j, st in enumerate(code.starts)}, **code.consts}
+        for s in prog.steps:
+            g[f"S{s.index}"] = s
+            for k, ref in enumerate(s.ops):
+                g[f"O{s.index}_{k}"] = ref
+        self.g = g
+        self._lx, self._watchdog = g["LX"], g["WD"]
+        self._rebind()
+        exec(code.code, g)  # noqa: S102 - our own generated code
+        self.fns: list[Callable] = [g[f"b{j}"] for j in range(len(code.starts))] + [self._past_end]
+        self.bsteps = [*code.block_steps, 0]
+
+    def _past_end(self, m: Machine, ws: int, ex: int) -> int:
+        """The block after the last one: control ran off the program."""
+        raise Fault("execution ran past the last instruction without END", self.prog.steps[-1])
+
+    def _rebind(self) -> None:
+        m, g = self.m, self.g
+        for k, arr in m.bits.items():
+            g["G_b" + k] = arr
+            if "q" + k in self.code.used:  # Kn reads 8 aligned bits at a time (value())
+                g["G_q" + k] = memoryview(arr)[:len(arr) // 8 * 8].cast("Q")
+        for k, arr in m.words.items():
+            g["G_w" + k] = arr
+        for name, attr in _CONTAINERS.items():
+            g["G_" + name] = getattr(m, attr)
+        w = m.writer
+        if not isinstance(w, Writers) or w.groups is not self.code.groups:
+            w = m.writer = Writers(w, self.code.groups, self.code.dyn)
+        g["W"], g["G_R"], g["SP"], g["AT"] = w, w.marks, w.spill, w.at
+        self._writer = w
+        for n, d in enumerate(w.dyn):
+            g[f"DY{n}"] = d
+        if self._stale is None:
+            self._stale = self._stale_check()
+
+    def _stale_check(self) -> Callable:
+        """A function telling whether the machine replaced a container the code holds (a
+        power cycle gives new lists): one identity test per container the code uses."""
+        tests = ["m.writer is not W"]
+        for name in sorted(self.code.used):
+            if name in _CONTAINERS:
+                tests.append(f"m.{_CONTAINERS[name]} is not G_{name}")
+            elif name[0] == "b" and name[1:] in self.m.bits:
+                tests.append(f"m.bits[{name[1:]!r}] is not G_{name}")
+            elif name[0] == "q" and name[1:] in self.m.bits:  # the view of a replaced store
+                tests.append(f"G_{name}.obj is not m.bits[{name[1:]!r}]")
+            elif name[0] == "w" and name[1:] in self.m.words:
+                tests.append(f"m.words[{name[1:]!r}] is not G_{name}")
+        exec(f"def _stale(m):\n    return {' or '.join(tests)}\n", self.g)  # noqa: S102
+        return self.g["_stale"]
+
+    def __call__(self, watchdog: int = DEFAULT_WATCHDOG) -> None:
+        if self.code is None:
+            run_scan(self.prog, self.m, watchdog)
+            return
+        if not self._checked:
+            self._check_instrumented()
+            if self.code is None:
+                run_scan(self.prog, self.m, watchdog)
+                return
+        m = self.m
+        m.t_seen[:] = self._zero_t
+        if m.layout != self._layout or m.writer is not self._writer:  # power cycle, another Scanner
+            self._layout = m.layout
+            if self._stale(m):
+                self._rebind()
+        m.acc = False
+        m.blocks.clear()
+        m.stack.clear()
+        m.calls = []
+        m.fors = []
+        if self._before is not None:
+            self._before(m)
+        fns = self.fns
+        bsteps = self.bsteps
+        w = self._writer
+        lx = self._lx
+        if self._watchdog != watchdog:
+            self._watchdog = self.g["WD"] = watchdog
+        k = w.k  # stamp of the next block execution (Writers)
+        j = 0
+        ex = 0
+        try:
+            while True:
+                while j >= 0:
+                    ex += bsteps[j]
+                    k += 1
+                    if ex > watchdog:
+                        w.at[:] = k, _INF
+                        self._interp(self.code.starts[j], ex - bsteps[j], watchdog)
+                        j = -1
+                        break
+                    j = fns[j](m, k, ex)
+                if j == -1:
+                    break
+                k, ex = lx  # a FOR body looped in its block: the stamp and steps it reached
+                j = -2 - j
+        except SimFault as e:
+            raise Fault(e.message, self._fault_step(e)) from None
+        finally:
+            if lx[0] > k:  # a fault in a looping block: its iterations took stamps
+                k = lx[0]
+            w.k = k
+            at = w.at  # writes between scans: after this scan's
+            at[0] = k
+            at[1] = _INF
+        end_of_scan(m)
+
+    def _check_instrumented(self) -> None:
+        """Steps whose routine was wrapped after decoding (coverage, the ladder report's power
+        recorder) must run as wrapped: such a program runs on the interpreter."""
+        self._checked = True
+        if any(s.run is not r for s, r in zip(self.prog.steps, self._runs)):
+            self.code = None
+            self.engine = "interp"
+        self._runs = []
+
+    def _fault_step(self, e: BaseException) -> Step | None:
+        tb = e.__traceback__
+        line = None
+        while tb is not None:
+            if tb.tb_frame.f_code.co_filename == self.code.filename:
+                line = tb.tb_lineno
+            tb = tb.tb_next
+        if line is None:
+            return None
+        return self.prog.steps[self.code.linemap[line - 1]]
+
+    def _interp(self, pc: int, executed: int, watchdog: int) -> None:
+        """The interpreter's loop (scan.run_steps) from step `pc` with `executed` steps done."""
+        run_steps(self.prog, self.m, pc, executed, watchdog)
+
+
+def default_engine() -> str:
+    """MLC_SIM_ENGINE if it names an engine (the tests run everything on both), else compiled."""
+    env = os.environ.get(ENGINE_ENV, "")
+    return env if env in ENGINES else DEFAULT_ENGINE
+
+
+def scanner(prog: Program, m: Machine, engine: str | None = None) -> Scanner:
+    return Scanner(prog, m, engine or default_engine())
