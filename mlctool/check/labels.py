@@ -49,8 +49,8 @@ def is_symbol_name(text: str, target: Target) -> bool:
 def restrict_names(parsed: ParsedFile, target: Target) -> ParsedFile:
     """On a target without ideographs in names, a statement holding one (outside a "string")
     is a syntax error at that character, and is dropped like any line that does not parse."""
-    if cjk_width(target):
-        return parsed
+    if cjk_width(target) or not CJK_CHAR.search("\n".join(parsed.lines)):
+        return parsed  # (a file without ideographs, the usual case: one scan of its lines)
     kept = []
     for st in parsed.statements:
         hit = next(((w, m) for w in [st.name, *st.operands] if not w.text.startswith('"')
