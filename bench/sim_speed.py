@@ -147,12 +147,12 @@ def mixed_awl() -> str:
 
 # ---------------------------------------------------------------------------- mlc
 
-def build(il: str):
+def build(il: str, target=NC5):
     with tempfile.TemporaryDirectory() as d:
         path = os.path.join(d, "bench.il")
         with open(path, "w") as f:
             f.write(il)
-        image, diags, _ = program_from_paths([path], NC5)
+        image, diags, _ = program_from_paths([path], target)
     errors = [d.message for d in diags if d.severity == "error"]
     if image is None or errors:
         raise SystemExit(f"benchmark program does not check: {errors[:3]}")
@@ -172,9 +172,9 @@ def executed_per_scan(image, setup) -> int:
     return count[0]
 
 
-def mlc_scans_per_s(image, engine: str, setup, min_cpu: float = 1.0) -> tuple[float, str]:
-    prog = load_program(image, NC5)
-    m = Machine(NC5, len(prog.steps))
+def mlc_scans_per_s(image, engine: str, setup, min_cpu: float = 1.0, target=NC5) -> tuple[float, str]:
+    prog = load_program(image, target)
+    m = Machine(target, len(prog.steps))
     setup(m)
     sc = Scanner(prog, m, engine)
     best = 0.0
@@ -463,12 +463,27 @@ def bench_compile() -> None:
           f"image to first scan {t3 - t0:.2f} s (goal: 1-2 s); then {rate:,.0f} scans/s")
 
 
+def bench_vs() -> None:
+    """The Vigor VS target on both engines: bool1000's rungs, and the same with a 100 ms timer
+    and a counter per rung (OUT T / OUT C with the VS preset rules)."""
+    vs = load_target("vs")
+    timed = []
+    for k, (a, b, c, *_) in enumerate(bool1000_rungs()[:100]):
+        timed += [f"LD M{a}", f"ANI M{b}", f"OUT T{k} K50", f"LD M{c}", f"OUT C{k} K10"]
+    for name, il in (("bool1000", bool1000_il()), ("timers+counters", "\n".join(timed) + "\nEND\n")):
+        image = build(il, vs)
+        c, engine = mlc_scans_per_s(image, "compiled", lambda m: None, target=vs)
+        i, _ = mlc_scans_per_s(image, "interp", lambda m: None, target=vs)
+        print(f"\nvs {name}: compiled engine ({engine}) {c:,.0f} scans/s, reference interpreter "
+              f"{i:,.0f} scans/s: {c / i:.1f}x")
+
+
 def main() -> None:
     print(f"python {sys.version.split()[0]}, {os.cpu_count()} cores; CPU-time figures")
-    which = sys.argv[1:] or ["bool1000", "mixed", "batch", "words", "compile"]
+    which = sys.argv[1:] or ["bool1000", "mixed", "batch", "words", "compile", "vs"]
     for name in which:
         {"bool1000": bench_bool1000, "mixed": bench_mixed, "batch": bench_batch,
-         "words": bench_batch_words, "compile": bench_compile}[name]()
+         "words": bench_batch_words, "compile": bench_compile, "vs": bench_vs}[name]()
 
 
 if __name__ == "__main__":
