@@ -6,14 +6,21 @@ from fractions import Fraction
 
 from mlctool.sim import motion, pulses
 from mlctool.sim.fx.common import op_error, state
-from mlctool.sim.fx.positioning import MICRO, _cfg, _level, _pair, _params, _pin, _set_position
+from mlctool.sim.fx.positioning import (
+    MICRO,
+    _cfg,
+    _claim,
+    _level,
+    _pair,
+    _params,
+    _pin,
+    _set_position,
+)
 from mlctool.sim.fx.pulse_out import (
     ABNORMAL,
     DECEL_STOP,
-    DONE,
     OUTPUT,
     STOP,
-    _acquire,
     _relay,
     _release,
     _set,
@@ -47,10 +54,8 @@ def _mpg_begin(m: Machine, s, memo: dict, axis: int) -> bool:
     if not 0 <= k < len(pairs):
         op_error(m, s, f"S1 = {k}: the handwheel inputs are 0-{len(pairs) - 1}")
         return False
-    if not _acquire(m, s, axis):
+    if not _claim(m, s, axis):
         return False
-    for offset in (DONE, ABNORMAL):
-        _set(m, axis, offset, False)
     a, b = (_pin_named(m, name) for name in pairs[k])
     memo.update(a=a, b=b, in_t=m.now_us, out=Fraction(0), sent=0, moved=0, at=m.now_us,
                 pos0=_pair(m, axis, "position"), axis=axis, limits=_mpg_limits(m, axis),

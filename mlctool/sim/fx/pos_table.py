@@ -7,6 +7,7 @@ from mlctool.sim.fx.common import op_error, set_relay, state
 from mlctool.sim.fx.positioning import (
     _advance,
     _cfg,
+    _claim,
     _cruise_to,
     _direction_pin,
     _pair,
@@ -14,7 +15,7 @@ from mlctool.sim.fx.positioning import (
     _register,
     _speed,
 )
-from mlctool.sim.fx.pulse_out import ABNORMAL, DONE, _acquire, _relay, _release, _set
+from mlctool.sim.fx.pulse_out import ABNORMAL, DONE, _relay, _release, _set
 from mlctool.sim.state import Machine, s16
 
 # ------------------------------------------------------------ DTBL (FNC 312)
@@ -164,10 +165,8 @@ def _table_begin(m: Machine, s, memo: dict, axis: int) -> bool:
     if not rows:
         op_error(m, s, f"table Q{q} has no DTBL rows (.table Q{q} DTBL ...)")
         return False
-    if not _acquire(m, s, axis):
+    if not _claim(m, s, axis):
         return False
-    for offset in (DONE, ABNORMAL):
-        _set(m, axis, offset, False)
     _mcode(m, axis, NO_MCODE)  # the page: DTBL's start sets the m code to -1
     memo.update(rows=rows, ended=True, start_level=_relay(m, axis, _cfg(m)["table_start"]),
                 off_level=_relay(m, axis, _cfg(m)["mcode_off"]), m9029=False)

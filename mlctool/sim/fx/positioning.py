@@ -166,14 +166,22 @@ def _new_leg(m: Machine, s, memo: dict, t: float, direction: int) -> None:
     _direction_pin(m, s, direction)
 
 
+def _claim(m: Machine, s, axis: int) -> bool:
+    """Take the axis for this instruction, its done and abnormal-end relays cleared; False
+    when another instruction holds it (not executed)."""
+    if not _acquire(m, s, axis):
+        return False
+    for offset in (DONE, ABNORMAL):
+        _set(m, axis, offset, False)
+    return True
+
+
 def _start(m: Machine, s, memo: dict, axis: int, direction: int) -> dict | None:
     """Common start (condition OFF -> ON): take the axis, read the parameters, set the
     direction pin. None when the axis is held by another instruction (not executed)."""
-    if not _acquire(m, s, axis):
+    if not _claim(m, s, axis):
         return None
     p = _params(m, axis)
-    for offset in (DONE, ABNORMAL):
-        _set(m, axis, offset, False)
     memo.update(t0=m.now_us, dir=direction, pos0=_pair(m, axis, "position"), p=p,
                 ended=False, stopping=False, moved=0)
     _direction_pin(m, s, direction)
