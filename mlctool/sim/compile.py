@@ -147,8 +147,7 @@ class _Gen(OpsCode):
         # VS 3-9: presets outside a range are taken as 0 (timers) or 1 (counters)
         self.timer_range = settings.get("timer_preset_range")
         self.counter_range = settings.get("counter16_preset_range")
-        # targets with status flags (VS M9020-M9025, 5-3): ADD/SUB, MUL and the float
-        # arithmetic set them in their routines
+        # targets with status flags (VS M9020-M9025, 5-3): semantics.FLAG_OPS keep their routines
         self.flags = bool(settings.get("flags"))
         self.gopen = False  # an `if a:` group is open: application instructions under one rung result
         self.gpend: dict[tuple[str, int], int] = {}  # writer records of the open group
@@ -671,7 +670,8 @@ class _Gen(OpsCode):
             return
         if op in ("nop", "label"):
             return
-        if s.run is not semantics.ACTIONS.get(op):  # a target's own routine for this op
+        # a target's own routine for this op, or one that sets the target's status flags
+        if s.run is not semantics.ACTIONS.get(op) or self.flags and op in semantics.FLAG_OPS:
             self.settle(i)
             self.reference(s)
             return
@@ -692,7 +692,7 @@ class _Gen(OpsCode):
             self.tmr(s)
         elif op in ("mov", "inc", "dec", "cml") or op in _ARITH:
             self.word_op(s)
-        elif op == "mul" and not self.flags:
+        elif op == "mul":
             self.mul(s)
         elif op == "cnt":
             self.cnt(s)

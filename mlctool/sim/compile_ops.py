@@ -54,8 +54,7 @@ class OpsCode:
             dst, di = ops[1], 1
         else:
             dst, di = ops[2], 2
-        if not self.storable(dst) or not all(self.readable(r) for k, r in enumerate(ops) if k != di) \
-                or self.flags and op in ("add", "sub"):
+        if not self.storable(dst) or not all(self.readable(r) for k, r in enumerate(ops) if k != di):
             self.reference(s)
             return
         keys = self.store_keys(dst)
@@ -205,7 +204,7 @@ class OpsCode:
         i = s.index
         dst = s.ops[2]
         keys = self.words_keys(dst, 2) if type(dst) is WordRef and dst.kind == "D" else None
-        if keys is None or self.flags or not all(type(r) is ConstRef and r.ix is None and math.isfinite(to_f32(r.getf(None)))
+        if keys is None or not all(type(r) is ConstRef and r.ix is None and math.isfinite(to_f32(r.getf(None)))
                                    or _word(r) and r.kind == "D" and (r.ix is not None or r.num + 1 <= r.hi)
                                    for r in s.ops[:2]):
             self.reference(s)

@@ -34,6 +34,11 @@ def alarm(m: Machine, name: str, message: str) -> None:
             m.bits["M"][n] = 1
 
 
+# the generic ops whose routines set the target's status flags (set_flags: here and in
+# semantics_fx.py); on a target with flags the compiled engine keeps their routines
+FLAG_OPS = frozenset({"add", "sub", "mul", "div", "fadd", "fsub", "fmul", "fdiv", "int", "sum"})
+
+
 def set_flags(m: Machine, **values: bool) -> None:
     """M9020 zero / M9021 borrow / M9022 carry ... (target.toml [flags]); none on NC5."""
     flags = m.target.settings.get("flags", {})
