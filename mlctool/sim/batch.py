@@ -694,6 +694,21 @@ def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], perio
 
 # ---------------------------------------------------------------------------- the batch
 
+def _take_lanes(group, outcomes, results: dict, rest: list, stats: BatchStats) -> int:
+    """Scenarios that passed as lanes become results; the others are run again on their own.
+    Returns how many passed."""
+    passed = 0
+    for (p, st), r in zip(group, outcomes):
+        if r is None:
+            rest.append(p)
+            stats.reruns += 1
+        else:
+            results[p] = Scenario(p, r, run_diagnostics(r, p), st.lines)
+            passed += 1
+    stats.lanes += passed
+    return passed
+
+
 def run_batch(image: Image, target: Target, paths: list[str], opts: Options, jobs: int = 1,
               lanes: bool = True) -> tuple[list[Scenario], BatchStats]:
     """One Scenario per path, in the order given."""
@@ -729,22 +744,10 @@ def run_batch(image: Image, target: Target, paths: list[str], opts: Options, job
         if len(group) < 2:  # one scenario: the compiled engine is faster than numpy lanes
             rest += [p for p, _ in group]
             continue
-        for (p, st), r in zip(group, run_word_lanes(wp, group, period, n_scans, opts, target)):
-            if r is None:
-                rest.append(p)
-                stats.reruns += 1
-            else:
-                results[p] = Scenario(p, r, run_diagnostics(r, p), st.lines)
-                stats.lanes += 1
-                stats.word_lanes += 1
+        stats.word_lanes += _take_lanes(group, run_word_lanes(wp, group, period, n_scans, opts, target),
+                                        results, rest, stats)
     for (period, n_scans), group in groups.items():
-        for (p, st), r in zip(group, run_lanes(lp, group, period, n_scans, opts)):
-            if r is None:
-                rest.append(p)
-                stats.reruns += 1
-            else:
-                results[p] = Scenario(p, r, run_diagnostics(r, p), st.lines)
-                stats.lanes += 1
+        _take_lanes(group, run_lanes(lp, group, period, n_scans, opts), results, rest, stats)
     stats.single = len(rest) - stats.reruns
     rest = [p for p in paths if p in set(rest)]
     if jobs > 1 and len(rest) > 1:

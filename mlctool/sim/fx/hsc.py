@@ -43,6 +43,18 @@ def _compares(m: Machine) -> dict:
     return m.hsc.setdefault("compares", {})
 
 
+def _may_compare(m: Machine, s, points: dict, n: int) -> bool:
+    """DHSCS/DHSCR/DHSZ/DHSCT: C n must be a high-speed counter, and at most MAX_COMPARES
+    compare points are active at once (6-7, 6-21); else an operation error."""
+    if not is_high_speed(m, n):
+        op_error(m, s, f"C{n} is not a high-speed counter")
+        return False
+    if s.index not in points and len(points) >= MAX_COMPARES:
+        op_error(m, s, f"more than {MAX_COMPARES} high-speed compares active at once")
+        return False
+    return True
+
+
 def is_high_speed(m: Machine, n: int) -> bool:
     t = _table(m)
     return bool(t) and t["counters"][0] <= n <= t["counters"][1]
@@ -199,11 +211,7 @@ def _register(kind: str):
         ops = s.ops
         counter = ops[-2]
         n = counter.addr(m)
-        if not is_high_speed(m, n):
-            op_error(m, s, f"C{n} is not a high-speed counter")
-            return
-        if s.index not in points and len(points) >= MAX_COMPARES:
-            op_error(m, s, f"more than {MAX_COMPARES} high-speed compares active at once")
+        if not _may_compare(m, s, points, n):
             return
         value = (ops[0].get(m), ops[1].get(m)) if kind == "zone" else ops[0].get(m)
         points[s.index] = {"kind": kind, "value": value, "counter": n, "dest": ops[-1]}
@@ -248,11 +256,7 @@ def dhsct(m: Machine, s) -> None:
     if not (1 <= rows <= 16 and 1 <= bits <= 16):
         op_error(m, s, f"m = {rows}, n = {bits}: both must be 1-16")
         return
-    if not is_high_speed(m, n):
-        op_error(m, s, f"C{n} is not a high-speed counter")
-        return
-    if s.index not in points and len(points) >= MAX_COMPARES:
-        op_error(m, s, f"more than {MAX_COMPARES} high-speed compares active at once")
+    if not _may_compare(m, s, points, n):
         return
     words = m.words[table.kind]
     a = table.addr(m)
