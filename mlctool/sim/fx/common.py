@@ -36,6 +36,15 @@ def set_relay(m: Machine, name: str, on: bool) -> None:
         m.bits["M"][n] = 1 if on else 0
 
 
+def scans_left(m: Machine, progress: list[int], m1: int) -> bool:
+    """An instruction that takes m1 scans (SORT, SORT2: progress[0] scans done so far): False
+    once it has finished, the scan after the last one clearing the done flag M9029 it set."""
+    if progress[0] == m1:  # done: the flag was On for one scan
+        set_relay(m, "done", False)
+        progress[0] += 1
+    return progress[0] < m1
+
+
 def op_error(m: Machine, s, why: str, code: int | None = None, goes_on: bool = False) -> None:
     """"運算錯誤" (operation error): the instruction is not executed, the run goes on, the
     alarm is reported; semantics.alarm sets M9067/D9067 on targets that have them. `code`:

@@ -13,6 +13,7 @@ from mlctool.sim.fx.common import (
     overlap,
     read_block,
     relay,
+    scans_left,
     set_flags,
     set_relay,
     span,
@@ -163,11 +164,7 @@ def sort(m: Machine, s) -> None:
         progress[0] = 0
         return
     m1, m2, n = m1r.get(m), m2r.get(m), nr.get(m)
-    if progress[0] == m1:  # done: the flag was On for one scan
-        set_relay(m, "done", False)
-        progress[0] += 1
-        return
-    if progress[0] > m1:
+    if not scans_left(m, progress, m1):
         return
     if not (1 <= m2 <= 6 and 1 <= n <= m2 and m1 >= 1):
         op_error(m, s, f"m1={m1} m2={m2} n={n}: m2 = 1-6 and n = 1-m2")

@@ -10,6 +10,7 @@ from mlctool.sim.fx.common import (
     op_error,
     read_block,
     relay,
+    scans_left,
     set_flags,
     set_relay,
     state,
@@ -105,11 +106,7 @@ def sort2(m: Machine, s) -> None:
         running.discard(s.index)
         return
     m1, m2, n = count(m, m1r), count(m, m2r), count(m, nr)
-    if progress[0] == m1:  # done: the flag was On for one scan
-        set_relay(m, "done", False)
-        progress[0] += 1
-        return
-    if progress[0] > m1:
+    if not scans_left(m, progress, m1):
         return
     if not (1 <= m1 <= 32 and 1 <= m2 <= 6 and 1 <= n <= m2):
         op_error(m, s, f"m1={m1} m2={m2} n={n}: m1 = 1-32, m2 = 1-6, n = 1-m2")
