@@ -554,10 +554,9 @@ def semantics_action(op: str, s):
 
 
 def _lanes_target(target: Target) -> bool:
-    """Targets whose scans the lanes model: no system relays, no simulation extension, not
-    pinned to the interpreter."""
+    """Targets whose scans the lanes model: no system relays, no simulation extension."""
     ext = extension(target)
-    return (not target.settings.get("system_relays") and target.settings.get("engine") != "interp"
+    return (not target.settings.get("system_relays")
             and not hasattr(ext, "before_scan") and not hasattr(ext, "views"))
 
 

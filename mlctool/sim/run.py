@@ -154,10 +154,7 @@ class Simulation:
         self.watchdog = watchdog
         # the compiled engine (compile.py, engine.py) unless asked otherwise; coverage probes need the
         # reference interpreter
-        # a target may pin the reference interpreter (target.toml `engine`: FBs, whose axis
-        # routines run on the interpreter only)
-        pinned = target.settings.get("engine")
-        self.scan = scanner(self.prog, self.m, "interp" if probe is not None else pinned or engine)
+        self.scan = scanner(self.prog, self.m, "interp" if probe is not None else engine)
         names = program_devices(self.prog) | st.devices() | set(watch)
         # the target's own hardware (sim/extension.py): runs between scans, adds its registers
         ext = extension(target)
