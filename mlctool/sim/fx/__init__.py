@@ -51,7 +51,7 @@ BEFORE_SCAN = (("mlctool.sim.fx.clock", "refresh", ("rtc",)),
                ("mlctool.sim.fx.hsc", "catch_up", ("high_speed_counters", "hardware_counters")))
 # hardware that requests interrupts (IHC, IHHC) counts up to now before the interrupt queue of
 # the interval is built (fx/interrupts.py); counting again at the scan's start adds nothing
-INTERRUPT_SOURCES = (("mlctool.sim.fx.hsc", "catch_up", ("high_speed_counters", "hardware_counters")),)
+INTERRUPT_SOURCES = (("mlctool.sim.fx.hsc", "catch_up"),)
 
 
 def family_actions() -> dict:
@@ -65,6 +65,11 @@ def family_actions() -> dict:
     return out
 
 
-def before_scan_hooks(hooks: tuple = BEFORE_SCAN) -> tuple:
-    """(routine, settings it needs) pairs."""
-    return tuple((getattr(importlib.import_module(m), name), needs) for m, name, needs in hooks)
+def routines(named: tuple) -> tuple:
+    """The routines of (module, name, ...) entries."""
+    return tuple(getattr(importlib.import_module(m), name) for m, name, *_ in named)
+
+
+def before_scan_hooks() -> tuple:
+    """(routine, settings it needs) pairs of BEFORE_SCAN."""
+    return tuple(zip(routines(BEFORE_SCAN), (needs for *_, needs in BEFORE_SCAN)))

@@ -95,10 +95,10 @@ class Interrupts:
         # counted before the scan; a pointer without a routine requests nothing (DECISION)
         from mlctool.sim.fx import (  # the package imports this module
             INTERRUPT_SOURCES,
-            before_scan_hooks,
+            routines,
         )
 
-        for count_up, _ in before_scan_hooks(INTERRUPT_SOURCES):
+        for count_up in routines(INTERRUPT_SOURCES):
             count_up(m)
         queue += [(Fraction(t), 1, self._next(), "request", n) for t, n in m.hsc.pop("irq", ())
                   if n in self.routines]
