@@ -21,6 +21,9 @@ if os.environ.get("CI"):
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "samples"
 
+# The CLI of the package under test, as a subprocess: never whatever `mlc` is on PATH.
+MLC_COMMAND = [sys.executable, "-m", "mlctool"]
+
 
 @dataclass
 class CliResult:

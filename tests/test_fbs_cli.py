@@ -3,18 +3,17 @@
 from __future__ import annotations
 
 import json
-import shutil
 import subprocess
-import sys
 from pathlib import Path
+
+from conftest import MLC_COMMAND
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "samples" / "fbs"
 
 
 def mlc(*args: str, cwd=ROOT) -> subprocess.CompletedProcess:
-    exe = shutil.which("mlc")
-    cmd = [exe] if exe else [sys.executable, "-m", "mlctool.cli"]
+    cmd = MLC_COMMAND
     return subprocess.run([*cmd, *args], cwd=cwd, capture_output=True, text=True, timeout=120)
 
 

@@ -8,12 +8,12 @@ from __future__ import annotations
 
 import json
 import re
-import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
+
+from conftest import MLC_COMMAND
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "samples" / "nc5"
@@ -23,8 +23,7 @@ EXPECT = re.compile(r"^;\s*expect:\s*((?:[EW]\d{3}\s+\d+:\d+\s*)+)$")
 
 
 def mlc(*args: str) -> subprocess.CompletedProcess:
-    exe = shutil.which("mlc")
-    cmd = [exe] if exe else [sys.executable, "-m", "mlctool.cli"]
+    cmd = MLC_COMMAND
     return subprocess.run([*cmd, *args], cwd=ROOT, capture_output=True, text=True, timeout=120)
 
 

@@ -6,12 +6,11 @@ set the error relay and status; `.table` rows are checked."""
 from __future__ import annotations
 
 import os
-import shutil
 import subprocess
-import sys
 import tempfile
 from pathlib import Path
 
+from conftest import MLC_COMMAND
 from mlctool.asm import program_from_paths
 from mlctool.check import check_texts
 from mlctool.devices.xc100.registers import read_words
@@ -172,8 +171,7 @@ def test_port_beyond_the_model_is_a_fault():
 def test_sample_passes_mlc_sim():
     with tempfile.TemporaryDirectory() as tmp:
         vcd = os.path.join(tmp, "out.vcd")
-        exe = shutil.which("mlc")
-        cmd = [exe] if exe else [sys.executable, "-m", "mlctool.cli"]
+        cmd = MLC_COMMAND
         p = subprocess.run([*cmd, "sim", "--target", "vs",
                             str(ROOT / "samples/vs/xc100_modbus.il"), "--stimulus",
                             str(ROOT / "samples/vs/xc100_modbus.stim"), "--vcd", vcd],
