@@ -1,4 +1,9 @@
-"""Atomic output: write to a temporary file beside the target, then rename over it."""
+"""Atomic output: write to a temporary file beside the target, then rename over it.
+
+Every output of every command goes through `write_atomic`, so the rules live here once: a
+missing folder on the way to an output is created (`-o build/x.mlx`, `--junit out/j.xml`),
+and a file is either replaced whole or left as it was.
+"""
 
 from __future__ import annotations
 
@@ -14,6 +19,7 @@ def write_atomic(path: str, data: bytes | str) -> None:
         data = data.encode("utf-8")
     folder = os.path.dirname(os.path.abspath(path))
     try:
+        os.makedirs(folder, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=".mlc-", suffix=".tmp", dir=folder)
     except OSError as e:
         raise MlcError(diag(path, Span.at(1), "E605", f"cannot write {path}: {e.strerror or e}")) from e

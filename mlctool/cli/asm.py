@@ -65,14 +65,12 @@ def _exit_for(diags: list[Diagnostic]) -> None:
         sys.exit(1)
 
 
-def _write(path: str, data: bytes | str, make_dirs: bool = False) -> None:
-    if make_dirs:
-        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    write_atomic(path, data)
+def _write(path: str, data: bytes | str) -> None:
+    write_atomic(path, data)  # creates missing folders
 
 
 def _write_program(program: ObjectFile, target, out: str, listing_path: str | None,
-                   map_path: str | None, lines, make_dirs: bool = False) -> None:
+                   map_path: str | None, lines) -> None:
     # everything is rendered before the first write, so a failure leaves no partial set
     files = [(out, encode(program))]
     if map_path:
@@ -80,7 +78,7 @@ def _write_program(program: ObjectFile, target, out: str, listing_path: str | No
     if listing_path:
         files.append((listing_path, listing(program, lines)))
     for path, data in files:
-        _write(path, data, make_dirs)
+        _write(path, data)
 
 
 @main_group.command("build")
@@ -106,10 +104,9 @@ def build_cmd(target_name, config_path, output, compile_only, listing_path, map_
     if sr is not None:
         raise _usage("--sr is for FBs positioning programs (.pos/.mpos)")
     target = with_capacity(get_target(target_name, config), config)
-    make_dirs = False
     if not sources:
         job = project_build(config)
-        sources, make_dirs = job.sources, True
+        sources = job.sources
         output = output or job.output
         listing_path = listing_path or job.listing
         map_path = map_path or job.map
@@ -129,9 +126,9 @@ def build_cmd(target_name, config_path, output, compile_only, listing_path, map_
         obj = inputs.objects[0]
         files = [(output, encode(obj))] + ([(listing_path, listing(obj, inputs.lines))] if listing_path else [])
         for path, data in files:
-            _write(path, data, make_dirs)
+            _write(path, data)
         return
-    _link_and_write(inputs, target, output, listing_path, map_path, make_dirs)
+    _link_and_write(inputs, target, output, listing_path, map_path)
 
 
 def _check_request(sources, output, compile_only, listing_path, map_path) -> None:
@@ -141,8 +138,8 @@ def _check_request(sources, output, compile_only, listing_path, map_path) -> Non
             raise _usage("-c writes objects only; --listing/--map need one output")
         if any(is_object(s) for s in sources):
             raise _usage("-c compiles sources; pass objects to mlc link")
-        if not os.path.isdir(output or "."):
-            raise _usage(f"-c -o names a folder for the objects; {output!r} is not one")
+        if os.path.exists(output or ".") and not os.path.isdir(output or "."):
+            raise _usage(f"-c -o names a folder for the objects; {output!r} is a file")
         return
     if output is None:
         raise _usage("no output: give -o PROGRAM.mlx or -o MODULE.mlo (or -c)")
@@ -183,12 +180,12 @@ def _compile_each(inputs: Inputs, sources, output) -> None:
         _write(path, encode(obj))
 
 
-def _link_and_write(inputs: Inputs, target, output, listing_path, map_path, make_dirs=False) -> None:
+def _link_and_write(inputs: Inputs, target, output, listing_path, map_path) -> None:
     program, diags = link(inputs.objects, target, inputs.checked_together)
     _report(diags, inputs.lines)
     if program is None:
         sys.exit(1)
-    _write_program(program, target, output, listing_path, map_path, inputs.lines, make_dirs)
+    _write_program(program, target, output, listing_path, map_path, inputs.lines)
 
 
 def _object_target_name(path: str, explicit: str | None, config) -> str:
@@ -262,7 +259,7 @@ def objdump_cmd(target_name, as_json, as_il, il_dir, file):
             path = os.path.join(il_dir, *u.path.split("/"))
             if source_name(path, il_dir) != u.path:
                 raise _usage(f"module name {u.path!r} cannot be written under {il_dir}")
-            _write(path, unit_il(obj, k), make_dirs=True)
+            _write(path, unit_il(obj, k))
     elif as_il:
         click.echo("".join(unit_il(obj, k) for k in range(len(obj.units))), nl=False)
     else:

@@ -67,7 +67,6 @@ def test_cmd(target_name, jobs, junit_path, with_coverage, coverage_dir, path):
         write_atomic(junit_path, to_junit(scenarios, config.data.get("name", "mlc test")))
     if with_coverage:
         rep = cov.report(image, merged_probe(len(image.instrs), scenarios))
-        os.makedirs(coverage_dir, exist_ok=True)
         write_atomic(os.path.join(coverage_dir, "coverage.txt"), cov.to_text(rep))
         write_atomic(os.path.join(coverage_dir, "coverage.json"), cov.to_json(rep))
         write_atomic(os.path.join(coverage_dir, "coverage.xml"), cov.to_cobertura(rep))
