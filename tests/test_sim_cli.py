@@ -106,6 +106,20 @@ def test_works_from_a_linked_image(tmp_path):
     assert a.code == 0 and a.out == b.out
 
 
+def test_a_linked_image_runs_on_the_target_it_was_built_for(tmp_path):
+    vs = SAMPLES / "vs"
+    mlx = tmp_path / "t.mlx"
+    assert run_mlc("build", "--target", "vs", str(vs / "traffic_light.il"), "-o", str(mlx)).code == 0
+    (tmp_path / "mlc.toml").write_text('target = "nc5"\n')  # the object wins over the project
+    stim = ["--stimulus", str(vs / "traffic_light.stim")]
+    r = run_mlc("sim", "t.mlx", *stim, "--json", cwd=tmp_path)
+    assert r.code == 0, r.err
+    assert r.out == run_mlc("sim", "--target", "vs", str(vs / "traffic_light.il"), *stim, "--json").out
+    assert run_mlc("sim", "--target", "vs", "t.mlx", *stim, cwd=tmp_path).code == 0
+    r = run_mlc("sim", "--target", "nc5", "t.mlx", *stim, cwd=tmp_path)
+    assert r.code == 2 and "t.mlx was built for target vs, not nc5" in r.err
+
+
 @pytest.mark.parametrize("args,code,text", [
     (["--until", "1s", "--scans", "3"], 2, "not both"),
     (["--scan-time", "fast"], 2, "not a time"),

@@ -85,7 +85,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     scan_us = _time_option(scan_time, "--scan-time")
     until_us = _time_option(until, "--until")
     config = get_config(config_path)
-    target = get_target(target_name, config)
+    target = get_target(_object_target(list(program), target_name) or target_name, config)
 
     image, diags, lines = program_from_paths(list(program), target, config)
     if image is None:
@@ -151,6 +151,25 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
 
         write_atomic(report_path, report_html(sim, result, power, lines, watch_views, ""))
     sys.exit(0 if result.ok else 1)
+
+
+def _object_target(paths: list[str], explicit: str | None) -> str | None:
+    """The target the objects among PROGRAM were built for: it beats mlc.toml (the object is
+    what runs); a --target naming another one is a usage error, not an E503 at load."""
+    from mlctool.asm.build import is_object, object_target
+
+    named = {p: object_target(p) for p in paths if is_object(p)}
+    found = sorted({t for t in named.values() if t})
+    if not found:
+        return None
+    if len(found) > 1:
+        raise click.UsageError("the objects were built for different targets: "
+                               + ", ".join(f"{p} ({t})" for p, t in named.items() if t))
+    if explicit and explicit != found[0]:
+        where = next(p for p, t in named.items() if t == found[0])
+        raise click.UsageError(f"{where} was built for target {found[0]}, not {explicit}: "
+                               f"drop --target or rebuild for {explicit}")
+    return found[0]
 
 
 def _window_option(text: str | None, vcd_path: str | None, stim_path: str | None):
