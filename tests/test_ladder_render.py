@@ -142,6 +142,7 @@ def test_cli_usage_errors(mlc, tmp_path):
     assert r.code == 2 and ".svg or .html" in r.err
     r = mlc("ladder", str(tmp_path / "missing.il"))
     assert r.code == 2 and "E100" in r.err
+    (tmp_path / "no").write_text("a file where the folder would be\n")
     r = mlc("ladder", "samples/nc5/man_2_2_anb.il", "-o", str(tmp_path / "no" / "dir.svg"))
     assert r.code != 0 and "E605" in r.err and "Traceback" not in r.err
-    assert not Path(tmp_path / "no").exists()
+    assert Path(tmp_path / "no").is_file()

@@ -165,7 +165,8 @@ def test_program_fault_exits_1_naming_step_and_line(tmp_path):
 
 
 def test_unwritable_vcd_is_e605_and_nothing_partial(tmp_path):
-    target = tmp_path / "missing-dir" / "x.vcd"
+    (tmp_path / "blocker").write_text("a file where the folder would be\n")
+    target = tmp_path / "blocker" / "x.vcd"
     r = run_mlc("sim", *CONVEYOR, "--vcd", str(target))
     assert r.code == 2 and "E605" in r.err
     assert not Path(target).exists()
