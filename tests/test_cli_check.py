@@ -198,3 +198,17 @@ def test_select_lint_rules(mlc, tmp_path):
     assert codes("--select", "W401,W405") == ["W401", "W405", "E206"]
     r = mlc("check", "--select", "E206", str(p))
     assert r.code == 2 and "not lint rules: E206" in r.err
+
+
+def test_text_output_summarises_beyond_50_per_code_json_and_sarif_never(mlc, tmp_path):
+    p = tmp_path / "many.il"
+    p.write_text("LD X0\nOUT M0\n" * 120 + "MOV K99999 D0\nEND\n")  # 119 W401, one E206
+    r = mlc("check", str(p))
+    assert r.code == 1
+    assert r.err.count("warning[W401]") == 50 and r.err.count("error[E206]") == 1
+    assert "... and 69 more W401 (use --show-all to see them)\n1 error, 119 warnings" in r.err
+    full = mlc("check", "--show-all", str(p))
+    assert full.err.count("warning[W401]") == 119 and "more W401" not in full.err
+    assert len(json.loads(mlc("check", "--format", "json", str(p)).out)["diagnostics"]) == 120
+    sarif = json.loads(mlc("check", "--format", "sarif", str(p)).out)
+    assert len(sarif["runs"][0]["results"]) == 120

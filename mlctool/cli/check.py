@@ -8,11 +8,11 @@ import click
 
 from mlctool.check import check_files
 from mlctool.cli import main_group
-from mlctool.cli.common import config_option, get_config, get_target, show, target_option
+from mlctool.cli.common import config_option, get_config, get_target, target_option
 from mlctool.codes import CODES
 from mlctool.diagnostics import Diagnostic
 from mlctool.fbs.model import is_positioning_source
-from mlctool.report import summary_line, to_json, to_sarif
+from mlctool.report import SHOW_PER_CODE, render_text, summary_line, to_json, to_sarif
 from mlctool.targets import available_targets, load_target
 
 
@@ -25,8 +25,10 @@ from mlctool.targets import available_targets, load_target
 @click.option("--no-lint", is_flag=True, help="drop the lint warnings (W4xx)")
 @click.option("--select", "select", multiple=True, metavar="CODE[,CODE]",
               help="run only these lint rules (W4xx); legality and structure checks always run")
+@click.option("--show-all", is_flag=True,
+              help=f"text output: show every diagnostic (default: the first {SHOW_PER_CODE} of each code, then a count)")
 @click.argument("files", nargs=-1, required=True, type=click.Path())
-def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, files):
+def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, show_all, files):
     """Check instruction-list sources against the target's manual.
 
     Exit 0: no errors; 1: errors (or warnings with --werror); 2: usage or unreadable input.
@@ -62,7 +64,7 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, fi
     elif fmt == "sarif":
         _write_utf8(to_sarif(diags))
     else:
-        show(diags, lines)
+        render_text(diags, lines, sys.stderr, per_code=None if show_all else SHOW_PER_CODE)
         if diags:
             click.echo(summary_line(errors, warnings), err=True)
     unreadable = any(d.code == "E100" for d in diags)
