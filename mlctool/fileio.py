@@ -1,38 +1,187 @@
-"""Atomic output: write to a temporary file beside the target, then rename over it.
+"""Output files: planned, checked against the inputs, then written all or none, atomically.
 
-Every output of every command goes through `write_atomic`, so the rules live here once: a
-missing folder on the way to an output is created (`-o build/x.mlx`, `--junit out/j.xml`),
-and a file is either replaced whole or left as it was.
+A command that writes files goes through an `Outputs` plan (docs/reliability.md); a missing
+folder on the way to an output is created (`-o build/x.mlx`, `--junit out/j.xml`):
+
+    plan = Outputs(inputs=[source, stimulus])      # the files the command reads
+    plan.add(vcd_path, "--vcd")                    # E606 (exit 2): an input or another output
+    plan.validate()                                # E605 (exit 2): a folder that cannot take it
+    ...work...
+    plan.write({vcd_path: data, ...})              # every file staged, then all renamed
+
+Nothing is written before every output is known to be distinct from every input and from the
+other outputs (the same resolved path, a symlink to one, or a hard link: the same device and
+inode) and every output folder is known to be writable. Each file is first written to a
+temporary file in its own folder and only renamed over the target when all of them were
+written, so a failure leaves every earlier file as it was. `stream()` hands out such a
+temporary file to write during a long run (the VCD), renamed with the others.
 """
 
 from __future__ import annotations
 
 import os
 import tempfile
+from collections.abc import Iterable
+from typing import IO
 
 from mlctool.diagnostics import MlcError, Span, diag
+
+TEMP_PREFIX = ".mlc-"
+OUTPUT_CLASH = "E606"
+CANNOT_WRITE = "E605"
+
+
+def _cannot_write(path: str, why: object) -> MlcError:
+    return MlcError(diag(path, Span.at(1), CANNOT_WRITE, f"cannot write {path}: {why}"))
+
+
+def _identity(path: str) -> tuple[str, tuple[int, int] | None]:
+    """(resolved path, (device, inode) if the file exists): two names for one file share one."""
+    real = os.path.realpath(path)
+    try:
+        st = os.stat(path)
+    except OSError:
+        return real, None
+    return real, (st.st_dev, st.st_ino)
+
+
+def same_file(a: str, b: str) -> bool:
+    ra, ia = _identity(a)
+    rb, ib = _identity(b)
+    return ra == rb or (ia is not None and ia == ib)
+
+
+class Outputs:
+    """The output files of one command run (see the module doc)."""
+
+    def __init__(self, inputs: Iterable[str] = (), make_dirs: bool = True):
+        self.inputs: list[tuple[str, tuple]] = []
+        self.outputs: list[tuple[str, str, tuple]] = []  # (path, what, identity)
+        self.make_dirs = make_dirs
+        self._staged: list[tuple[str, str]] = []  # (temporary file, target)
+        for p in inputs:
+            self.add_input(p)
+
+    def add_input(self, path: str) -> None:
+        """An input (found late, such as the files a glob matched); E606 if it is an output."""
+        ident = _identity(path)
+        for p, what, other in self.outputs:
+            if _same(ident, other):
+                raise _clash(p, f"{what} {p} is the input {path}: refusing to overwrite it")
+        self.inputs.append((path, ident))
+
+    def add(self, path: str, what: str = "output") -> str:
+        """Plan `path` as an output; E606 if it is an input or another output."""
+        ident = _identity(path)
+        for p, other in self.inputs:
+            if _same(ident, other):
+                raise _clash(path, f"{what} {path} is the input {p}: refusing to overwrite it")
+        for p, w, other in self.outputs:
+            if _same(ident, other):
+                raise _clash(path, f"{what} {path} is also {w} {p}: one file cannot be both")
+        self.outputs.append((path, what, ident))
+        return path
+
+    def validate(self) -> None:
+        """E605 for an output that cannot be written: it is a folder, or its folder is missing
+        (unless the plan makes folders) or not writable. Checked before any work."""
+        for path, _, _ in self.outputs:
+            if os.path.isdir(path):
+                raise _cannot_write(path, "it is a folder")
+            folder = os.path.dirname(os.path.abspath(path))
+            existing = folder
+            while not os.path.isdir(existing):
+                if os.path.lexists(existing) or not self.make_dirs:
+                    what = "is not a folder" if os.path.lexists(existing) else "does not exist"
+                    raise _cannot_write(path, f"the folder {_shown(existing, path)} {what}")
+                existing = os.path.dirname(existing)
+            if not os.access(existing, os.W_OK | os.X_OK):
+                raise _cannot_write(path, f"the folder {_shown(existing, path)} is not writable")
+
+    def stream(self, path: str, encoding: str = "utf-8") -> IO[str]:
+        """A text file to write `path`'s content into; it becomes `path` on `write()`."""
+        tmp, fd = self._temp(path)
+        return os.fdopen(fd, "w", encoding=encoding, newline="")
+
+    def write(self, files: dict[str, bytes | str] | Iterable[tuple[str, bytes | str]]) -> None:
+        """Stage every file (and the streams), then rename them all over their targets."""
+        items = files.items() if isinstance(files, dict) else files
+        try:
+            for path, data in items:
+                tmp, fd = self._temp(path)
+                _fill(fd, data.encode("utf-8") if isinstance(data, str) else data, path)
+            for tmp, path in self._staged:
+                _settle(tmp, path)
+            for tmp, path in self._staged:
+                try:
+                    os.replace(tmp, path)
+                except OSError as e:
+                    raise _cannot_write(path, e.strerror or e) from e
+            self._staged.clear()
+        finally:
+            self.discard()
+
+    def discard(self) -> None:
+        """Remove every staged temporary file (a failed run leaves nothing behind)."""
+        for tmp, _ in self._staged:
+            try:
+                os.unlink(tmp)
+            except OSError:
+                pass
+        self._staged.clear()
+
+    def __enter__(self) -> Outputs:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.discard()
+
+    def _temp(self, path: str) -> tuple[str, int]:
+        folder = os.path.dirname(os.path.abspath(path))
+        if self.make_dirs:
+            try:
+                os.makedirs(folder, exist_ok=True)
+            except OSError as e:
+                raise _cannot_write(path, e.strerror or e) from e
+        try:
+            fd, tmp = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=".tmp", dir=folder)
+        except OSError as e:
+            raise _cannot_write(path, e.strerror or e) from e
+        self._staged.append((tmp, path))
+        return tmp, fd
+
+
+def _clash(path: str, message: str) -> MlcError:
+    return MlcError(diag(path, Span.at(1), OUTPUT_CLASH, message))
+
+
+def _same(a: tuple, b: tuple) -> bool:
+    return a[0] == b[0] or (a[1] is not None and a[1] == b[1])
+
+
+def _shown(folder: str, path: str) -> str:
+    rel = os.path.relpath(folder)
+    return rel if not rel.startswith("..") and not os.path.isabs(path) else folder
+
+
+def _fill(fd: int, data: bytes, path: str) -> None:
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+    except OSError as e:
+        raise _cannot_write(path, e.strerror or e) from e
+
+
+def _settle(tmp: str, path: str) -> None:
+    """The staged file on disk, with the permissions of a new file."""
+    try:
+        with open(tmp, "rb+") as f:
+            os.fsync(f.fileno())
+        os.chmod(tmp, 0o644)
+    except OSError as e:
+        raise _cannot_write(path, e.strerror or e) from e
 
 
 def write_atomic(path: str, data: bytes | str) -> None:
     """Write all of `data` to `path` or nothing; an existing file is replaced only on success."""
-    if isinstance(data, str):
-        data = data.encode("utf-8")
-    folder = os.path.dirname(os.path.abspath(path))
-    try:
-        os.makedirs(folder, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=".mlc-", suffix=".tmp", dir=folder)
-    except OSError as e:
-        raise MlcError(diag(path, Span.at(1), "E605", f"cannot write {path}: {e.strerror or e}")) from e
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except OSError as e:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise MlcError(diag(path, Span.at(1), "E605", f"cannot write {path}: {e.strerror or e}")) from e
+    Outputs().write({path: data})

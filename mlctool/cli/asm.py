@@ -26,7 +26,14 @@ from mlctool.asm.mapfile import link_map
 from mlctool.asm.objfile import ObjectFile, encode
 from mlctool.asm.project import project_build
 from mlctool.cli import main_group
-from mlctool.cli.common import config_option, get_config, get_target, show, target_option
+from mlctool.cli.common import (
+    config_option,
+    get_config,
+    get_target,
+    output_plan,
+    show,
+    target_option,
+)
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
 from mlctool.fbs.files import (
     build_image,
@@ -38,7 +45,7 @@ from mlctool.fbs.files import (
 )
 from mlctool.fbs.image import ImageError
 from mlctool.fbs.model import is_positioning_source
-from mlctool.fileio import write_atomic
+from mlctool.fileio import Outputs
 from mlctool.report import summary_line
 from mlctool.targets import load_target
 
@@ -65,20 +72,26 @@ def _exit_for(diags: list[Diagnostic]) -> None:
         sys.exit(1)
 
 
-def _write(path: str, data: bytes | str) -> None:
-    write_atomic(path, data)  # creates missing folders
+def _plan(inputs, config, outputs: dict[str, str | None]) -> Outputs:
+    """The outputs (what -> path) checked against the inputs and each other, and their folders
+    (E606, E605: exit 2), before any work (mlctool/fileio.py)."""
+    plan = output_plan(inputs, config)
+    for what, path in outputs.items():
+        if path:
+            plan.add(path, what)
+    plan.validate()
+    return plan
 
 
-def _write_program(program: ObjectFile, target, out: str, listing_path: str | None,
+def _write_program(plan: Outputs, program: ObjectFile, target, out: str, listing_path: str | None,
                    map_path: str | None, lines) -> None:
-    # everything is rendered before the first write, so a failure leaves no partial set
+    # everything is rendered before the first write, and written all or none
     files = [(out, encode(program))]
     if map_path:
         files.append((map_path, link_map(program, target, os.path.basename(out))))
     if listing_path:
         files.append((listing_path, listing(program, lines)))
-    for path, data in files:
-        _write(path, data)
+    plan.write(files)
 
 
 @main_group.command("build")
@@ -104,13 +117,20 @@ def build_cmd(target_name, config_path, output, compile_only, listing_path, map_
     if sr is not None:
         raise _usage("--sr is for FBs positioning programs (.pos/.mpos)")
     target = with_capacity(get_target(target_name, config), config)
+    where = ""
     if not sources:
         job = project_build(config)
-        sources = job.sources
+        sources, where = job.sources, "mlc.toml "
         output = output or job.output
         listing_path = listing_path or job.listing
         map_path = map_path or job.map
     _check_request(sources, output, compile_only, listing_path, map_path)
+    if compile_only:
+        plan = _plan(sources, config, _object_paths(sources, output))
+    else:
+        plan = _plan(sources, config, {f"{where}output" if where else "-o": output,
+                                       f"{where}listing" if where else "--listing": listing_path,
+                                       f"{where}map" if where else "--map": map_path})
     root = str(config.root) if config.root else None
     # objects compile separately: a CALL into another module is the linker's to resolve
     separate = compile_only or output.lower().endswith(".mlo") or any(is_object(s) for s in sources)
@@ -120,15 +140,14 @@ def build_cmd(target_name, config_path, output, compile_only, listing_path, map_
     if inputs.programs:
         raise _usage("a linked program (.mlx) cannot be an input of build or link", inputs.programs[0][0])
     if compile_only:
-        _compile_each(inputs, sources, output)
+        plan.write(zip(_object_paths(sources, output).values(), map(encode, inputs.objects), strict=True))
         return
     if output.lower().endswith(".mlo"):
         obj = inputs.objects[0]
         files = [(output, encode(obj))] + ([(listing_path, listing(obj, inputs.lines))] if listing_path else [])
-        for path, data in files:
-            _write(path, data)
+        plan.write(files)
         return
-    _link_and_write(inputs, target, output, listing_path, map_path)
+    _link_and_write(plan, inputs, target, output, listing_path, map_path)
 
 
 def _check_request(sources, output, compile_only, listing_path, map_path) -> None:
@@ -158,6 +177,7 @@ def _build_positioning(sources, output, sr, config) -> None:
         raise _usage("build one positioning program (.pos/.mpos) at a time")
     if output is None or not is_image(output):
         raise _usage("a positioning program builds a register image: give -o TABLE.json or -o TABLE.csv")
+    plan = _plan(sources, config, {"-o": output})
     checked = check_positioning(list(sources), config)
     _report(checked.diagnostics, checked.lines)
     _exit_for(checked.diagnostics)
@@ -165,27 +185,27 @@ def _build_positioning(sources, output, sr, config) -> None:
         data = build_image(checked.programs[sources[0]], output, sr)
     except ImageError as e:
         raise _usage(str(e)) from None
-    _write(output, data)
+    plan.write({output: data})
 
 
-def _compile_each(inputs: Inputs, sources, output) -> None:
+def _object_paths(sources, output) -> dict[str, str]:
+    """-c: the object of each source (the label a clash names -> its path)."""
     folder = output or "."
-    outs = {}
+    outs: dict[str, str] = {}
     for src in sources:
         path = os.path.join(folder, os.path.splitext(os.path.basename(src))[0] + ".mlo")
-        if path in outs:
-            raise _usage(f"{src} and {outs[path]} would both write {path}")
-        outs[path] = src
-    for path, obj in zip(outs, inputs.objects, strict=True):
-        _write(path, encode(obj))
+        if path in outs.values():
+            raise _usage(f"{src} and another source would both write {path}")
+        outs[f"the object of {src}"] = path
+    return outs
 
 
-def _link_and_write(inputs: Inputs, target, output, listing_path, map_path) -> None:
+def _link_and_write(plan: Outputs, inputs: Inputs, target, output, listing_path, map_path) -> None:
     program, diags = link(inputs.objects, target, inputs.checked_together)
     _report(diags, inputs.lines)
     if program is None:
         sys.exit(1)
-    _write_program(program, target, output, listing_path, map_path, inputs.lines)
+    _write_program(plan, program, target, output, listing_path, map_path, inputs.lines)
 
 
 def _object_target_name(path: str, explicit: str | None, config) -> str:
@@ -206,6 +226,7 @@ def link_cmd(target_name, config_path, output, listing_path, map_path, objects):
                            config)
     if not output.lower().endswith(".mlx"):
         raise _usage(f"output {output!r}: a linked program is written as .mlx")
+    plan = _plan(objects, config, {"-o": output, "--listing": listing_path, "--map": map_path})
     inputs = Inputs()
     for p in objects:
         obj, problem = read_object(p, target)
@@ -224,7 +245,7 @@ def link_cmd(target_name, config_path, output, listing_path, map_path, objects):
     _report(inputs.diagnostics, {})
     if inputs.diagnostics:
         sys.exit(2)
-    _link_and_write(inputs, target, output, listing_path, map_path)
+    _link_and_write(plan, inputs, target, output, listing_path, map_path)
 
 
 @main_group.command("objdump")
@@ -255,11 +276,15 @@ def objdump_cmd(target_name, as_json, as_il, il_dir, file):
     if as_json:
         click.echo(objdump_json(obj), nl=False)
     elif il_dir:
+        plan = output_plan([file], None)
+        files = {}
         for k, u in enumerate(obj.units):
             path = os.path.join(il_dir, *u.path.split("/"))
             if source_name(path, il_dir) != u.path:
                 raise _usage(f"module name {u.path!r} cannot be written under {il_dir}")
-            _write(path, unit_il(obj, k))
+            files[plan.add(path, f"the IL of module {u.path}")] = unit_il(obj, k)
+        plan.validate()
+        plan.write(files)
     elif as_il:
         click.echo("".join(unit_il(obj, k) for k in range(len(obj.units))), nl=False)
     else:

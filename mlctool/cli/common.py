@@ -10,6 +10,7 @@ import click
 
 from mlctool.config import Config, load_config
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
+from mlctool.fileio import Outputs
 from mlctool.report import render_text
 from mlctool.targets import Target, available_targets, load_target
 from mlctool.targets.model import UnknownModel
@@ -50,6 +51,16 @@ def run_guarded(group: click.Group, argv: list[str] | None) -> int:
 
 def get_config(explicit: str | None = None) -> Config:
     return load_config(explicit=explicit)
+
+
+def output_plan(inputs, config: Config | None = None) -> Outputs:
+    """The outputs of a command reading `inputs` (and its configuration file): mlctool/fileio.py."""
+    plan = Outputs(inputs)
+    if config is not None and config.root is not None:
+        for name in ("mlc.toml", "pyproject.toml"):
+            if os.path.isfile(config.root / name):
+                plan.add_input(str(config.root / name))
+    return plan
 
 
 def get_target(name: str | None, config: Config, model: str | None = None) -> Target:

@@ -9,7 +9,7 @@ import click
 
 from mlctool.cli import main_group
 from mlctool.cli.common import config_option, get_config, get_target, show, target_option
-from mlctool.fileio import write_atomic
+from mlctool.fileio import Outputs, write_atomic
 from mlctool.syntax.layout import FormatOptions, format_source
 from mlctool.syntax.source import read_source
 
@@ -28,6 +28,10 @@ def fmt_cmd(target_name, config_path, check_only, steps, files):
     errors; 2: unreadable input.
     """
     target = get_target(target_name, get_config(config_path))
+    if not check_only:  # each file is rewritten in place: two names for one file are refused (E606)
+        plan = Outputs()
+        for path in files:
+            plan.add(path, "the file")
     worst = 0
     for path in files:
         src, diags = read_source(path)

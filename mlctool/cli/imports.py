@@ -7,8 +7,14 @@ import sys
 import click
 
 from mlctool.cli import main_group
-from mlctool.cli.common import config_option, get_config, get_target, show, target_option
-from mlctool.fileio import write_atomic
+from mlctool.cli.common import (
+    config_option,
+    get_config,
+    get_target,
+    output_plan,
+    show,
+    target_option,
+)
 from mlctool.imports import FORMATS, import_file
 
 
@@ -25,13 +31,18 @@ def import_cmd(target_name, config_path, fmt, output, file):
 
     Exit 0: converted; 1: rows that cannot be read; 2: unreadable input.
     """
-    target = get_target(target_name, get_config(config_path))
+    config = get_config(config_path)
+    plan = output_plan([file], config)
+    if output:
+        plan.add(output, "-o")
+        plan.validate()
+    target = get_target(target_name, config)
     text, found_fmt, diags = import_file(file, target, fmt)
     show(diags, {})
     if text is None:
         sys.exit(2 if any(d.code in ("E100", "E101", "E102", "E104") for d in diags) else 1)
     if output:
-        write_atomic(output, text)
+        plan.write({output: text})
         click.echo(f"{file}: {found_fmt} -> {output}", err=True)
     else:
         sys.stdout.write(text)

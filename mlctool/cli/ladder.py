@@ -7,8 +7,14 @@ import sys
 import click
 
 from mlctool.cli import main_group
-from mlctool.cli.common import config_option, get_config, get_target, show, target_option
-from mlctool.fileio import write_atomic
+from mlctool.cli.common import (
+    config_option,
+    get_config,
+    get_target,
+    output_plan,
+    show,
+    target_option,
+)
 from mlctool.ladder import sheets_from_files
 from mlctool.report import summary_line
 
@@ -36,6 +42,10 @@ def ladder_cmd(target_name, config_path, out_path, term, title, files):
         if kind is None:
             raise click.BadParameter("the output must end in .svg or .html", param_hint="-o")
     config = get_config(config_path)
+    plan = output_plan(files, config)
+    if out_path is not None:
+        plan.add(out_path, "-o")
+        plan.validate()
     target = get_target(target_name, config)
     sheets, diags, lines = sheets_from_files(list(files), target, config)
     errors = [d for d in diags if d.severity == "error"]
@@ -46,11 +56,11 @@ def ladder_cmd(target_name, config_path, out_path, term, title, files):
     if kind == "svg":
         from mlctool.ladder.svg import sheets_svg
 
-        write_atomic(out_path, sheets_svg(sheets))
+        plan.write({out_path: sheets_svg(sheets)})
     elif kind == "html":
         from mlctool.ladder.html import sheets_html
 
-        write_atomic(out_path, sheets_html(sheets, title))
+        plan.write({out_path: sheets_html(sheets, title)})
     if term or kind is None:
         from mlctool.ladder.term import print_sheets
 

@@ -13,10 +13,17 @@ import click
 
 from mlctool.asm import program_from_paths
 from mlctool.cli import main_group
-from mlctool.cli.common import config_option, get_config, get_target, show, target_option
+from mlctool.cli.common import (
+    config_option,
+    get_config,
+    get_target,
+    output_plan,
+    show,
+    target_option,
+)
 from mlctool.cli.sim_batch import batch_cmd, is_batch
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.fileio import write_atomic
+from mlctool.fileio import Outputs
 from mlctool.sim.batch import Options
 from mlctool.sim.decode import unsimulated
 from mlctool.sim.engine import ENGINE_ENV, ENGINES
@@ -85,8 +92,31 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     scan_us = _time_option(scan_time, "--scan-time")
     until_us = _time_option(until, "--until")
     config = get_config(config_path)
-    target = get_target(_object_target(list(program), target_name) or target_name, config)
+    # every output is checked against the inputs and the other outputs, and its folder, before
+    # anything runs (mlctool/fileio.py); all are written at the end, or none
+    plan = output_plan([*program, *(p for p in [stim_path] if p and not is_batch(p)),
+                        *(_table_file(t) for t in tables)], config)
+    keep_gtkw = None
+    if vcd_path:
+        from mlctool.sim.vcd import gtkw_is_ours, gtkw_path
 
+        plan.add(vcd_path, "--vcd")
+        if gtkw_is_ours(gtkw_path(vcd_path)):
+            plan.add(gtkw_path(vcd_path), "the GTKWave save file of --vcd")
+        else:
+            keep_gtkw = gtkw_path(vcd_path)
+    for path, what in ((junit_path, "--junit"), (report_path, "--report")):
+        if path:
+            plan.add(path, what)
+    plan.validate()
+    with plan:
+        _simulate(plan, keep_gtkw, target_name, config, stim_path, scan_us, until_us, scans, vcd_path, watch,
+                  as_json, junit_path, watchdog, report_path, engine, jobs, tables, pulse_window, window, program)
+
+
+def _simulate(plan: Outputs, keep_gtkw, target_name, config, stim_path, scan_us, until_us, scans, vcd_path, watch,
+              as_json, junit_path, watchdog, report_path, engine, jobs, tables, pulse_window, window, program):
+    target = get_target(_object_target(list(program), target_name) or target_name, config)
     image, diags, lines = program_from_paths(list(program), target, config)
     if image is None:
         show([d for d in diags if d.severity == "error"], lines)
@@ -107,7 +137,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
             show(watch_diags, {})
             sys.exit(2)
         opts = Options(scan_us, until_us, scans, watch_views, watchdog, engine, preload)
-        sys.exit(batch_cmd(image, target, stim_path, opts, jobs, as_json, junit_path, program, lines))
+        sys.exit(batch_cmd(image, target, stim_path, opts, jobs, as_json, junit_path, program, lines, plan))
 
     st, stim_diags = (load_stimulus(stim_path, target) if stim_path
                       else (Stimulus("<none>", []), []))
@@ -128,29 +158,54 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     sim = Simulation(image, target, st, models, period, watch_views,
                      trace=vcd_path is not None or report_path is not None, watchdog=watchdog,
                      probe=power, preload=preload, pulse_window=window)
+    vcd_stream = None
+    if vcd_path and window is None and report_path is None:
+        # streamed to a temporary file beside the VCD as the run goes (memory bounded by the
+        # devices, not the changes); --pulse-window and --report need the whole trace kept
+        from mlctool.sim.vcd import VcdStream
+
+        vcd_file = plan.stream(vcd_path)
+        vcd_stream = VcdStream(vcd_file, sim.views, image, target)
+        sim.trace_sink = vcd_stream.add
     result = _run(sim, n_scans)
     if result.pin_window is not None and result.pin_window.overflow:
         raise click.UsageError(f"--pulse-window {pulse_window}: the pulse pins change more than "
                                f"{EDGE_LIMIT} times in the window; give a shorter one (no VCD written)")
 
     _report(result, st, lines, as_json, watch_views)
+    files = {}
     if vcd_path:
-        from mlctool.sim.vcd import to_gtkw, to_vcd
+        from mlctool.sim.vcd import gtkw_path, to_gtkw, to_vcd
 
-        write_atomic(vcd_path, to_vcd(result, image, target))
+        if vcd_stream is not None:
+            vcd_stream.close(result.time_us)
+            vcd_file.close()
+        else:
+            files[vcd_path] = to_vcd(result, image, target)
         shown = watch_views or result.views
-        write_atomic(os.path.splitext(vcd_path)[0] + ".gtkw", to_gtkw(vcd_path, shown))
+        if keep_gtkw is None:
+            files[gtkw_path(vcd_path)] = to_gtkw(vcd_path, shown)
+        else:
+            click.echo(f"note: {keep_gtkw} was not written by mlc sim: kept as it is "
+                       "(remove it to get mlc sim's view)", err=True)
     if junit_path:
         from mlctool.sim.junit import to_junit
         from mlctool.sim.suite import Scenario
 
         scenario = Scenario(st.path, result, run_diagnostics(result, st.path), st.lines)
-        write_atomic(junit_path, to_junit([scenario], " ".join(program)))
+        files[junit_path] = to_junit([scenario], " ".join(program))
     if report_path:
         from mlctool.ladder.report import report_html
 
-        write_atomic(report_path, report_html(sim, result, power, lines, watch_views, ""))
+        files[report_path] = report_html(sim, result, power, lines, watch_views, "")
+    plan.write(files)
     sys.exit(0 if result.ok else 1)
+
+
+def _table_file(spec: str) -> str:
+    """The file of a --table [SR=]FILE."""
+    head, eq, rest = spec.partition("=")
+    return rest if eq and "/" not in head and os.sep not in head else spec
 
 
 def _object_target(paths: list[str], explicit: str | None) -> str | None:

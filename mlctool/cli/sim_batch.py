@@ -14,7 +14,7 @@ import click
 
 from mlctool.cli.common import show
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.fileio import write_atomic
+from mlctool.fileio import Outputs
 from mlctool.sim.batch import Options, run_batch
 from mlctool.sim.output import summary, to_json
 
@@ -33,12 +33,15 @@ def expand(pattern: str) -> tuple[list[str], list[Diagnostic]]:
 
 
 def batch_cmd(image, target, pattern: str, opts: Options, jobs: int, as_json: bool,
-              junit_path: str | None, program: tuple[str, ...], lines: dict[str, list[str]]) -> int:
+              junit_path: str | None, program: tuple[str, ...], lines: dict[str, list[str]],
+              plan: Outputs) -> int:
     """Run, report and return the exit status (0 all passed, 1 a scenario failed, 2 bad input)."""
     paths, problems = expand(pattern)
     if problems:
         show(problems, {})
         return 2
+    for p in paths:  # E606: the planned --junit is one of the stimulus files the pattern found
+        plan.add_input(p)
     scenarios, stats = run_batch(image, target, paths, opts, jobs)
     bad_input = False
     docs = {}
@@ -62,7 +65,7 @@ def batch_cmd(image, target, pattern: str, opts: Options, jobs: int, as_json: bo
     if junit_path:
         from mlctool.sim.junit import to_junit
 
-        write_atomic(junit_path, to_junit(scenarios, " ".join(program)))
+        plan.write({junit_path: to_junit(scenarios, " ".join(program))})
     if bad_input:
         return 2
     return 0 if passed == len(scenarios) else 1

@@ -10,14 +10,15 @@ import click
 
 from mlctool.asm import program_from_paths
 from mlctool.cli import main_group
-from mlctool.cli.common import get_target, show, target_option
+from mlctool.cli.common import get_target, output_plan, show, target_option
 from mlctool.config import load_config
 from mlctool.diagnostics import MlcError, Span, diag
-from mlctool.fileio import write_atomic
 from mlctool.sim import coverage as cov
 from mlctool.sim.junit import to_junit
 from mlctool.sim.output import ms
 from mlctool.sim.suite import discover, merged_probe, run_all
+
+COVERAGE_FILES = ("coverage.txt", "coverage.json", "coverage.xml")
 
 
 def _enter_project(path: str | None):
@@ -52,6 +53,13 @@ def test_cmd(target_name, jobs, junit_path, with_coverage, coverage_dir, path):
     if problems:
         show(problems, {})
         sys.exit(2)
+    plan = output_plan([*sources, *stims], config)
+    if junit_path:
+        plan.add(junit_path, "--junit")
+    if with_coverage:
+        for name in COVERAGE_FILES:
+            plan.add(os.path.join(coverage_dir, name), "--coverage")
+    plan.validate()
     image, diags, lines = program_from_paths(sources, target, config)
     if image is None:
         show([d for d in diags if d.severity == "error"], lines)
@@ -63,13 +71,15 @@ def test_cmd(target_name, jobs, junit_path, with_coverage, coverage_dir, path):
         all_lines[sc.stim] = sc.stim_lines
         show(sc.diagnostics, all_lines)
     _table(scenarios)
+    files = {}
     if junit_path:
-        write_atomic(junit_path, to_junit(scenarios, config.data.get("name", "mlc test")))
+        files[junit_path] = to_junit(scenarios, config.data.get("name", "mlc test"))
     if with_coverage:
         rep = cov.report(image, merged_probe(len(image.instrs), scenarios))
-        write_atomic(os.path.join(coverage_dir, "coverage.txt"), cov.to_text(rep))
-        write_atomic(os.path.join(coverage_dir, "coverage.json"), cov.to_json(rep))
-        write_atomic(os.path.join(coverage_dir, "coverage.xml"), cov.to_cobertura(rep))
+        for name, render in zip(COVERAGE_FILES, (cov.to_text, cov.to_json, cov.to_cobertura), strict=True):
+            files[os.path.join(coverage_dir, name)] = render(rep)
+    plan.write(files)
+    if with_coverage:
         click.echo(cov.to_text(rep), nl=False)
     sys.exit(0 if all(sc.ok for sc in scenarios) else 1)
 

@@ -165,6 +165,9 @@ class Simulation:
             names.update(model.devices())
         self.views = sorted(names, key=DeviceView.sort_key)
         self.tracing = trace
+        # where each time's value changes go as soon as they are complete (the streamed VCD);
+        # None: they are kept in RunResult.trace
+        self.trace_sink: Callable[[int, list[tuple[int, int | float]]], None] | None = None
         self.forces: dict[DeviceView, int | float] = {}
         self.by_scan: dict[int, list[Event]] = {}
         for e in st.events:
@@ -249,7 +252,7 @@ class Simulation:
     def run(self, n_scans: int, progress: Callable[[int], None] | None = None) -> RunResult:
         m = self.m
         outcomes: list[ExpectOutcome] = []
-        trace: list[tuple[int, list[tuple[int, int | float]]]] = []
+        trace = TraceLog(self.trace_sink)
         last: list[int | float | None] = [None] * len(self.views)
         # Y bits a routine's REF put out between scans (fx/interrupts.py): trace entries at
         # their own time; the scan after records each such view again
@@ -292,10 +295,7 @@ class Simulation:
                     i = y_views.get(n)
                     if i is None or t >= m.now_us or level == last[i]:
                         continue  # at the scan's own time the scan's entry shows it
-                    if trace and trace[-1][0] == t:
-                        trace[-1][1].append((i, level))
-                    else:
-                        trace.append((t, [(i, level)]))
+                    trace.add(t, [(i, level)])
                     last[i] = level
                     moved.add(i)
             outputs.clear()
@@ -309,7 +309,7 @@ class Simulation:
                         last[i] = val
                 moved.clear()
                 if changes:
-                    trace.append((m.now_us, changes))
+                    trace.add(m.now_us, changes)
             if fault:
                 break
             for e in events:
@@ -328,7 +328,7 @@ class Simulation:
         outcomes.sort(key=lambda o: (o.scan, o.line))
         alarms = _first_alarms(alarms)
         devices = {v.name: v.read(m) for v in self.views}
-        return RunResult(self.period, scans_done, devices, self.views, outcomes, alarms, fault, trace,
+        return RunResult(self.period, scans_done, devices, self.views, outcomes, alarms, fault, trace.close(),
                          m.pin_window)
 
     def _fault(self, f: Fault, k: int) -> FaultReport:
@@ -338,6 +338,32 @@ class Simulation:
         ins = f.step.ins
         return FaultReport(k * self.period, k, f.message, ins.addr, ins.file, ins.line,
                            " ".join((ins.mnemonic, *ins.texts)))
+
+
+class TraceLog:
+    """The value changes of a traced run in time order, one entry per time. Changes at the
+    time of the last entry join it; with a sink, every earlier entry is handed to the sink
+    and dropped, so memory stays bounded by the number of devices, not of changes."""
+
+    def __init__(self, sink: Callable[[int, list[tuple[int, int | float]]], None] | None = None):
+        self.entries: list[tuple[int, list[tuple[int, int | float]]]] = []
+        self.sink = sink
+
+    def add(self, t: int, changes: list[tuple[int, int | float]]) -> None:
+        if self.entries and self.entries[-1][0] == t:
+            self.entries[-1][1].extend(changes)
+            return
+        if self.sink is not None and self.entries:
+            self.sink(*self.entries.pop())
+        self.entries.append((t, changes))
+
+    def close(self) -> list[tuple[int, list[tuple[int, int | float]]]]:
+        """The kept entries (none with a sink: they all went to it)."""
+        if self.sink is not None:
+            for t, changes in self.entries:
+                self.sink(t, changes)
+            self.entries = []
+        return self.entries
 
 
 def _first_alarms(alarms: list[AlarmReport]) -> list[AlarmReport]:

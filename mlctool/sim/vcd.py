@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import io
 import os
+from typing import IO
 
 from vcd import VCDWriter
 
@@ -32,31 +33,49 @@ def _raw(view: DeviceView, value):
     return int(value) & ((1 << view.width) - 1)
 
 
+class VcdStream:
+    """A VCD written as the run goes (Simulation.trace_sink): pyvcd keeps one value per
+    variable, so memory does not grow with the number of changes."""
+
+    def __init__(self, out: IO[str], views: list[DeviceView], image: Image, target: Target,
+                 timescale: str = "1 us"):
+        self.writer = VCDWriter(out, timescale=timescale, date="", comment="mlc sim (virtual time)",
+                                version="mlctool")
+        self.views = views
+        self.variables = []
+        for v in views:
+            if v.is_float:
+                self.variables.append(self.writer.register_var(SCOPE, signal_name(v), "real", init=0.0))
+            else:
+                self.variables.append(self.writer.register_var(SCOPE, signal_name(v), "wire", size=v.width,
+                                                               init=0))
+        self.by_name = {v.name: k for k, v in enumerate(views)}
+        for sym, text in sorted(image.symbols.items()):
+            view = _symbol_view(text, target)
+            if view is not None and view.name in self.by_name:
+                self.writer.register_alias(SCOPE + ".symbols", sym, self.variables[self.by_name[view.name]])
+
+    def add(self, t: int, changes: list[tuple[int, int | float]]) -> None:
+        for k, value in changes:
+            self.writer.change(self.variables[k], t, _raw(self.views[k], value))
+
+    def close(self, end_time: int) -> None:
+        self.writer.close(end_time)
+
+
 def to_vcd(r: RunResult, image: Image, target: Target) -> str:
+    """The VCD of a run whose trace was kept (RunResult.trace)."""
     buf = io.StringIO()
     window = r.pin_window  # --pulse-window: 1 ns time unit, pulse pins as pulse trains inside it
-    writer = VCDWriter(buf, timescale="1 ns" if window else "1 us", date="",
-                       comment="mlc sim (virtual time)", version="mlctool")
-    variables = []
-    for v in r.views:
-        if v.is_float:
-            variables.append(writer.register_var(SCOPE, signal_name(v), "real", init=0.0))
-        else:
-            variables.append(writer.register_var(SCOPE, signal_name(v), "wire", size=v.width, init=0))
-    by_name = {v.name: k for k, v in enumerate(r.views)}
-    for sym, text in sorted(image.symbols.items()):
-        view = _symbol_view(text, target)
-        if view is not None and view.name in by_name:
-            writer.register_alias(SCOPE + ".symbols", sym, variables[by_name[view.name]])
+    stream = VcdStream(buf, r.views, image, target, "1 ns" if window else "1 us")
     if window is None:
         for t, changes in r.trace:
-            for k, value in changes:
-                writer.change(variables[k], t, _raw(r.views[k], value))
-        writer.close(r.time_us)
+            stream.add(t, changes)
+        stream.close(r.time_us)
         return buf.getvalue()
-    for t, k, value in _with_pulses(r, window, by_name):
-        writer.change(variables[k], t, _raw(r.views[k], value))
-    writer.close(r.time_us * 1000)
+    for t, k, value in _with_pulses(r, window, stream.by_name):
+        stream.writer.change(stream.variables[k], t, _raw(r.views[k], value))
+    stream.close(r.time_us * 1000)
     return buf.getvalue()
 
 
@@ -99,9 +118,29 @@ def _symbol_view(text: str, target: Target) -> DeviceView | None:
         return None
 
 
+GTKW_HEADER = "[*] mlctool sim"  # the first line of every save file mlc sim writes
+
+
+def gtkw_path(vcd_path: str) -> str:
+    return os.path.splitext(vcd_path)[0] + ".gtkw"
+
+
+def gtkw_is_ours(path: str) -> bool:
+    """True when `path` is missing or was written by mlc sim (its first line is GTKW_HEADER):
+    mlc sim replaces only its own save file; a user's, with their own view, is kept."""
+    try:
+        with open(path, "rb") as f:
+            first = f.readline(len(GTKW_HEADER) + 2)
+    except FileNotFoundError:
+        return True
+    except OSError:
+        return False
+    return first.rstrip(b"\r\n") == GTKW_HEADER.encode()
+
+
 def to_gtkw(vcd_path: str, views: list[DeviceView]) -> str:
     """A GTKWave save file showing `views` (decimal, signed where the view is signed)."""
-    lines = ["[*] mlctool sim", f'[dumpfile] "{os.path.basename(vcd_path)}"', "[timestart] 0",
+    lines = [GTKW_HEADER, f'[dumpfile] "{os.path.basename(vcd_path)}"', "[timestart] 0",
              "[treeopen] mlc.", "[sst_expanded] 1"]
     for v in views:
         name = f"{SCOPE}.{signal_name(v)}"
