@@ -4,15 +4,22 @@
     capacity = 65536          # program capacity override (steps)
     [severity]                # per-code severity: "error" | "warning" | "off"
     W401 = "off"
+
+The file is validated as it is read: an unknown key (`taget`), a value of the wrong type
+(`capacity = "big"`), an unknown code in [severity] or an error turned off is E110 at the
+key's own line, with the nearest known spelling. tomllib gives no positions, so the keys'
+lines come from a small scan of the text (`key_positions`).
 """
 
 from __future__ import annotations
 
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from mlctool.diagnostics import MlcError, Span, diag
+from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
+from mlctool.suggest import did_you_mean
 
 
 @dataclass
@@ -24,13 +31,185 @@ class Config:
     root: Path | None = None
 
 
-def _table(path: Path) -> dict | None:
+SEVERITIES = ("error", "warning", "off")
+
+
+def _is_str(v) -> bool:
+    return isinstance(v, str)
+
+
+def _is_str_list(v) -> bool:
+    return isinstance(v, list) and all(isinstance(s, str) for s in v)
+
+
+def _is_capacity(v) -> bool:
+    return isinstance(v, int) and not isinstance(v, bool) and v > 0
+
+
+def _is_table(v) -> bool:
+    return isinstance(v, dict)
+
+
+# key -> (test of the value, what the value must be); docs/project.md lists them
+KEYS = {
+    "target": (_is_str, 'a target name string (`target = "vs"`)'),
+    "model": (_is_str, 'a model name string (`model = "VS1"`)'),
+    "capacity": (_is_capacity, "a positive whole number of steps (`capacity = 65536`)"),
+    "sources": (_is_str_list, 'a list of path strings (`sources = ["src/main.il"]`)'),
+    "tests": (_is_str_list, 'a list of glob strings (`tests = ["tests/*.stim"]`)'),
+    "output": (_is_str, "a path string"),
+    "listing": (_is_str, "a path string"),
+    "map": (_is_str, "a path string"),
+    "name": (_is_str, "a string"),
+    "encoding": (_is_str, 'an encoding name string (`encoding = "cp950"`)'),
+    "symbols": (_is_table, 'a table of NAME = "OPERAND" (`[symbols]`)'),
+    "severity": (_is_table, 'a table of CODE = "error" | "warning" | "off" (`[severity]`)'),
+}
+
+
+class ConfigError(MlcError):
+    """The configuration is wrong: every problem found, with the file's lines to show them."""
+
+    def __init__(self, diagnostics: list[Diagnostic], lines: dict[str, list[str]]):
+        super().__init__(diagnostics[0], 2)
+        self.diagnostics, self.lines = diagnostics, lines
+
+
+# ------------------------------------------------------------------ where a key is written
+
+_BARE_OR_QUOTED = r'(?:[A-Za-z0-9_-]+|"[^"\n]*"|\'[^\'\n]*\')'
+_DOTTED = rf"{_BARE_OR_QUOTED}(?:\s*\.\s*{_BARE_OR_QUOTED})*"
+_TABLE_LINE = re.compile(rf"\s*\[\[?\s*({_DOTTED})\s*\]\]?")
+_KEY_LINE = re.compile(rf"\s*({_DOTTED})\s*=")
+_PART = re.compile(_BARE_OR_QUOTED)
+
+
+def _parts(dotted: str) -> tuple[str, ...]:
+    return tuple(p.strip("\"'") for p in _PART.findall(dotted))
+
+
+def key_positions(text: str) -> dict[tuple[str, ...], tuple[int, int, int]]:
+    """Every table header and `key =` of a TOML text -> (line, column, length of the key).
+
+    Not a TOML parser: a scan of line starts that skips the insides of multi-line strings,
+    enough to point at the line of a key that tomllib has already read."""
+    out: dict[tuple[str, ...], tuple[int, int, int]] = {}
+    table: tuple[str, ...] = ()
+    open_quote = None
+    for n, line in enumerate(text.split("\n"), 1):
+        if open_quote:
+            if line.count(open_quote) % 2:
+                open_quote = None
+            continue
+        m = _TABLE_LINE.match(line)
+        if m:
+            table = _parts(m.group(1))
+            out.setdefault(table, (n, m.start(1) + 1, len(m.group(1))))
+            continue
+        m = _KEY_LINE.match(line)
+        if not m:
+            continue
+        out.setdefault(table + _parts(m.group(1)), (n, m.start(1) + 1, len(m.group(1))))
+        rest = line[m.end():]
+        for quote in ('"""', "'''"):
+            if rest.count(quote) % 2:
+                open_quote = quote
+    return out
+
+
+# ------------------------------------------------------------------ reading and validating
+
+def _read(path: Path) -> tuple[str, dict]:
     try:
-        data = tomllib.loads(path.read_text("utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
-        raise MlcError(diag(str(path), Span.at(1), "E100", f"cannot read configuration: {e}")) from e
+        text = path.read_text("utf-8")
+    except OSError as e:
+        raise MlcError(diag(str(path), Span.at(1), "E100", f"cannot read configuration: {e.strerror or e}")) from e
+    except UnicodeDecodeError as e:
+        raise MlcError(diag(str(path), Span.at(1), "E110", f"configuration is not UTF-8 ({e.reason})")) from e
+    try:
+        return text, tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        at = re.search(r"at line (\d+), column (\d+)", str(e))
+        lines = text.split("\n")
+        line, col = (int(at.group(1)), int(at.group(2))) if at else (len(lines), 1)  # "at end of document"
+        message = re.sub(r"\s*\(at (line \d+, column \d+|end of document)\)", "", str(e))
+        raise ConfigError([diag(str(path), Span.at(line, col), "E110", f"not valid TOML: {message}")],
+                          {str(path): lines}) from e
+
+
+def validate(path: str, text: str, table: dict, prefix: tuple[str, ...] = ()) -> list[Diagnostic]:
+    """The E110 problems of a configuration table read from `text` (`prefix`: where the
+    table sits in the file, ("tool", "mlc") for pyproject.toml)."""
+    from mlctool.codes import CODES
+
+    positions = key_positions(text)
+    section = "[tool.mlc]" if prefix else Path(path).name
+
+    def at(*keys: str) -> Span:
+        for k in range(len(keys), -1, -1):  # the key itself, else the nearest table that holds it
+            found = positions.get(prefix + keys[:k])
+            if found:
+                line, col, length = found
+                return Span.at(line, col, length)
+        return Span.at(1)
+
+    out: list[Diagnostic] = []
+    for key, value in table.items():
+        if key not in KEYS:
+            out.append(diag(path, at(key), "E110", f"unknown key `{key}` in {section}"
+                            + did_you_mean(key, KEYS, "`"),
+                            f"known keys: {', '.join(KEYS)} (docs/project.md)"))
+            continue
+        ok, wanted = KEYS[key]
+        if not ok(value):
+            out.append(diag(path, at(key), "E110", f"`{key}` must be {wanted}, not {_shown(value)}"))
+    severity = table.get("severity")
+    if isinstance(severity, dict):
+        for code, value in severity.items():
+            where = at("severity", code)
+            c = CODES.get(code.upper())
+            if c is None:
+                out.append(diag(path, where, "E110", f"unknown code `{code}` in [severity]"
+                                + did_you_mean(code, CODES, "`"), "`mlc explain CODE` documents each code"))
+            elif not isinstance(value, str) or value.lower() not in SEVERITIES:
+                out.append(diag(path, where, "E110", f"severity of {c.code} must be \"error\", \"warning\" "
+                                f"or \"off\", not {_shown(value)}"))
+            elif c.severity == "error" and value.lower() != "error":
+                out.append(diag(path, where, "E110", f"{c.code} is an error and cannot be "
+                                f"{'turned off' if value.lower() == 'off' else 'made a warning'}",
+                                "errors say the program is not valid for the target; only warnings "
+                                "can be turned off or down (docs/check.md)"))
+    target = table.get("target")
+    if isinstance(target, str):
+        from mlctool.targets import available_targets
+
+        names = available_targets()
+        if target not in names:
+            out.append(diag(path, at("target"), "E110", f"unknown target {target!r}" + did_you_mean(target, names, "'", 0.5),
+                            f"available: {', '.join(names)}"))
+    return sorted(out, key=Diagnostic.sort_key)
+
+
+def _shown(value) -> str:
+    text = repr(value) if not isinstance(value, (dict, list)) else f"{type(value).__name__} {value!r}"
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _table(path: Path) -> dict | None:
+    text, data = _read(path)
+    prefix: tuple[str, ...] = ()
     if path.name == "pyproject.toml":
-        return data.get("tool", {}).get("mlc")
+        tool = data.get("tool")
+        data = tool.get("mlc") if isinstance(tool, dict) else None
+        if data is None:
+            return None
+        prefix = ("tool", "mlc")
+        if not isinstance(data, dict):
+            raise ConfigError([diag(str(path), Span.at(1), "E110", "[tool.mlc] must be a table")],
+                              {str(path): text.split("\n")})
+    problems = validate(str(path), text, data, prefix)
+    if problems:
+        raise ConfigError(problems, {str(path): text.split("\n")})
     return data
 
 
@@ -47,10 +226,55 @@ def load_config(start: Path | None = None, explicit: str | None = None) -> Confi
             table = _table(path)
             if table is None:
                 continue
-            sev = {k.upper(): str(v).lower() for k, v in table.get("severity", {}).items()}
-            for code, value in sev.items():
-                if value not in ("error", "warning", "off"):
-                    raise MlcError(diag(str(path), Span.at(1), "E105",
-                                        f"severity of {code} must be error, warning or off, not {value!r}"))
+            sev = {k.upper(): v.lower() for k, v in table.get("severity", {}).items()}
             return Config(table.get("target"), table.get("capacity"), sev, table, path.parent)
     return Config()
+
+
+def severity_of(code: str, default: str, config: Config | None, ignore: frozenset[str] = frozenset()) -> str:
+    """The severity a diagnostic is shown with: the configured one, "off" when ignored.
+    An error (a code whose default is error) stays an error whatever the configuration,
+    `--ignore` or a `; mlc: noqa` say: it means the program cannot be built or run."""
+    if default == "error":
+        return "error"
+    if code in ignore:
+        return "off"
+    return config.severity.get(code, default) if config else default
+
+
+def rules_dropped(ignore: tuple[str, ...] | list[str], select: tuple[str, ...] | list[str],
+                  no_lint: bool = False) -> frozenset[str]:
+    """The codes `mlc check --ignore CODE --select W4xx[,W4xx] --no-lint` drop. An unknown code,
+    an error in --ignore or a non-lint code in --select is E110 (exit 2), with the nearest code."""
+    from mlctool.codes import CODES
+
+    lint = {c for c in CODES if c.startswith("W4")}
+    where = "<command line>"
+    problems = []
+    ignored = set()
+    for item in ignore:
+        for raw in (c.strip() for c in item.split(",")):
+            code = raw.upper()
+            if not code:
+                continue
+            c = CODES.get(code)
+            if c is None:
+                problems.append(diag(where, Span.at(1), "E110", f"--ignore {raw}: unknown code"
+                                     + did_you_mean(code, CODES)))
+            elif c.severity == "error":
+                problems.append(diag(where, Span.at(1), "E110", f"--ignore {c.code}: {c.code} is an error "
+                                     "and cannot be ignored", "errors say the program is not valid for the "
+                                     "target; only warnings can be ignored (docs/check.md)"))
+            else:
+                ignored.add(code)
+    if no_lint:
+        ignored |= lint
+    chosen = {c.strip().upper() for item in select for c in item.split(",") if c.strip()}
+    for code in sorted(chosen - lint):
+        problems.append(diag(where, Span.at(1), "E110", f"--select {code}: {code} is not a lint rule (W4xx)"
+                             + did_you_mean(code, lint), f"lint rules: {', '.join(sorted(lint))}"))
+    if problems:
+        raise ConfigError(problems, {})
+    if chosen:
+        ignored |= lint - chosen
+    return frozenset(ignored)

@@ -46,6 +46,8 @@ class MlcError(Exception):
         super().__init__(diagnostic.message)
         self.diagnostic = diagnostic
         self.exit_code = exit_code
+        self.diagnostics: list[Diagnostic] = [diagnostic]  # all of them, when there are several
+        self.lines: dict[str, list[str]] = {}  # the lines of the files they point into
 
 
 def diag(file: str, span: Span, code: str, message: str, *notes: str) -> Diagnostic:

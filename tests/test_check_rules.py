@@ -517,8 +517,8 @@ def test_noqa_suppresses_only_the_named_code():
     assert found(base.format(c=" ; mlc: noqa W402")) == [("W401", 4, 1)]
     # a noqa on another line does not apply
     assert found("LD X0 ; mlc: noqa W401\nOUT Y0\nLD X1\nOUT Y0\nEND\n") == [("W401", 4, 1)]
-    # errors can be suppressed by code too (the user's explicit choice)
-    assert found("LD X0\nMOV K1 D65536 ; mlc: noqa E205\nEND\n") == []
+    # an error is never suppressed: it means the program cannot be built (issue 21 #6)
+    assert found("LD X0\nMOV K1 D65536 ; mlc: noqa E205\nEND\n") == [("E205", 2, 8)]
 
 
 def test_config_severity():

@@ -15,7 +15,7 @@ from mlctool.check.labels import assign_named_labels, restrict_names
 from mlctool.check.lint import cross_module_coils, lint_module, referenced_labels, set_without_reset
 from mlctool.check.resolve import resolve
 from mlctool.check.structure import check_layout, check_rungs
-from mlctool.config import Config
+from mlctool.config import Config, severity_of
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Module
 from mlctool.syntax.operands import SYMBOL, OperandSyntaxError, parse_operand
@@ -137,11 +137,12 @@ def _operand_ok(text: str) -> bool:
 def _finish(diags, config: Config, ignore, noqa) -> list[Diagnostic]:
     out = []
     for d in diags:
-        sev = config.severity.get(d.code, d.severity)
-        if sev == "off" or d.code in ignore:
+        sev = severity_of(d.code, d.severity, config, ignore)
+        if sev == "off":
             continue
         sup = noqa.get(d.file, {}).get(d.span.line, False)
-        if sup is None or (sup and d.code in sup):
+        # a noqa silences warnings only: an error means the program cannot be built (severity_of)
+        if d.severity != "error" and (sup is None or (sup and d.code in sup)):
             continue
         out.append(d if sev == d.severity else d.with_severity(sev))
     return sorted(set(out), key=Diagnostic.sort_key)

@@ -10,6 +10,7 @@ from mlctool.check import check_files
 from mlctool.cli import main_group
 from mlctool.cli.common import config_option, get_config, get_target, target_option
 from mlctool.codes import CODES
+from mlctool.config import rules_dropped
 from mlctool.diagnostics import Diagnostic
 from mlctool.fbs.model import is_positioning_source
 from mlctool.report import SHOW_PER_CODE, render_text, summary_line, to_json, to_sarif
@@ -35,17 +36,7 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
     """
     config = get_config(config_path)
     target = get_target(target_name, config)
-    ignored = frozenset(c.upper() for c in ignore)
-    lint = {c for c in CODES if c.startswith("W4")}
-    if no_lint:
-        ignored |= lint
-    chosen = {c.strip().upper() for item in select for c in item.split(",") if c.strip()}
-    if chosen:
-        unknown = sorted(chosen - lint)
-        if unknown:
-            raise click.BadParameter(f"not lint rules: {', '.join(unknown)} (lint rules: {', '.join(sorted(lint))})",
-                                     param_hint="--select")
-        ignored |= lint - chosen
+    ignored = rules_dropped(ignore, select, no_lint)
     # FBs positioning programs (.pos/.mpos) have their own language: mlctool/fbs
     positioning = [f for f in files if is_positioning_source(f)]
     il_files = [f for f in files if f not in positioning]

@@ -22,7 +22,7 @@ def run_guarded(group: click.Group, argv: list[str] | None) -> int:
         group.main(args=argv, prog_name="mlc", standalone_mode=False)
         return 0
     except MlcError as e:
-        render_text([e.diagnostic], {})
+        render_text(e.diagnostics, e.lines)
         return e.exit_code
     except click.exceptions.Exit as e:
         return e.exit_code

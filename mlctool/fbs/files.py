@@ -10,7 +10,7 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass, field
 
-from mlctool.config import Config
+from mlctool.config import Config, severity_of
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.fbs.image import ImageError, parse_sr, read_image, to_csv, to_json
 from mlctool.fbs.lang import parse_program
@@ -39,7 +39,6 @@ class Checked:
 def check_positioning(paths: list[str], config: Config | None = None,
                       ignore: frozenset[str] = frozenset()) -> Checked:
     out = Checked()
-    severity = config.severity if config else {}
     for path in paths:
         src, problems = read_source(path)
         out.diagnostics += problems
@@ -49,8 +48,8 @@ def check_positioning(paths: list[str], config: Config | None = None,
         program, diags = parse_program(path, src.text, tables().dialect_for(path))
         out.programs[path] = program
         for d in diags:
-            sev = severity.get(d.code, d.severity)
-            if sev != "off" and d.code not in ignore:
+            sev = severity_of(d.code, d.severity, config, ignore)
+            if sev != "off":
                 out.diagnostics.append(d if sev == d.severity else d.with_severity(sev))
     return out
 
