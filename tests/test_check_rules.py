@@ -541,3 +541,12 @@ def test_config_file_severity(tmp_path, monkeypatch):
     text = "LD X0\nOUT Y0\nLD X1\nOUT Y0\nSET M1\nEND\n"
     res = run(text, cfg)
     assert [(d.code, d.severity) for d in res.diagnostics] == [("W405", "error")]
+
+
+def test_e210_names_the_destination_not_a_register():
+    """Issue 14 §3: "MOV writes its D operand" read as register D."""
+    res = run("LD X0\nOUT X1\nMOV K1 K2\nDMOV D0 K5\nEND\n")
+    got = [(d.code, d.span.line, d.message) for d in res.diagnostics]
+    assert got == [("E210", 2, "X1 is an input (written by the hardware only): the first operand of OUT is its destination"),
+                   ("E210", 3, "K2 is a constant: the second operand of MOV is its destination"),
+                   ("E210", 4, "K5 is a constant: the second operand of DMOV is its destination")]

@@ -273,8 +273,10 @@ class _Resolver:
             return False
         # writes to inputs and constants
         if o.writes and (op.is_const or (dev is not None and dev.input)):
-            self.report(w, "E210", f"{spec.mnemonic} writes its {o.role} operand; {w.text} is "
-                     + ("a constant" if op.is_const else "an input"))
+            # "writes its D operand" read as register D: name the role as what it is, a destination
+            nth = _ORDINAL.get(next((k for k, s in enumerate(spec.operands, 1) if s is o), 0), "an")
+            what = "a constant" if op.is_const else "an input (written by the hardware only)"
+            self.report(w, "E210", f"{w.text} is {what}: the {nth} operand of {spec.mnemonic} is its destination")
             return False
         if dev is not None and (dev.unit_prefix or op.unit) and not self.unit_word_ok(spec, o, op, dev, w):
             return False
@@ -518,6 +520,9 @@ def _device_name(t: Target, dev, number: int) -> str:
 
 def _intersect(spans, limits) -> list[tuple[int, int]]:
     return [(max(a, c), min(b, d)) for a, b in spans for c, d in limits if max(a, c) <= min(b, d)]
+
+
+_ORDINAL = {1: "first", 2: "second", 3: "third", 4: "fourth", 5: "fifth", 6: "sixth", 7: "seventh"}
 
 
 def _kind_name(op: Operand) -> str:
