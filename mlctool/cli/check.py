@@ -8,7 +8,13 @@ import click
 
 from mlctool.check import check_files
 from mlctool.cli import main_group
-from mlctool.cli.common import config_option, get_config, get_target, target_option
+from mlctool.cli.common import (
+    config_option,
+    expand_sources,
+    get_config,
+    get_target,
+    target_option,
+)
 from mlctool.codes import CODES
 from mlctool.config import rules_dropped
 from mlctool.diagnostics import Diagnostic
@@ -28,13 +34,17 @@ from mlctool.targets import available_targets, load_target
               help="run only these lint rules (W4xx); legality and structure checks always run")
 @click.option("--show-all", is_flag=True,
               help=f"text output: show every diagnostic (default: the first {SHOW_PER_CODE} of each code, then a count)")
-@click.argument("files", nargs=-1, required=True, type=click.Path())
+@click.argument("files", nargs=-1, type=click.Path(), metavar="[FILE|DIR]...")
 def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, show_all, files):
     """Check instruction-list sources against the target's manual.
+
+    With no FILE, checks the project of the nearest mlc.toml above the current folder: its
+    `sources`, together, with its settings. A DIR stands for the *.il files below it.
 
     Exit 0: no errors; 1: errors (or warnings with --werror); 2: usage or unreadable input.
     """
     config = get_config(config_path)
+    files = expand_sources(files) if files else _project_sources(config)
     target = get_target(target_name, config)
     ignored = rules_dropped(ignore, select, no_lint)
     # FBs positioning programs (.pos/.mpos) have their own language: mlctool/fbs
@@ -63,6 +73,15 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
         sys.exit(2)
     if errors or (werror and warnings):
         sys.exit(1)
+
+
+def _project_sources(config) -> list[str]:
+    if config.root is None:
+        raise click.UsageError("no FILE given and no mlc.toml here or above: name files or folders "
+                               "to check, or run inside a project (docs/project.md)")
+    from mlctool.asm.project import project_build
+
+    return project_build(config).sources
 
 
 @main_group.command("explain")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import fnmatch
 import os
 import sys
 import traceback
@@ -61,6 +62,24 @@ def output_plan(inputs, config: Config | None = None) -> Outputs:
             if os.path.isfile(config.root / name):
                 plan.add_input(str(config.root / name))
     return plan
+
+
+def expand_sources(args: list[str] | tuple[str, ...], pattern: str = "*.il") -> list[str]:
+    """File arguments as given; a directory stands for the files matching `pattern` below it,
+    sorted by path (deterministic whatever the file system's order), hidden folders skipped."""
+    out: list[str] = []
+    for arg in args:
+        if not os.path.isdir(arg):
+            out.append(arg)
+            continue
+        found = []
+        for folder, dirs, files in os.walk(arg):
+            dirs[:] = [d for d in dirs if not d.startswith(".")]
+            found += [os.path.join(folder, f) for f in files if fnmatch.fnmatch(f, pattern)]
+        if not found:
+            raise click.UsageError(f"{arg}: no {pattern} files in this folder or below")
+        out += sorted(found)
+    return out
 
 
 def get_target(name: str | None, config: Config, model: str | None = None) -> Target:

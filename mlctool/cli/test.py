@@ -22,12 +22,18 @@ COVERAGE_FILES = ("coverage.txt", "coverage.json", "coverage.xml")
 
 
 def _enter_project(path: str | None):
-    """cd into the project folder (the one holding mlc.toml) and load its configuration."""
-    p = Path(path or ".")
-    folder = p.parent if p.is_file() else p
+    """cd into the project folder (the one holding mlc.toml: PATH's, else the nearest one at or
+    above the current folder) and load its configuration."""
+    if path is None:
+        here = Path.cwd()
+        folder = next((d for d in (here, *here.parents) if (d / "mlc.toml").is_file()), here)
+    else:
+        p = Path(path)
+        folder = p.parent if p.is_file() else p
     if not (folder / "mlc.toml").is_file():
+        where = "here or above" if path is None else f"in {folder}"
         raise MlcError(diag(str(folder / "mlc.toml"), Span.at(1), "E100",
-                            f"no mlc.toml in {folder} (mlc test runs a project's tests)"))
+                            f"no mlc.toml {where} (mlc test runs a project's tests)"))
     os.chdir(folder)
     return load_config(explicit="mlc.toml")
 
@@ -42,7 +48,8 @@ def _enter_project(path: str | None):
 @click.option("--coverage-dir", default=".", show_default=True, help="folder for the coverage reports")
 @click.argument("path", required=False, type=click.Path())
 def test_cmd(target_name, jobs, junit_path, with_coverage, coverage_dir, path):
-    """Run the stimulus files of the project at PATH (default: the current folder).
+    """Run the stimulus files of the project at PATH (default: the nearest mlc.toml at or above
+    the current folder).
 
     mlc.toml names the program (`sources`) and the scenarios (`tests`, globs). Exit 0 when
     every expectation held, 1 on any failure or fault, 2 on usage errors or unreadable input.
