@@ -39,6 +39,16 @@ class Diagnostic:
         return (self.file, self.span.line, self.span.col, self.code, self.message)
 
 
+# An input that cannot be read as a source: missing or refused (E100), binary (E101), not in
+# an encoding we read (E102), too large (E104). Every command exits 2 on them
+# (docs/reliability.md, "Exit codes"); errors in a source that could be read give 1.
+UNREADABLE = frozenset({"E100", "E101", "E102", "E104"})
+
+
+def unreadable(diags) -> bool:
+    return any(d.code in UNREADABLE for d in diags)
+
+
 class MlcError(Exception):
     """A failure that ends a command with a diagnostic (never a traceback)."""
 

@@ -15,9 +15,10 @@ from mlctool.syntax.source import display_width
 _BOLD = "\x1b[1m"
 _RESET = "\x1b[0m"
 _STYLE = {"error": "\x1b[1;31m", "warning": "\x1b[1;33m", "note": "\x1b[1;36m"}
-# bell, backspace, vertical tab, form feed, carriage return: dropped from the text, as the
-# terminal would act on them (the same five rich drops, so plain output is what it was)
-_DROP_CONTROLS = str.maketrans(dict.fromkeys((7, 8, 11, 12, 13)))
+# control characters (C0 but tab and newline, DEL, C1) from a file name, message or source
+# line are shown escaped, `\x1b`: a terminal would act on them (ESC[2J clears the screen)
+_ESCAPE_CONTROLS = str.maketrans({c: f"\\x{c:02x}" for c in (*range(0x20), 0x7F, *range(0x80, 0xA0))
+                                  if c not in (9, 10)})
 # diagnostics written per stream.write (stderr is line buffered: one flush per write)
 _CHUNK = 2048
 
@@ -55,9 +56,9 @@ def render_text(diags: list[Diagnostic], lines: dict[str, list[str]], stream=Non
                 continue
             shown[d.code] = n + 1
         span = d.span
-        where = f"{d.file}:{span.line}:{span.col}:".translate(_DROP_CONTROLS)
-        label = f"{d.severity}[{d.code}]".translate(_DROP_CONTROLS)
-        message = d.message.translate(_DROP_CONTROLS)
+        where = f"{d.file}:{span.line}:{span.col}:".translate(_ESCAPE_CONTROLS)
+        label = f"{d.severity}[{d.code}]".translate(_ESCAPE_CONTROLS)
+        message = d.message.translate(_ESCAPE_CONTROLS)
         header = f"{where} {label}: {message}"
         if "\t" in header:
             out.append(_expand_tabs(header) + "\n")  # no colour then: tabs are rare here
@@ -73,13 +74,13 @@ def render_text(diags: list[Diagnostic], lines: dict[str, list[str]], stream=Non
                 text = text[:200] + " ..."
             end = min(span.end_col, len(text) + 1) if span.end_line == span.line else span.col + 1
             # columns count characters; the carets go by display width (Chinese names take two)
-            lead = display_width(text[:span.col - 1])
-            carets = "^" * max(1, display_width(text[span.col - 1:end - 1]))
+            lead = display_width(text[:span.col - 1].translate(_ESCAPE_CONTROLS))
+            carets = "^" * max(1, display_width(text[span.col - 1:end - 1].translate(_ESCAPE_CONTROLS)))
             if color:
                 carets = f"{_STYLE.get(d.severity, _BOLD)}{carets}{_RESET}"
-            out.append(f"  {span.line:>5} | {text.translate(_DROP_CONTROLS)}\n        | {' ' * lead}{carets}\n")
+            out.append(f"  {span.line:>5} | {text.translate(_ESCAPE_CONTROLS)}\n        | {' ' * lead}{carets}\n")
         for n in d.notes:
-            out.append(_expand_tabs(f"        = note: {n.translate(_DROP_CONTROLS)}") + "\n")
+            out.append(_expand_tabs(f"        = note: {n.translate(_ESCAPE_CONTROLS)}") + "\n")
         if len(out) >= _CHUNK:
             stream.write("".join(out))
             out.clear()
@@ -98,8 +99,7 @@ def _expand_tabs(text: str) -> str:
         col = 0
         done = []
         for piece in pieces:
-            # control characters take no column (what is left of them after _DROP_CONTROLS)
-            col += display_width(piece) - sum(c < " " or "\x7f" <= c < "\xa0" for c in piece) + 1
+            col += display_width(piece) + 1
             fill = -col % 8
             col += fill
             done.append(piece + " " * (1 + fill))

@@ -166,7 +166,7 @@ def test_invalid_utf8_and_nul(mlc, tmp_path):
     p.write_bytes(b"LD X0\nOUT \xff\xfeY0\nEND\n")
     r = mlc("check", "--format", "json", str(p))
     d = json.loads(r.out)["diagnostics"][0]
-    assert r.code == 1 and (d["code"], d["line"], d["column"]) == ("E102", 2, 5)
+    assert r.code == 2 and (d["code"], d["line"], d["column"]) == ("E102", 2, 5)
     p.write_bytes(b"LD X0\n\x00\x01\x02")
     d = json.loads(mlc("check", "--format", "json", str(p)).out)["diagnostics"][0]
     assert (d["code"], d["line"], d["column"]) == ("E101", 2, 1)

@@ -13,8 +13,16 @@ from mlctool.report import render_text
 from mlctool.syntax.source import display_width
 
 
+def shown(text: str) -> str:
+    """Control characters as the renderer shows them (issue 21: ESC[2J would clear the
+    terminal): C0 but tab and newline, DEL and C1 as `\\xNN`."""
+    return "".join(f"\\x{ord(c):02x}" if (c < " " and c not in "\t\n") or "\x7f" <= c <= "\x9f" else c
+                   for c in text)
+
+
 def rich_reference(diags, lines, stream) -> None:
-    """The renderer as it was (rich, no colour): the format the plain renderer keeps."""
+    """The renderer as it was (rich, no colour) on the text with its control characters
+    escaped: the format the plain renderer keeps."""
     from rich.console import Console
     from rich.markup import escape
 
@@ -22,20 +30,20 @@ def rich_reference(diags, lines, stream) -> None:
                       emoji=False)
     for d in diags:
         style = {"error": "bold red", "warning": "bold yellow", "note": "bold cyan"}[d.severity]
-        console.print(f"[bold]{escape(d.file)}:{d.span.line}:{d.span.col}:[/bold] "
-                      f"[{style}]{d.severity}[{escape(d.code)}][/{style}]: {escape(d.message)}")
+        console.print(f"[bold]{escape(shown(d.file))}:{d.span.line}:{d.span.col}:[/bold] "
+                      f"[{style}]{d.severity}[{escape(d.code)}][/{style}]: {escape(shown(d.message))}")
         src = lines.get(d.file)
         if src and 1 <= d.span.line <= len(src):
             text = src[d.span.line - 1].replace("\t", " ")
             if len(text) > 200:
                 text = text[:200] + " ..."
             end = min(d.span.end_col, len(text) + 1) if d.span.end_line == d.span.line else d.span.col + 1
-            lead = display_width(text[:d.span.col - 1])
-            width = max(1, display_width(text[d.span.col - 1:end - 1]))
-            console.print(f"  {d.span.line:>5} | {escape(text)}")
+            lead = display_width(shown(text[:d.span.col - 1]))
+            width = max(1, display_width(shown(text[d.span.col - 1:end - 1])))
+            console.print(f"  {d.span.line:>5} | {escape(shown(text))}")
             console.print(f"        | {' ' * lead}[{style}]{'^' * width}[/{style}]")
         for n in d.notes:
-            console.print(f"        = note: {escape(n)}")
+            console.print(f"        = note: {escape(shown(n))}")
 
 
 PIECES = list("aZ09 :;,.-_[]\\/@#=<>\"'") + [
@@ -95,3 +103,18 @@ def test_per_code_limit_counts_the_rest():
     everything = io.StringIO()
     render_text(diags, {}, everything)
     assert sum("[W401]" in t for t in everything.getvalue().splitlines()) == 1299
+
+
+def test_control_characters_in_a_source_line_are_shown_escaped():
+    """A source line with ESC[2J (clear screen) echoed into a diagnostic reached the terminal
+    raw (issue 21 item 16); it is shown as `\\x1b[2J`, the carets still under the operand."""
+    line = "LD \x1b[2JX9\x07"
+    d = Diagnostic("a\x1b.il", Span.at(1, 8, 2), "error", "E205", "bad \x1b[31m operand")
+    out = io.StringIO()
+    render_text([d], {"a\x1b.il": [line]}, out)
+    text = out.getvalue()
+    assert "\x1b" not in text and "\x07" not in text
+    assert "a\\x1b.il:1:8:" in text and "bad \\x1b[31m operand" in text
+    src, carets = text.splitlines()[1:3]
+    assert src.endswith("LD \\x1b[2JX9\\x07")
+    assert src.index("X9") == carets.index("^^")

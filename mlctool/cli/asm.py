@@ -34,7 +34,7 @@ from mlctool.cli.common import (
     show,
     target_option,
 )
-from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
+from mlctool.diagnostics import Diagnostic, MlcError, Span, diag, unreadable
 from mlctool.fbs.files import (
     build_image,
     check_positioning,
@@ -66,7 +66,7 @@ def _report(diags: list[Diagnostic], lines: dict[str, list[str]]) -> None:
 
 def _exit_for(diags: list[Diagnostic]) -> None:
     errors = [d for d in diags if d.severity == "error"]
-    if any(d.code in OBJECT_CODES or d.code == "E100" for d in errors):
+    if any(d.code in OBJECT_CODES for d in errors) or unreadable(errors):
         sys.exit(2)
     if errors:
         sys.exit(1)

@@ -17,7 +17,7 @@ from mlctool.cli.common import (
 )
 from mlctool.codes import CODES
 from mlctool.config import rules_dropped
-from mlctool.diagnostics import Diagnostic
+from mlctool.diagnostics import Diagnostic, unreadable
 from mlctool.fbs.model import is_positioning_source
 from mlctool.report import SHOW_PER_CODE, render_text, summary_line, to_json, to_sarif
 from mlctool.targets import available_targets, load_target
@@ -68,8 +68,7 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
         render_text(diags, lines, sys.stderr, per_code=None if show_all else SHOW_PER_CODE)
         if diags:
             click.echo(summary_line(errors, warnings), err=True)
-    unreadable = any(d.code == "E100" for d in diags)
-    if unreadable:
+    if unreadable(diags):
         sys.exit(2)
     if errors or (werror and warnings):
         sys.exit(1)

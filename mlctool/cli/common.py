@@ -30,12 +30,16 @@ def run_guarded(group: click.Group, argv: list[str] | None) -> int:
     except click.ClickException as e:
         e.show()
         return 2
-    except click.exceptions.Abort:
+    except click.exceptions.Abort as e:
+        if isinstance(e.__cause__, KeyboardInterrupt):  # Ctrl-C (click wraps it): 128 + SIGINT
+            click.echo("mlc: interrupted", err=True)
+            return 130
         click.echo("aborted", err=True)
         return 2
     except SystemExit as e:
         return e.code if isinstance(e.code, int) else 1
     except KeyboardInterrupt:
+        click.echo("mlc: interrupted", err=True)
         return 130
     except RecursionError:
         click.echo("mlc: error: input nests too deeply to process", err=True)

@@ -9,6 +9,7 @@ import click
 
 from mlctool.cli import main_group
 from mlctool.cli.common import config_option, get_config, get_target, show, target_option
+from mlctool.diagnostics import unreadable
 from mlctool.fileio import Outputs, write_atomic
 from mlctool.syntax.layout import FormatOptions, format_source
 from mlctool.syntax.source import read_source
@@ -37,7 +38,7 @@ def fmt_cmd(target_name, config_path, check_only, steps, files):
         src, diags = read_source(path)
         if src is None:
             show(diags, {})
-            worst = max(worst, 2 if any(d.code == "E100" for d in diags) else 1)
+            worst = max(worst, 2 if unreadable(diags) else 1)
             continue
         new, diags = format_source(src, target, FormatOptions(steps))
         if new is None:

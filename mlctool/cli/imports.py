@@ -15,6 +15,7 @@ from mlctool.cli.common import (
     show,
     target_option,
 )
+from mlctool.diagnostics import unreadable
 from mlctool.imports import FORMATS, import_file
 
 
@@ -40,7 +41,7 @@ def import_cmd(target_name, config_path, fmt, output, file):
     text, found_fmt, diags = import_file(file, target, fmt)
     show(diags, {})
     if text is None:
-        sys.exit(2 if any(d.code in ("E100", "E101", "E102", "E104") for d in diags) else 1)
+        sys.exit(2 if unreadable(diags) else 1)
     if output:
         plan.write({output: text})
         click.echo(f"{file}: {found_fmt} -> {output}", err=True)

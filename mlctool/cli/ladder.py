@@ -15,6 +15,7 @@ from mlctool.cli.common import (
     show,
     target_option,
 )
+from mlctool.diagnostics import unreadable
 from mlctool.ladder import sheets_from_files
 from mlctool.report import summary_line
 
@@ -52,7 +53,7 @@ def ladder_cmd(target_name, config_path, out_path, term, title, files):
     if errors:
         show(errors, lines)
         click.echo(summary_line(len(errors), 0) + "; nothing drawn", err=True)
-        sys.exit(2 if any(d.code == "E100" for d in errors) else 1)
+        sys.exit(2 if unreadable(errors) else 1)
     if kind == "svg":
         from mlctool.ladder.svg import sheets_svg
 

@@ -1,0 +1,63 @@
+"""Exit codes are the same for the same kind of failure in every command (docs/reliability.md,
+"Exit codes"; issue 21 item 16)."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import time
+
+import pytest
+
+from conftest import MLC_COMMAND, SAMPLES, run_mlc
+
+COMMANDS = [["check"], ["fmt"], ["ladder"], ["build", "-o", "x.mlx"], ["sim"], ["import"]]
+UNREADABLE = {
+    "missing.il": None,                      # E100
+    "binary.il": b"LD X0\n\x00\x01OUT Y0\n",  # E101
+    "latin1.il": b"LD X0\nOUT Y0 ; \xe9\n",   # E102
+}
+
+
+@pytest.mark.parametrize("command", COMMANDS, ids=lambda c: c[0])
+@pytest.mark.parametrize("name", sorted(UNREADABLE))
+def test_unreadable_input_exits_2_from_every_command(tmp_path, command, name):
+    """check/fmt/ladder/build gave 1 for a binary or non-UTF-8 source, sim and import 2."""
+    if UNREADABLE[name] is not None:
+        (tmp_path / name).write_bytes(UNREADABLE[name])
+    r = run_mlc(*command, name, cwd=tmp_path)
+    assert r.code == 2, (r.code, r.err)
+    assert not (tmp_path / "x.mlx").exists()
+
+
+@pytest.mark.parametrize("command", [["check"], ["fmt", "--check"], ["ladder"], ["build", "-o", "x.mlx"]],
+                         ids=lambda c: c[0])
+def test_errors_in_a_readable_source_exit_1(tmp_path, command):
+    (tmp_path / "bad.il").write_text("LD X0\nFOO Y0\nEND\n")
+    assert run_mlc(*command, "bad.il", cwd=tmp_path).code == 1
+
+
+def test_ctrl_c_exits_130_and_leaves_no_partial_output(tmp_path):
+    """SIGINT during a long simulation: exit 130 (128 + SIGINT), not 2; the VCD being
+    streamed is removed, no older file is touched."""
+    (tmp_path / "c.il").write_text((SAMPLES / "nc5" / "conveyor.il").read_text())
+    (tmp_path / "w.vcd").write_text("older waveform\n")
+    proc = subprocess.Popen([*MLC_COMMAND, "sim", "c.il", "--scans", "100000000", "--vcd", "w.vcd"],
+                            cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        deadline = time.monotonic() + 60
+        # the streamed VCD's temporary file appears when the run has started
+        while not any(p.name.startswith(".mlc-") for p in tmp_path.iterdir()):
+            assert proc.poll() is None and time.monotonic() < deadline, proc.communicate()
+            time.sleep(0.05)
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130, err
+    assert "interrupted" in err and "Traceback" not in err
+    assert (tmp_path / "w.vcd").read_text() == "older waveform\n"
+    assert not [p for p in os.listdir(tmp_path) if p.startswith(".mlc-")]
