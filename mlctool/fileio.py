@@ -20,6 +20,7 @@ temporary file to write during a long run (the VCD), renamed with the others.
 from __future__ import annotations
 
 import os
+import signal
 import tempfile
 from collections.abc import Iterable
 from typing import IO
@@ -29,6 +30,7 @@ from mlctool.diagnostics import MlcError, Span, diag
 TEMP_PREFIX = ".mlc-"
 OUTPUT_CLASH = "E606"
 CANNOT_WRITE = "E605"
+_CAN_HOLD = hasattr(signal, "pthread_sigmask")
 
 
 def _cannot_write(path: str, why: object) -> MlcError:
@@ -143,11 +145,16 @@ class Outputs:
                 os.makedirs(folder, exist_ok=True)
             except OSError as e:
                 raise _cannot_write(path, e.strerror or e) from e
+        # Ctrl-C between creating the file and noting it would leave it behind: held meanwhile
+        held = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if _CAN_HOLD else None
         try:
             fd, tmp = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=".tmp", dir=folder)
+            self._staged.append((tmp, path))
         except OSError as e:
             raise _cannot_write(path, e.strerror or e) from e
-        self._staged.append((tmp, path))
+        finally:
+            if held is not None:
+                signal.pthread_sigmask(signal.SIG_SETMASK, held)
         return tmp, fd
 
 
