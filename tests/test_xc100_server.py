@@ -15,9 +15,12 @@ import time
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from pymodbus.client import AsyncModbusTcpClient
 from pymodbus.framer import FramerType
 
+from conftest import MLC_COMMAND
 from mlctool.devices.xc100 import controller as c
 from mlctool.devices.xc100.server import make_server, run_device
 
@@ -31,9 +34,10 @@ def free_port() -> int:
 
 
 async def _with_server(dev, framing, client_fn, **link):
-    server = make_server(dev, 1, framing, **link)
+    devices = dev if isinstance(dev, dict) else {1: dev}
+    server = make_server(devices, framing, **link)
     stop = asyncio.Event()
-    task = asyncio.create_task(run_device(dev, server, 8.0, stop=stop))
+    task = asyncio.create_task(run_device(server, 8.0, stop=stop))
     await asyncio.sleep(0.2)
     try:
         return await asyncio.wait_for(client_fn(), 6.0)
@@ -181,3 +185,183 @@ def test_model_parameters_are_checked(mlc, tmp_path):
         (tmp_path / "s.stim").write_text(f"model xc100 in1=Y0 out1=X1 {bad}\nrun 10ms\n")
         r = mlc("sim", "p.il", "--stimulus", "s.stim", cwd=tmp_path)
         assert r.code == 2 and ("E601" in r.err or "E602" in r.err) and word in r.err, (bad, r.err)
+
+
+def _rtu(hexframe: str) -> bytes:
+    from mlctool.devices.xc100.server import crc16
+
+    adu = bytes.fromhex(hexframe)
+    return adu + crc16(adu).to_bytes(2, "little")
+
+
+def _ascii(hexframe: str) -> bytes:
+    adu = bytes.fromhex(hexframe)
+    return b":" + (adu + bytes([-sum(adu) & 0xFF])).hex().upper().encode() + b"\r\n"
+
+
+def _mbap(tid: int, hexframe: str) -> bytes:
+    adu = bytes.fromhex(hexframe)
+    return tid.to_bytes(2, "big") + b"\0\0" + len(adu).to_bytes(2, "big") + adu
+
+
+def _exchange(port: int, payload: bytes, want: int, wait_s: float = 3.0) -> bytes:
+    """Send `payload` in one sendall (one TCP segment on loopback) and read `want` bytes."""
+    with socket.create_connection(("127.0.0.1", port), timeout=wait_s) as s:
+        s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        s.sendall(payload)
+        got, deadline = b"", time.monotonic() + wait_s
+        while len(got) < want and time.monotonic() < deadline:
+            chunk = s.recv(4096)
+            if not chunk:
+                break
+            got += chunk
+        return got
+
+
+# read 1000H (ActionStatus), write 2014H (speed %) = 100 with FC06, read 2014H back (8.4)
+PIPELINE = ("01 03 10 00 00 01", "01 06 20 14 00 64", "01 03 20 14 00 01")
+PIPELINE_REPLIES = ("01 03 02 00 00", "01 06 20 14 00 64", "01 03 02 00 64")
+
+
+@pytest.mark.parametrize("framing", ["rtu", "ascii", "tcp"])
+def test_every_frame_of_one_segment_is_answered_in_order(framing):
+    """Issue 21 #2: three requests in one TCP segment, a write among them, get three replies
+    in order and the write takes effect (before: only the first was answered)."""
+    dev = c.new_xc100()
+    port = free_port()
+    if framing == "rtu":
+        payload = b"".join(_rtu(f) for f in PIPELINE)
+        want = b"".join(_rtu(f) for f in PIPELINE_REPLIES)
+    elif framing == "ascii":
+        payload = b"".join(_ascii(f) for f in PIPELINE)
+        want = b"".join(_ascii(f) for f in PIPELINE_REPLIES)
+    else:
+        payload = b"".join(_mbap(k + 7, f) for k, f in enumerate(PIPELINE))
+        want = b"".join(_mbap(k + 7, f) for k, f in enumerate(PIPELINE_REPLIES))
+
+    async def client():
+        loop = asyncio.get_running_loop()
+        return await loop.run_in_executor(None, _exchange, port, payload, len(want))
+
+    got = asyncio.run(_with_server(dev, framing, client, tcp=("127.0.0.1", port)))
+    assert got == want
+
+
+def test_modbus_tcp_pymodbus_client_two_stations():
+    """Issue 20: Modbus TCP (MBAP, unit id = station) with two XC100s on one line, each its
+    own model; a unit with no device gets exception 0BH (gateway: no response)."""
+    from pymodbus.client import ModbusTcpClient
+
+    devices = {1: c.new_xc100(), 2: c.new_xc100()}
+    port = free_port()
+
+    def talk():
+        cl = ModbusTcpClient("127.0.0.1", port=port, timeout=2, retries=1)
+        assert cl.connect()
+        try:
+            w1 = cl.write_register(0x2014, 40, device_id=1)
+            w2 = cl.write_registers(0x2002, [0, 12345], device_id=2)  # ABSamount, 32-bit (8.4)
+            r1 = cl.read_holding_registers(0x2014, count=1, device_id=1)
+            r2 = cl.read_holding_registers(0x2014, count=1, device_id=2)
+            a2 = cl.read_holding_registers(0x2002, count=2, device_id=2)
+            none = cl.read_holding_registers(0x1000, count=1, device_id=9)
+            fc4 = cl.read_input_registers(0x1000, count=1, device_id=1)
+            return (w1.isError(), w2.isError(), r1.registers, r2.registers, a2.registers,
+                    none.exception_code, fc4.exception_code)
+        finally:
+            cl.close()
+
+    async def client():
+        return await asyncio.get_running_loop().run_in_executor(None, talk)
+
+    got = asyncio.run(_with_server(devices, "tcp", client, tcp=("127.0.0.1", port)))
+    w1, w2, r1, r2, a2, none, fc4 = got
+    assert not w1 and not w2
+    assert r1 == [40] and r2 != [40]  # station 2 is a model of its own
+    assert a2 == [0, 12345]
+    assert none == 0x0B and fc4 == 1  # 8.3 (1): FC04 is not a function of the XC100
+
+
+def test_serve_cli_stays_quiet_when_a_pipelining_client_leaves():
+    """Issue 21 #17: a client that pipelines many requests and disconnects made pymodbus log
+    ~10 MB of hex dumps; the server's stderr stays its own few lines."""
+    port = free_port()
+    p = subprocess.Popen([*MLC_COMMAND, "device", "serve", "xc100", "--tcp", f"127.0.0.1:{port}",
+                          "--rtu", "--duration", "20s"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    try:
+        assert "serving" in p.stderr.readline()
+        burst = b"".join(_rtu(PIPELINE[0]) for _ in range(2000)) + b"\x01\x03\x10" * 3000
+        for _ in range(5):
+            with socket.create_connection(("127.0.0.1", port), timeout=2) as s:
+                s.sendall(burst)
+                s.shutdown(socket.SHUT_RDWR)
+        with socket.create_connection(("127.0.0.1", port), timeout=2) as s:
+            s.sendall(_rtu(PIPELINE[0]))
+            assert s.recv(16) == _rtu(PIPELINE_REPLIES[0])  # still answering
+        p.send_signal(signal.SIGINT)
+        out, err = p.communicate(timeout=5)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    assert p.returncode == 0
+    assert len(err) < 500 and "Traceback" not in err and "recv" not in err, err[:2000]
+
+
+@pytest.mark.parametrize("option,value", [("--lead", "nan"), ("--lead", "inf"),
+                                          ("--lead", "-5"), ("--stroke", "nan"),
+                                          ("--stroke", "-inf"), ("--lead", "NaN")])
+def test_serve_refuses_non_finite_model_sizes(mlc, option, value):
+    """Issue 21 #17: --lead nan was accepted (every comparison with nan is false)."""
+    r = mlc("device", "serve", "xc100", "--tcp", "127.0.0.1:5020", "--duration", "1s",
+            option, value)
+    assert r.code == 2 and "Traceback" not in r.err and option in r.err, r.err
+
+
+@pytest.mark.parametrize("args", [
+    ["--tcp", "127.0.0.1:5020", "--framing", "tcp", "--rtu"],
+    ["--serial", "/dev/null", "--framing", "tcp"],
+    ["--tcp", "127.0.0.1:5020", "--station", "2", "--station", "2"],
+])
+def test_serve_framing_and_station_conflicts(mlc, args):
+    r = mlc("device", "serve", "xc100", *args)
+    assert r.code == 2 and "E801" in r.err and "Traceback" not in r.err, r.err
+
+
+_REQUESTS = st.sampled_from(list(PIPELINE) + ["01 10 20 02 00 02 04 00 00 30 39",
+                                              "02 03 90 10 00 10", "00 06 20 14 00 05",
+                                              "01 2B 0E 01 00", "01 41 01 02 03"])
+
+
+@settings(max_examples=150, deadline=None, derandomize=True)
+@given(frames=st.lists(_REQUESTS, min_size=1, max_size=8), cuts=st.lists(st.integers(0, 400)),
+       framing=st.sampled_from(["rtu", "ascii", "tcp"]))
+def test_stream_receivers_find_every_frame_however_the_stream_is_cut(frames, cuts, framing):
+    """A Modbus stream fuzz target (issue 21): valid frames, cut anywhere into reads, come out
+    whole and in order; nothing is lost, nothing is invented."""
+    from mlctool.devices.xc100.server import RECEIVERS
+
+    encode = {"rtu": _rtu, "ascii": _ascii, "tcp": lambda f: _mbap(3, f)}[framing]
+    stream = b"".join(encode(f) for f in frames)
+    receiver = RECEIVERS[framing]()
+    got, at = [], 0
+    for cut in sorted(set(k % (len(stream) + 1) for k in cuts)) + [len(stream)]:
+        got += receiver.feed(stream[at:cut], 0.0)
+        at = max(at, cut)
+    assert [bytes([g.unit]) + g.pdu for g in got] == [bytes.fromhex(f) for f in frames]
+
+
+@settings(max_examples=150, deadline=None, derandomize=True)
+@given(junk=st.binary(max_size=600), framing=st.sampled_from(["rtu", "ascii", "tcp"]))
+def test_junk_then_silence_then_a_valid_frame(junk, framing):
+    """Any junk, then the line's resynchronisation point (RTU: a silence; ASCII: a new ':'
+    line; Modbus TCP: a new connection after a broken header), then a request: it is read."""
+    from mlctool.devices.xc100.server import RECEIVERS
+
+    receiver = RECEIVERS[framing]()
+    receiver.feed(junk, 0.0)
+    if framing == "tcp" and (receiver.broken or receiver.buf):
+        receiver = RECEIVERS[framing]()  # the connection was closed / the client reconnects
+    frame = {"rtu": _rtu, "ascii": lambda f: b"\r\n" + _ascii(f), "tcp": lambda f: _mbap(3, f)}[framing]
+    got = receiver.feed(frame(PIPELINE[1]), 1.0)
+    assert [bytes([g.unit]) + g.pdu for g in got][-1:] == [bytes.fromhex(PIPELINE[1])]

@@ -7,6 +7,7 @@ be opened (E802).
 from __future__ import annotations
 
 import asyncio
+import math
 import signal
 import sys
 
@@ -33,6 +34,17 @@ def parse_tcp(text: str) -> tuple[str, int]:
     return "127.0.0.1", int(port)
 
 
+class FiniteRange(click.FloatRange):
+    """A float range that also refuses nan and inf (FloatRange lets nan through: every
+    comparison with nan is false; issue 21 #17)."""
+
+    def convert(self, value, param, ctx):
+        number = super().convert(value, param, ctx)
+        if not math.isfinite(number):
+            self.fail(f"{value!r} is not a finite number", param, ctx)
+        return number
+
+
 @main_group.group("device")
 def device_group() -> None:
     """Device models as real devices on a Modbus link."""
@@ -40,24 +52,40 @@ def device_group() -> None:
 
 @device_group.command("serve")
 @click.argument("kind", type=click.Choice(["xc100"]))
-@click.option("--tcp", metavar="HOST:PORT", help="serve Modbus frames over TCP on loopback")
+@click.option("--tcp", metavar="HOST:PORT", help="serve over TCP on loopback")
 @click.option("--serial", metavar="PATH", help="serve on a serial device (or pseudo-terminal)")
-@click.option("--ascii/--rtu", "use_ascii", default=True,
-              help="framing: Modbus ASCII (the XC100's factory setting, 0A04H = 0) or RTU")
-@click.option("--station", type=click.IntRange(1, 16), default=1, show_default=True,
-              help="Modbus station = rotary switch CH + 1 (8.2)")
+@click.option("--framing", type=click.Choice(["ascii", "rtu", "tcp"]), default=None,
+              help="ascii (the XC100's factory setting, 0A04H = 0; the default) or rtu frames, "
+                   "on the serial line or tunnelled over TCP (serial servers); tcp = Modbus TCP "
+                   "(MBAP header, unit id = station) for HMIs and SCADA")
+@click.option("--ascii", "ascii_flag", is_flag=True, help="same as --framing ascii")
+@click.option("--rtu", "rtu_flag", is_flag=True, help="same as --framing rtu")
+@click.option("--station", type=click.IntRange(1, 16), multiple=True, show_default="1",
+              help="Modbus station = rotary switch CH + 1 (8.2); repeat it for several devices "
+                   "on one line, each its own model")
 @click.option("--baud", type=click.Choice(BAUDS), default="19200", show_default=True)
 @click.option("--duration", metavar="TIME", default=None, help="stop by itself after TIME")
 @click.option("--unlocked", is_flag=True,
               help="accept parameter writes without the 8.2 write-unlock frame first")
-@click.option("--lead", type=click.FloatRange(0.1, 100), default=10.0, show_default=True,
+@click.option("--lead", type=FiniteRange(0.1, 100), default=10.0, show_default=True,
               help="cylinder lead, mm per motor revolution")
-@click.option("--stroke", type=click.FloatRange(1, 10000), default=300.0, show_default=True,
+@click.option("--stroke", type=FiniteRange(1, 10000), default=300.0, show_default=True,
               help="mechanical stroke, mm")
-def serve_cmd(kind, tcp, serial, use_ascii, station, baud, duration, unlocked, lead, stroke):
+def serve_cmd(kind, tcp, serial, framing, ascii_flag, rtu_flag, station, baud, duration,
+              unlocked, lead, stroke):
     """Run device KIND as a Modbus server, with a live status view, until Ctrl-C."""
     if (tcp is None) == (serial is None):
         raise _fail("E801", "give exactly one of --tcp HOST:PORT and --serial PATH")
+    chosen = {f for f, on in (("ascii", ascii_flag), ("rtu", rtu_flag), (framing, framing)) if on}
+    if len(chosen) > 1:
+        raise _fail("E801", f"framings {' and '.join(sorted(chosen))} given: choose one")
+    framing = chosen.pop() if chosen else "ascii"
+    if framing == "tcp" and serial is not None:
+        raise _fail("E801", "--framing tcp is Modbus TCP: it needs --tcp (a serial line takes "
+                            "ascii or rtu)")
+    stations = station or (1,)
+    if len(set(stations)) != len(stations):
+        raise _fail("E801", f"--station {stations}: a station number may be used once on a line")
     address = parse_tcp(tcp) if tcp else None
     seconds = None
     if duration is not None:
@@ -67,15 +95,16 @@ def serve_cmd(kind, tcp, serial, use_ascii, station, baud, duration, unlocked, l
             raise _fail("E801", f"--duration: {e.message}") from None
     from mlctool.devices.xc100 import controller as c
 
-    dev = c.new_xc100(lead_mm=lead, stroke_mm=stroke, start_mm=stroke / 6)
-    dev.unlocked = unlocked
-    framing = "ascii" if use_ascii else "rtu"
+    devices = {}
+    for st in sorted(stations):
+        devices[st] = c.new_xc100(lead_mm=lead, stroke_mm=stroke, start_mm=stroke / 6)
+        devices[st].unlocked = unlocked
     link = f"tcp {address[0]}:{address[1]}" if address else f"serial {serial} {baud} 8-N-1"
-    code = asyncio.run(_serve(dev, station, framing, address, serial, int(baud), seconds, link))
+    code = asyncio.run(_serve(devices, framing, address, serial, int(baud), seconds, link))
     sys.exit(code)
 
 
-async def _serve(dev, station, framing, address, serial, baud, seconds, link) -> int:
+async def _serve(devices, framing, address, serial, baud, seconds, link) -> int:
     from mlctool.devices.xc100.server import make_server, run_device
     from mlctool.devices.xc100.status import StatusView
 
@@ -84,11 +113,14 @@ async def _serve(dev, station, framing, address, serial, baud, seconds, link) ->
     for sig in (signal.SIGINT, signal.SIGTERM):
         loop.add_signal_handler(sig, stop.set)
     try:
-        server = make_server(dev, station, framing, tcp=address, serial=serial, baudrate=baud)
-        view = StatusView(dev, f"XC100 station {station}, {framing.upper()}, {link}")
+        server = make_server(devices, framing, tcp=address, serial=serial, baudrate=baud)
+        names = ", ".join(str(st) for st in devices)
+        kind = "Modbus TCP" if framing == "tcp" else framing.upper()
+        title = f"XC100 station{'s' if len(devices) > 1 else ''} {names}, {kind}, {link}"
+        view = StatusView(devices, title)
         with view:
             try:
-                await run_device(dev, server, seconds, on_tick=view.tick, stop=stop, on_ready=view.ready)
+                await run_device(server, seconds, on_tick=view.tick, stop=stop, on_ready=view.ready)
             except (OSError, RuntimeError) as e:
                 view.close()
                 from mlctool.cli.common import show
@@ -98,11 +130,10 @@ async def _serve(dev, station, framing, address, serial, baud, seconds, link) ->
     finally:
         for sig in (signal.SIGINT, signal.SIGTERM):
             loop.remove_signal_handler(sig)
-    click.echo(f"stopped: {link}, position {dev.act / c_ppmm(dev) :.2f} mm", err=True)
-    return 0
-
-
-def c_ppmm(dev) -> float:
     from mlctool.devices.xc100.controller import pulses_per_mm
 
-    return pulses_per_mm(dev)
+    where = ", ".join(f"station {st} at {dev.act / pulses_per_mm(dev):.2f} mm"
+                      for st, dev in devices.items())
+    click.echo(f"stopped: {link}, {server.line.requests} requests from {server.accepted} "
+               f"connections; {where}", err=True)
+    return 0

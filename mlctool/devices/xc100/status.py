@@ -19,7 +19,16 @@ REFRESH_TICKS = 10
 STATES = {0: "stopped", 1: "moving", 2: "abnormal stop"}
 
 
-def render(dev: c.Xc100, title: str) -> Group:
+def render(devices: dict[int, c.Xc100], title: str) -> Group:
+    parts = [f"[bold]{title}[/bold]  (Ctrl-C stops)"]
+    for station, dev in devices.items():
+        if len(devices) > 1:
+            parts.append(f"[bold]station {station}[/bold]")
+        parts.extend(_render_one(dev))
+    return Group(*parts)
+
+
+def _render_one(dev: c.Xc100) -> list:
     mm = c.pulses_per_mm(dev)
     t = tables()
     state = Table.grid(padding=(0, 2))
@@ -43,12 +52,12 @@ def render(dev: c.Xc100, title: str) -> Group:
     reqs = Table(title="last requests", show_header=False, box=None)
     for line in dev.requests[-6:] or ["(none yet)"]:
         reqs.add_row(line)
-    return Group(f"[bold]{title}[/bold]  (Ctrl-C stops)", state, reqs)
+    return [state, reqs]
 
 
 class StatusView:
-    def __init__(self, dev: c.Xc100, title: str):
-        self.dev = dev
+    def __init__(self, devices: dict[int, c.Xc100], title: str):
+        self.devices = devices
         self.title = title
         self.ticks = 0
         self.console = Console(stderr=True)
@@ -60,7 +69,7 @@ class StatusView:
     def ready(self) -> None:
         """The link is open: start drawing (or say so once)."""
         if sys.stderr.isatty():
-            self.live = Live(render(self.dev, self.title), console=self.console,
+            self.live = Live(render(self.devices, self.title), console=self.console,
                              auto_refresh=False, transient=False)
             self.live.__enter__()
         else:
@@ -69,7 +78,7 @@ class StatusView:
     def tick(self) -> None:
         self.ticks += 1
         if self.live is not None and self.ticks % REFRESH_TICKS == 0:
-            self.live.update(render(self.dev, self.title), refresh=True)
+            self.live.update(render(self.devices, self.title), refresh=True)
 
     def close(self) -> None:
         if self.live is not None:
