@@ -550,3 +550,27 @@ def test_e210_names_the_destination_not_a_register():
     assert got == [("E210", 2, "X1 is an input (written by the hardware only): the first operand of OUT is its destination"),
                    ("E210", 3, "K2 is a constant: the second operand of MOV is its destination"),
                    ("E210", 4, "K5 is a constant: the second operand of DMOV is its destination")]
+
+
+def test_unknown_instruction_says_what_was_meant():
+    """Issue 14 §3: OTU -> OUT; MOVP on NC5 names the edge instructions the manual offers
+    (3.2.4: no P forms); nothing is suggested when nothing is near."""
+    res = run("LD X0\nOTU Y0\nMOVP K1 D0\nldpp X1\nQWERTY D0\nEND\n")
+    got = {d.span.line: (d.code, d.message, d.notes) for d in res.diagnostics if d.code == "E201"}
+    assert got[2][1] == "unknown instruction 'OTU' for target nc5; did you mean OUT?"
+    assert got[3][1] == "unknown instruction 'MOVP' for target nc5"
+    assert got[3][2] == ("Delta NC5 MLC has no P (pulse) forms: MOV runs on every scan while its condition is on "
+                         "(manual 3.2.4); to run it once per rising edge, drive it with LDP/ANDP/ORP or a PLS relay",)
+    assert got[4][1] == "unknown instruction 'LDPP' for target nc5; did you mean LDP?"
+    assert got[5][1] == "unknown instruction 'QWERTY' for target nc5" and got[5][2] == ()
+
+
+def test_unknown_instruction_hint_on_vs():
+    from mlctool.check.resolve import unknown_instruction_hint
+    from mlctool.targets import load_target
+
+    vs = load_target("vs")
+    assert unknown_instruction_hint(vs, "OTU") == ("; did you mean OUT?", ())
+    assert unknown_instruction_hint(vs, "ZRTS") == ("; did you mean ZRST?", ())
+    # VS has P forms: MOVPP is a typo, not a missing dialect feature
+    assert unknown_instruction_hint(vs, "MOVPP")[0] == "; did you mean MOVP?"

@@ -184,8 +184,9 @@ class _Resolver:
                             f"(models: {', '.join(sorted(missing.models))}; {missing.section})",
                             "choose the model with --model or `model` in mlc.toml")
             else:
-                self.report(mnemonic, "E201", f"unknown instruction {name!r} for target {self.t.name}",
-                            *_spelling_hint(self.t, name.upper()))
+                suggestion, notes = unknown_instruction_hint(self.t, name.upper())
+                self.report(mnemonic, "E201", f"unknown instruction {name!r} for target {self.t.name}{suggestion}",
+                            *notes)
             return None, (), (), False
         spec = variants[0] if len(variants) == 1 else self.choose_variant(variants, texts)
         n = len(spec.operands)
@@ -493,6 +494,47 @@ class _Resolver:
         col = st.name.col
         self.module.instrs.append(Instr(spec, ops, texts, steps, self.addr, self.path, st.line, col, table))
         self.addr += steps
+
+
+_HINTS: dict[tuple[str, str | None, str], tuple[str, tuple[str, ...]]] = {}
+
+
+def unknown_instruction_hint(t: Target, name: str) -> tuple[str, tuple[str, ...]]:
+    """What to say about an unknown mnemonic: (a "; did you mean X?" for the message, notes).
+    Computed once per target and spelling (a file of 100k bad lines asks once per name)."""
+    key = (t.name, t.model, name)
+    hint = _HINTS.get(key)
+    if hint is None:
+        if len(_HINTS) > 4096:
+            _HINTS.clear()
+        hint = _HINTS[key] = _unknown_instruction_hint(t, name)
+    return hint
+
+
+def _unknown_instruction_hint(t: Target, name: str) -> tuple[str, tuple[str, ...]]:
+    spelled = _spelling_hint(t, name)
+    if spelled:
+        return "", spelled
+    pulse = _pulse_hint(t, name)
+    if pulse:
+        return "", pulse
+    from mlctool.suggest import did_you_mean
+
+    return did_you_mean(name, [*t.instructions, *t.variants, *t.unavailable], cutoff=0.65), ()
+
+
+def _pulse_hint(t: Target, name: str) -> tuple[str, ...]:
+    """MOVP on a target without P (pulse) forms (NC5, manual 3.2.4): say what it offers instead."""
+    base = t.instructions.get(name[:-1]) if name.endswith("P") else None
+    if base is None or base.cls != "output" or any(s.pulse for s in t.instructions.values()):
+        return ()
+    edges = [s.mnemonic for s in t.instructions.values() if s.op == "contact_rise"]
+    relays = [s.mnemonic for s in t.instructions.values() if s.op == "pls"]
+    where = t.settings.get("continuous_execution_section")
+    offer = "/".join(edges) + (f" or a {'/'.join(relays)} relay" if relays else "")
+    return (f"{t.title} has no P (pulse) forms: {base.mnemonic} runs on every scan while its condition is on"
+            + (f" (manual {where})" if where else "")
+            + f"; to run it once per rising edge, drive it with {offer}",)
 
 
 def _spelling_hint(t: Target, name: str) -> tuple[str, ...]:
