@@ -105,3 +105,24 @@ def test_decimal_times_are_exact():
     assert parse_time("1.001ms") == 1001
     with pytest.raises(StimError):
         parse_time("1.0000001s")
+
+
+@pytest.mark.parametrize("line, col, hint", [
+    ("sacn 10ms", 1, "did you mean `scan`?"),
+    ("rnu 1s", 1, "did you mean `run`?"),
+    ("10ms expcet Y0=1", 6, "did you mean `expect`?"),
+    ("20ms focre X0=1", 6, "did you mean `force`?"),
+    ("30ms relase X0", 6, "did you mean `release`?"),
+    ("40ms power-cyle", 6, "did you mean `power-cycle`?"),
+    ("50ms X0 puls 1kHz", 9, "did you mean `pulses`?"),
+])
+def test_mistyped_keywords_name_the_nearest(line, col, hint):
+    """Issue 14 §3: a mistyped stimulus keyword gets the nearest one."""
+    _, diags = parse_stimulus_text("s.stim", line + "\n", NC5)
+    assert len(diags) == 1 and diags[0].code == "E601" and diags[0].span.col == col
+    assert diags[0].message.endswith(hint), diags[0].message
+
+
+def test_no_hint_when_nothing_is_near():
+    _, diags = parse_stimulus_text("s.stim", "70ms zzz\nqqq 1s\n", NC5)
+    assert [d.span.line for d in diags] == [1, 2] and not any("did you mean" in d.message for d in diags)

@@ -19,6 +19,7 @@ _UNITS = {"us": 1, "ms": 1000, "s": 1_000_000, "min": 60_000_000}
 _TIME = re.compile(r"(?P<num>[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?P<unit>us|ms|s|min)", re.IGNORECASE)
 _TOKEN = re.compile(r"\S+")
 KEYWORDS = ("expect", "force", "release", "power-cycle")
+DIRECTIVES = ("scan", "run", "model", "port")  # the words that may start a line instead of a time
 MAX_TIME_US = 10**15  # about 31 years of virtual time; beyond is surely a typo
 
 
@@ -230,7 +231,10 @@ class _Parser:
         elif when.startswith("+"):
             time_us = self.last_time + parse_time(when[1:])
         else:
-            time_us = parse_time(when)
+            try:
+                time_us = parse_time(when)
+            except StimError as e:  # `sacn 10ms`: a mistyped directive, not a bad time
+                raise StimError(e.message + _near(when, DIRECTIVES), 0, e.code) from None
         if time_us is not None:
             self.last_time = time_us
         if len(toks) < 2:
@@ -291,8 +295,13 @@ class _Parser:
                 off += 1
             for k, (t, _) in enumerate(items):
                 if "=" not in t or t.startswith("="):
+                    hint = _near(t, KEYWORDS) if k == 0 and word != "force" else ""  # `expcet X0=1`
+                    after = _near(items[1][0], ("pulses", "receive")) if k == 0 and len(items) > 1 else ""
+                    if after:  # `X0 puls 1kHz`
+                        raise StimError(f"{items[1][0]!r}: expected DEV=VALUE, `pulses` or `receive`" + after,
+                                        off + 1)
                     raise StimError(f"{t!r}: expected DEV=VALUE, expect, force, release or "
-                                    "power-cycle", off + k)
+                                    "power-cycle" + hint, off + k)
                 name, value = t.split("=", 1)
                 view = self.view(name, off + k)
                 ev.assigns.append((view, self.at(off + k, lambda v=value, w=view: parse_value(v, w))))
@@ -364,6 +373,14 @@ class _Parser:
             key, value = t.split("=", 1)
             params[key.lower()] = (value, col)
         self.st.models.append(ModelSpec(toks[1][0].lower(), params, no, toks[1][1]))
+
+
+def _near(word: str, known: tuple[str, ...]) -> str:
+    """'; did you mean `expect`?' for a mistyped keyword (only asked once a line is wrong)."""
+    from mlctool.suggest import closest
+
+    hit = closest(word, known)
+    return f"; did you mean `{hit.lower()}`?" if hit and hit.lower() != word.lower() else ""
 
 
 def _strip_comment(raw: str) -> str:
