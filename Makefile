@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: test demo bench lint clean
+.PHONY: test demo bench lint fuzz clean
 
 $(STAMP): pyproject.toml
 	$(PY) -m venv $(VENV)
@@ -14,6 +14,12 @@ $(STAMP): pyproject.toml
 
 test: $(STAMP)
 	$(BIN)/pytest
+
+# the fuzz targets of the suite with a larger budget and fresh randomness (the suite runs
+# them derandomized in CI); FUZZ_EXAMPLES per target
+FUZZ_EXAMPLES ?= 2000
+fuzz: $(STAMP)
+	env -u CI MLC_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(BIN)/pytest -q tests/test_fuzz_inputs.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check mlctool tests bench
