@@ -27,7 +27,9 @@ def _run(tmp_path, data: bytes) -> None:
     assert "Traceback" not in r.err and "internal error" not in r.err, r.err
     assert r.code in (0, 1, 2), (r.code, r.err)
     data = json.loads(r.out)
-    assert (r.code == 1) == (data["errors"] > 0)
+    # 2 for an unreadable input (binary, not UTF-8, too large: docs/reliability.md), else 1 on errors
+    unreadable = any(d["code"] in ("E100", "E101", "E102", "E104") for d in data["diagnostics"])
+    assert r.code == (2 if unreadable else 1 if data["errors"] else 0), (r.code, data)
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
