@@ -48,6 +48,7 @@ $(BENCH_STAMP): pyproject.toml
 	touch $(BENCH_STAMP)
 
 bench: $(BENCH_STAMP)
+	$(BENCH_BIN)/python bench/startup.py
 	$(BENCH_BIN)/python bench/check_speed.py
 	$(BENCH_BIN)/python bench/build_speed.py
 	$(BENCH_BIN)/python bench/sim_speed.py

@@ -48,6 +48,18 @@ def program(steps: int, seed: int = 1) -> str:
     return "".join(out)
 
 
+# lines that each give one or more diagnostics of different checks (syntax, operands, structure, lint)
+BAD_LINES = ["FOO X0", "OUT Y99999", "LD", "MOV K1", "P1:", "LD X0 X1", "@@", "MPS", "ANB", "OUT M0",
+             "LD X0", "AND D0", "CALL P7", "CJ P9", "SET M5", "DMOV K1 D1", "FOR K3", "NEXT", "SRET",
+             "FEND", ".define A", ".export P1", "ADD K1 K2 K3", "RST Y99999"]
+
+
+def bad_program(lines: int, seed: int = 1) -> str:
+    """`lines` lines drawn from BAD_LINES, then END."""
+    rnd = random.Random(seed)
+    return "".join(rnd.choice(BAD_LINES) + "\n" for _ in range(lines)) + "END\n"
+
+
 def mlc_command() -> str:
     """The mlc of the running interpreter's environment (the project's .venv under make)."""
     return shutil.which("mlc", path=os.path.dirname(sys.executable)) or shutil.which("mlc") or "mlc"

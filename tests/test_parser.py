@@ -69,6 +69,45 @@ def test_fast_path_matches_lark(lines):
     assert [(d.code, d.span) for d in fast.diagnostics] == [(d.code, d.span) for d in slow.diagnostics]
 
 
+# lines shaped like statements (the fast path's labels and directives included), with the
+# pieces that could make the regexes and lark's lexer part ways
+SEPS = st.sampled_from(["", " ", "\t", ",", " , ", "\u3000", "\uff0c"])
+NAMES = st.sampled_from(["LD", "P10", "DLD<>", "AB-", "AB-1", "$MOV", "\u7dca\u6025", ".define", ".export",
+                         ".library", ".d_1", ".", "..x", "x.", "12"])
+WORDS = st.sampled_from(["X0", "START", "P1", ".x", "K-5", '"a b"', '"', "1", ":", "@", "=", "\u7dca"])
+
+
+@st.composite
+def statement_lines(draw):
+    step = draw(st.sampled_from(["", "0000", "12"]))
+    line = draw(SEPS) + (step + draw(SEPS) if step else "") + draw(NAMES)
+    for _ in range(draw(st.integers(0, 3))):
+        line += draw(SEPS) + draw(WORDS)
+    line += draw(st.sampled_from(["", ":", " :", ": ", ":X"])) + draw(SEPS)
+    return line + draw(st.sampled_from(["", ";c", "// c", ";:"]))
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.lists(statement_lines(), max_size=10))
+def test_fast_path_matches_lark_on_statement_shapes(lines):
+    text = "\n".join(lines) + "\n"
+    fast, slow = _parse(text, True), _parse(text, False)
+    assert _shape(fast) == _shape(slow)
+    assert [(d.code, d.span) for d in fast.diagnostics] == [(d.code, d.span) for d in slow.diagnostics]
+
+
+def test_usual_files_need_no_lark():
+    import subprocess
+    import sys
+
+    code = ("import sys\nfrom mlctool.syntax.parser import parse\nfrom mlctool.syntax.source import decode\n"
+            "src, _ = decode('t.il', b'.define A X0\\n0000 P10:\\nP11 :  ; c\\nLD A\\n.export P10\\nEND\\n')\n"
+            "pf = parse(src)\nassert [s.kind for s in pf.statements] == "
+            "['directive', 'label', 'label', 'instr', 'directive', 'instr'], pf.statements\n"
+            "assert 'lark' not in sys.modules\n")
+    subprocess.run([sys.executable, "-c", code], check=True)
+
+
 # -- operands ----------------------------------------------------------------------------
 def test_operand_forms():
     assert parse_operand("d5v0") == Operand("D", number=5, index=("V", 0))

@@ -27,9 +27,28 @@ COMMAND_MODULES = {
     "test": "mlctool.cli.test",
 }
 
+# The first paragraph of each command's help, for the list in `mlc --help` without importing
+# the command modules (tests/test_cli_startup.py checks it against the commands' own help).
+COMMAND_SUMMARIES = {
+    "build": "Assemble sources into object modules (.mlo) or a linked program (.mlx).",
+    "check": "Check instruction-list sources against the target's manual.",
+    "device": "Device models as real devices on a Modbus link.",
+    "explain": "Print the documentation of a diagnostic code (e.g. mlc explain W401).",
+    "fmt": "Rewrite IL files in the canonical layout (idempotent; code unchanged).",
+    "import": "Convert an editor's export to plain IL for the target (docs/vs.md, Imports).",
+    "ladder": "Draw FILES as ladder diagrams, one rung per IL rung, in program order.",
+    "link": "Link object modules (.mlo): one main module and its subroutine libraries.",
+    "objdump": "Show an object module (.mlo) or linked program (.mlx), or an FBs positioning "
+               "register image (.json/.csv) as program text.",
+    "sim": "Simulate PROGRAM (sources, objects or a linked image) on virtual time.",
+    "targets": "List the targets and the manual each one follows.",
+    "test": "Run the stimulus files of the project at PATH (default: the current folder).",
+}
+
 
 class LazyGroup(click.Group):
-    """A group whose commands are imported on first use."""
+    """A group whose commands are imported on first use (`mlc --help` imports none of them:
+    the simulator's numpy and Modbus's pymodbus cost about 250 ms)."""
 
     def list_commands(self, ctx):
         return sorted(set(super().list_commands(ctx)) | set(COMMAND_MODULES))
@@ -48,6 +67,24 @@ class LazyGroup(click.Group):
             ctx.fail(f"No such command {name!r}." + (f" Did you mean {near!r}?" if near else "")
                      + f" Commands: {', '.join(self.list_commands(ctx))}.")
         return super().resolve_command(ctx, args)
+
+    def format_commands(self, ctx, formatter):
+        """click's command list, with the summaries of commands not imported yet taken from
+        COMMAND_SUMMARIES (a command missing there is imported for its help)."""
+        rows = []
+        names = self.list_commands(ctx)
+        limit = formatter.width - 6 - max(map(len, names), default=0)
+        for name in names:
+            cmd = self.commands.get(name)
+            if cmd is None and name in COMMAND_SUMMARIES:
+                rows.append((name, click.Command(name, help=COMMAND_SUMMARIES[name]).get_short_help_str(limit)))
+                continue
+            cmd = self.get_command(ctx, name)
+            if cmd is not None and not cmd.hidden:
+                rows.append((name, cmd.get_short_help_str(limit)))
+        if rows:
+            with formatter.section("Commands"):
+                formatter.write_dl(rows)
 
 
 @click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})

@@ -1,8 +1,8 @@
 """Source text -> statements with source spans, by the grammar in grammars/il.lark.
 
-Lines of the common shape are read by a regex built from the grammar's terminals; the rest
-(labels, directives, syntax errors) by lark (mlctool/syntax/lark_parser.py), LALR with an
-inline transformer. A syntax error costs one diagnostic for its line; parsing resumes on the
+Lines of the common shapes (instructions, labels, directives) are read by regexes built from
+the grammar's terminals; the rest (odd spacing, syntax errors) by lark
+(mlctool/syntax/lark_parser.py), LALR with an inline transformer. A syntax error costs one diagnostic for its line; parsing resumes on the
 next line.
 """
 
@@ -81,25 +81,38 @@ def grammar_text() -> str:
 def _fast_line():
     """A regex for the common line shape, built from the grammar's own terminal definitions.
 
-    Lark's LALR loop costs ~5 us per token; most lines are `[STEP] MNEMONIC OPERAND...`, which
-    this regex recognises directly, without even importing lark. Every other line (labels,
-    directives, errors) goes through lark (mlctool/syntax/lark_parser.py).
+    Lark's LALR loop costs ~5 us per token, and importing lark and loading its tables about
+    25 ms; most lines are `[STEP] MNEMONIC OPERAND...`, `[STEP] LABEL:` or `.DIRECTIVE
+    OPERAND...`, which these regexes recognise directly. Every other line (errors, odd forms
+    such as `0000P10:`) goes through lark (mlctool/syntax/lark_parser.py).
     tests/test_parser.py checks that both give the same statements.
     """
     t = {m["name"]: m["re"] for m in _TERMINAL.finditer(grammar_text())}
-    line = (rf"(?:{t['SEP']})?(?:(?P<step>{t['STEP']})(?:{t['SEP']}))?(?P<name>{t['MNEMONIC']})"
-            rf"(?P<ops>(?:(?:{t['SEP']})(?:{t['OPERAND']}))*)(?:{t['SEP']})?(?:{t['COMMENT']})?")
-    blank = re.compile(rf"(?:{t['SEP']})?(?:{t['COMMENT']})?").fullmatch  # nothing to parse
-    return re.compile(line).fullmatch, re.compile(t["OPERAND"]).finditer, blank
+    head = rf"(?:{t['SEP']})?(?:(?P<step>{t['STEP']})(?:{t['SEP']}))?"
+    ops = rf"(?P<ops>(?:(?:{t['SEP']})(?:{t['OPERAND']}))*)"
+    tail = rf"(?:{t['SEP']})?(?:{t['COMMENT']})?"
+    instr = re.compile(rf"{head}(?P<name>{t['MNEMONIC']}){ops}{tail}").fullmatch
+    # `P10:` and `.define START X0`: labels and directives too, so a usual file never needs lark
+    label = re.compile(rf"{head}(?P<name>{t['MNEMONIC']})(?:{t['SEP']})?:{tail}").fullmatch
+    directive = re.compile(rf"{head}(?P<name>{t['DIRECTIVE']}){ops}{tail}").fullmatch
+    blank = re.compile(tail).fullmatch  # nothing to parse
+    return instr, label, directive, re.compile(t["OPERAND"]).finditer, blank
 
 
 def parse(src: SourceText, fast: bool = True) -> ParsedFile:
     lines = src.text.split("\n")[:-1]
     statements: list[Statement] = []
     diagnostics: list[Diagnostic] = []
-    match, operands, blank = _fast_line()
+    instr, label, directive, operands, blank = _fast_line()
     for number, text in enumerate(lines, 1):
-        m = match(text) if fast else None
+        kind = "instr"
+        m = instr(text) if fast else None
+        if m is None and fast:
+            kind = "label"
+            m = label(text)
+            if m is None:
+                kind = "directive"
+                m = directive(text)
         if m is None:
             if not blank(text):
                 from mlctool.syntax.lark_parser import parse_line
@@ -107,7 +120,10 @@ def parse(src: SourceText, fast: bool = True) -> ParsedFile:
                 parse_line(src.path, text, number, statements, diagnostics)
             continue
         step = Word(m["step"], m.start("step") + 1) if m["step"] else None
-        ops_at = m.start("ops") + 1
-        statements.append(Statement(number, "instr", Word(m["name"], m.start("name") + 1),
-                                    [Word(o.group(), ops_at + o.start()) for o in operands(m["ops"])], step))
+        if kind == "label":
+            words = []
+        else:
+            ops_at = m.start("ops") + 1
+            words = [Word(o.group(), ops_at + o.start()) for o in operands(m["ops"])]
+        statements.append(Statement(number, kind, Word(m["name"], m.start("name") + 1), words, step))
     return ParsedFile(src.path, lines, statements, diagnostics, _noqa(lines))
