@@ -42,7 +42,8 @@ COMMAND_SUMMARIES = {
                "register image (.json/.csv) as program text.",
     "sim": "Simulate PROGRAM (sources, objects or a linked image) on virtual time.",
     "targets": "List the targets and the manual each one follows.",
-    "test": "Run the stimulus files of the project at PATH (default: the current folder).",
+    "test": "Run the stimulus files of the project at PATH (default: the nearest mlc.toml at or above "
+            "the current folder).",
 }
 
 
