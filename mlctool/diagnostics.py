@@ -42,7 +42,7 @@ class Diagnostic:
 # An input that cannot be read as a source: missing or refused (E100), binary (E101), not in
 # an encoding we read (E102), too large (E104). Every command exits 2 on them
 # (docs/reliability.md, "Exit codes"); errors in a source that could be read give 1.
-UNREADABLE = frozenset({"E100", "E101", "E102", "E104"})
+UNREADABLE = frozenset({"E100", "E101", "E102", "E104", "E111"})  # E111: no source at all (a .stim, an object)
 
 
 def unreadable(diags) -> bool:

@@ -13,6 +13,7 @@ from mlctool.check.blocks import check_blocks
 from mlctool.check.interrupts import check_interrupts
 from mlctool.check.labels import assign_named_labels, restrict_names
 from mlctool.check.lint import cross_module_coils, lint_module, referenced_labels, set_without_reset
+from mlctool.check.misuse import not_a_source_by_content, not_a_source_by_name
 from mlctool.check.resolve import resolve
 from mlctool.check.structure import check_layout, check_rungs
 from mlctool.config import Config, severity_of
@@ -29,6 +30,7 @@ class CheckResult:
     modules: list[Module]
     diagnostics: list[Diagnostic]
     lines: dict[str, list[str]] = field(default_factory=dict)  # file -> source lines
+    sources: list[SourceText] = field(default_factory=list)  # the texts checked
 
     @property
     def errors(self) -> int:
@@ -92,7 +94,7 @@ def check_texts(sources: list[SourceText], target: Target, config: Config | None
         diags += set_without_reset(program)
         if len(program) > 1:
             diags += cross_module_coils(program)
-    return CheckResult(modules, _finish(diags, config, ignore, noqa), lines)
+    return CheckResult(modules, _finish(diags, config, ignore, noqa), lines, list(sources))
 
 
 def broken_lines(modules: list[Module], diags: list[Diagnostic]) -> dict[str, frozenset[int]]:
@@ -153,10 +155,18 @@ def check_files(paths: list[str], target: Target, config: Config | None = None,
     sources: list[SourceText] = []
     initial: list[Diagnostic] = []
     for p in paths:
+        wrong = not_a_source_by_name(p)  # a .stim or an object given as a source
+        if wrong is not None:
+            initial.append(wrong)
+            continue
         src, found = read_source(p)
         initial += found
         if src is not None:
-            sources.append(src)
+            wrong = not_a_source_by_content(src)  # a GX Works2 export
+            if wrong is not None:
+                initial.append(wrong)
+            else:
+                sources.append(src)
     return check_texts(sources, target, config, ignore, initial)
 
 

@@ -7,6 +7,7 @@ import sys
 import click
 
 from mlctool.check import check_files
+from mlctool.check.misuse import likely_targets, wrong_target_note
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     config_option,
@@ -67,6 +68,9 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
         render_text(diags, lines, sys.stderr, per_code=None if show_all else SHOW_PER_CODE)
         if diags:
             click.echo(summary_line(errors, warnings), err=True)
+    guesses, their_errors = likely_targets(result.sources, target.name, config, result.diagnostics)
+    if guesses:  # many errors of the instruction/device kinds that another target has not
+        click.echo(wrong_target_note(guesses, their_errors, target.name, result.errors), err=True)
     if unreadable(diags):
         sys.exit(2)
     if errors or (werror and warnings):
