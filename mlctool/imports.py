@@ -10,8 +10,10 @@ The shapes read (docs/vs.md "Imports"):
 - GX Developer CSV: the same rows, comma-separated (UTF-8/ASCII or Shift-JIS).
 - WPLSoft CSV: `000000,LD,X0` rows (6-digit step number, mnemonic, operands).
 - Labels stand alone in the instruction cell (`P10`); on a target with named labels a name
-  there that is no instruction (`SKIP_FILL`, `緊急停止`, with or without a colon) is one too.
-- Plain IL: taken as it is.
+  there that is no instruction (`SKIP_FILL`, `緊急停止`) is one too when it ends with a colon or
+  the program jumps to it; another bare name (`NOPLF`) is an unknown instruction (E907).
+- Plain IL: taken as it is, if it is IL (looks_like_il); anything else is E909.
+The export's dialect decides the target when the command line names none (DIALECT_TARGET).
 Step numbers are the exporting tool's own and are dropped (the target's step convention
 computes the addresses); operands are rewritten as the target writes them (`X000` -> `X0`);
 a 32-bit comparison in another vendor's spelling (`DLD>=`) becomes the target's (`LDD>=`).
@@ -20,6 +22,7 @@ a 32-bit comparison in another vendor's spelling (`DLD>=`) becomes the target's 
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import re
 
@@ -81,6 +84,13 @@ class _Writer:
         self.lines: list[str] = []
         self.diags: list[Diagnostic] = []
         self.pending: list[str] | None = None  # the instruction whose operands may continue
+        self.kinds: list[str] = []  # of each diagnostic: rows of one kind are reported once
+        self.referenced: set[str] = set()  # operands written, upper case: the labels jumped to
+        self.maybe_labels: list[tuple[int, str, int]] = []  # (line index, name, row)
+
+    def error(self, row: int, kind: str, message: str, *notes: str) -> None:
+        self.diags.append(diag(self.path, Span.at(row), "E907", message, *notes))
+        self.kinds.append(kind)
 
     def flush(self) -> None:
         if self.pending is not None:
@@ -91,9 +101,21 @@ class _Writer:
         self.flush()
         self.lines.append(f"; {text}")
 
-    def label(self, text: str) -> None:
+    def label(self, text: str, row: int = 0) -> None:
+        """A label row. A bare name (no colon, no P/I number) is a label only if the program
+        jumps to it; otherwise it is an unknown instruction without operands (`NOPLF`),
+        decided in finish()."""
         self.flush()
+        if row and not text.endswith((":", "：")) and not _LABEL.fullmatch(text):
+            self.maybe_labels.append((len(self.lines), text, row))
         self.lines.append(f"{text.rstrip(':：').upper()}:")
+
+    def finish(self) -> None:
+        self.flush()
+        for index, name, row in self.maybe_labels:
+            if name.upper() not in self.referenced:
+                self.lines[index] = name
+                self.unknown(name.upper(), row)
 
     def is_label(self, text: str) -> bool:
         """A label written alone in the instruction cell: P10 / I001, or on a target with named
@@ -110,14 +132,16 @@ class _Writer:
 
     def instruction(self, mnemonic: str, operands: list[str], row: int, note: str = "") -> None:
         self.flush()
+        self.referenced.update(o.upper() for o in operands)
         self.pending = [self.mnemonic(mnemonic, row), *(self.operand(o) for o in operands if o)]
         if note:
             self.pending.append(f"; {note}")
 
     def more(self, operand: str, row: int) -> None:
         if self.pending is None:
-            self.diags.append(diag(self.path, Span.at(row), "E907", f"operand {operand!r} without an instruction"))
+            self.error(row, "orphan", f"row {row}: operand {operand!r} without an instruction")
             return
+        self.referenced.add(operand.upper())
         at = next((k for k, w in enumerate(self.pending) if w.startswith(";")), len(self.pending))
         self.pending.insert(at, self.operand(operand))
 
@@ -131,7 +155,16 @@ class _Writer:
             for s in self.t.instructions.values():
                 if s.api == short.api and s.width == 32 and s.cls == short.cls and not s.pulse:
                     return s.mnemonic
-        return m  # unknown: `mlc check` reports it (E201)
+        self.unknown(m, row)
+        return m
+
+    def unknown(self, mnemonic: str, row: int) -> None:
+        """An instruction the target does not have: the import cannot place it (as check's E201)."""
+        from mlctool.check.resolve import unknown_instruction_hint
+
+        suggestion, notes = unknown_instruction_hint(self.t, mnemonic)
+        self.error(row, f"unknown {mnemonic}", f"row {row}: unknown instruction {mnemonic!r} for target "
+                   f"{self.t.name}{suggestion}", *notes)
 
     def operand(self, text: str) -> str:
         try:
@@ -161,7 +194,7 @@ def _gx(w: _Writer, text: str, delimiter: str) -> None:
             w.comment(statement)
         if instr:
             if not device and w.is_label(instr):
-                w.label(instr)
+                w.label(instr, k)
             else:
                 w.instruction(instr, device.split(), k, note)
         elif device:
@@ -169,8 +202,7 @@ def _gx(w: _Writer, text: str, delimiter: str) -> None:
         elif note:
             w.comment(note)
     if not cols:
-        w.diags.append(diag(w.path, Span.at(1), "E907", "no header row naming the Instruction and "
-                            "I/O(Device) columns"))
+        w.error(1, "header", "no header row naming the Instruction and I/O(Device) columns")
 
 
 def _wplsoft(w: _Writer, text: str) -> None:
@@ -184,8 +216,7 @@ def _wplsoft(w: _Writer, text: str) -> None:
         if not re.fullmatch(r"[0-9]{6}", cells[0]):
             if k == 1:
                 continue  # a title row
-            w.diags.append(diag(w.path, Span.at(k), "E907", f"row {k}: expected a 6-digit step number, "
-                                f"got {cells[0]!r}"))
+            w.error(k, "step", f"row {k}: expected a 6-digit step number, got {cells[0]!r}")
             continue
         rest = cells[1:]
         if not rest:
@@ -193,7 +224,7 @@ def _wplsoft(w: _Writer, text: str) -> None:
         first = rest[0].split()
         words = first + rest[1:]
         if len(words) == 1 and w.is_label(words[0]):
-            w.label(words[0])
+            w.label(words[0], k)
         else:
             w.instruction(words[0], words[1:], k)
 
@@ -201,7 +232,12 @@ def _wplsoft(w: _Writer, text: str) -> None:
 def import_text(path: str, text: str, target: Target, fmt: str | None = None
                 ) -> tuple[str | None, str, list[Diagnostic]]:
     """-> (IL text or None on errors, the format read, diagnostics)."""
-    fmt = fmt or detect(text)
+    if fmt is None:
+        fmt = detect(text)
+        if fmt == "il" and not looks_like_il(path, text):
+            return None, "", [diag(path, Span.at(1), "E909", "not recognised as a GX Works2, GX Developer or "
+                                   "WPLSoft export, nor as instruction-list text",
+                                   "name the format with --from if it is one (docs/vs.md, Imports)")]
     if fmt == "il":
         return (text if text.endswith("\n") else text + "\n"), fmt, []
     w = _Writer(path, target)
@@ -209,21 +245,76 @@ def import_text(path: str, text: str, target: Target, fmt: str | None = None
         _gx(w, text, "\t" if fmt == "gxworks2" or "\t" in text.split("\n", 3)[-1] else ",")
     else:
         _wplsoft(w, text)
-    w.flush()
-    if any(d.severity == "error" for d in w.diags):
-        return None, fmt, w.diags
-    return "\n".join(w.lines) + "\n", fmt, w.diags
+    w.finish()
+    diags = _once_per_kind(w.diags, w.kinds)
+    if any(d.severity == "error" for d in diags):
+        return None, fmt, diags
+    return "\n".join(w.lines) + "\n", fmt, diags
+
+
+def _once_per_kind(diags: list[Diagnostic], kinds: list[str]) -> list[Diagnostic]:
+    """One diagnostic per kind of problem (a file that is no WPLSoft export gave 220 identical
+    "expected a 6-digit step number"): the first, with the rows of the others in a note."""
+    first: dict[str, int] = {}
+    rows: dict[str, list[int]] = {}
+    for k, (d, kind) in enumerate(zip(diags, kinds, strict=True)):
+        if kind in first:
+            rows[kind].append(d.span.line)
+        else:
+            first[kind], rows[kind] = k, []
+    out = []
+    for kind, k in first.items():
+        d, more = diags[k], rows[kind]
+        if more:
+            shown = ", ".join(map(str, more[:10])) + (", ..." if len(more) > 10 else "")
+            d = dataclasses.replace(d, notes=d.notes + (f"and {len(more)} more row{'s' if len(more) > 1 else ''} "
+                                                       f"like it: {shown}",))
+        out.append(d)
+    return sorted(out, key=Diagnostic.sort_key)
+
+
+def looks_like_il(path: str, text: str) -> bool:
+    """Plain IL: parses without a syntax error, and most of its instructions are mnemonics of
+    some target (a README or a data table parses as `WORD WORD ...` too)."""
+    from mlctool.syntax.parser import parse
+    from mlctool.syntax.source import SourceText
+    from mlctool.targets import available_targets, load_target
+
+    parsed = parse(SourceText(path, text if text.endswith("\n") else text + "\n"))
+    if parsed.diagnostics:
+        return False
+    names = [st.name.text.upper() for st in parsed.statements if st.kind == "instr"]
+    if not names:
+        return False
+    known: set[str] = set()
+    for t in map(load_target, available_targets()):
+        known |= set(t.instructions) | set(t.variants) | set(t.unavailable)
+    return 2 * sum(n in known for n in names) >= len(names)
+
+
+# The target of each export's dialect, when the command line names none: GX Works2 and GX
+# Developer export Mitsubishi FX programs, WPLSoft Delta DVP ones, both FX-style IL, which the
+# Vigor VS target follows (docs/vs.md).
+DIALECT_TARGET = {"gxworks2": "vs", "gxdeveloper": "vs", "wplsoft": "vs"}
 
 
 def import_file(path: str, target: Target, fmt: str | None = None) -> tuple[str | None, str, list[Diagnostic]]:
+    text, diags = read_export(path)
+    if text is None:
+        return None, fmt or "", diags
+    return import_text(path, text, target, fmt)
+
+
+def read_export(path: str) -> tuple[str | None, list[Diagnostic]]:
+    """The text of an export file, line ends normalised, or None and the reason."""
     try:
         with open(path, "rb") as f:
             data = f.read(64 * 1024 * 1024 + 1)
     except OSError as e:
-        return None, fmt or "", [diag(path, Span.at(1), "E100", f"cannot read: {e.strerror or e}")]
+        return None, [diag(path, Span.at(1), "E100", f"cannot read: {e.strerror or e}")]
     if len(data) > 64 * 1024 * 1024:
-        return None, fmt or "", [diag(path, Span.at(1), "E104", "input too large (64 MiB)")]
+        return None, [diag(path, Span.at(1), "E104", "input too large (64 MiB)")]
     text, diags = decode_export(path, data)
     if text is None:
-        return None, fmt or "", diags
-    return import_text(path, text.replace("\r\n", "\n").replace("\r", "\n"), target, fmt)
+        return None, diags
+    return text.replace("\r\n", "\n").replace("\r", "\n"), []

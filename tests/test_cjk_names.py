@@ -242,5 +242,7 @@ def test_imports_keep_chinese_labels():
     wpl, fmt, diags = import_text("w.csv", "000000,LD,X0\n000001,CJ,緊急\n000004,OUT,Y0\n000005,緊急:\n000006,END\n", VS)
     assert (fmt, diags) == ("wplsoft", []) and wpl == "LD X0\nCJ 緊急\nOUT Y0\n緊急:\nEND\n"
     assert codes(il) == [] and codes(wpl) == []
-    # NC5 has no named labels: the name stays an (unknown) instruction for `mlc check` to report
-    assert import_text("w.csv", "000000,LD,X0\n000001,SKIP\n", NC5)[0].splitlines()[1] == "SKIP"
+    # NC5 has no named labels: the name is an unknown instruction, which the import reports (E907)
+    out, _, diags = import_text("w.csv", "000000,LD,X0\n000001,SKIP\n", NC5)
+    assert out is None and [(d.code, d.span.line) for d in diags] == [("E907", 2)]
+    assert "unknown instruction 'SKIP' for target nc5" in diags[0].message

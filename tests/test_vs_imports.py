@@ -93,3 +93,59 @@ def test_cli_errors_and_atomic_output(tmp_path):
     assert r.code == 2 and "E101" in r.err
     r = mlc("import", "--target", "vs", str(tmp_path / "missing.csv"))
     assert r.code == 2 and "E100" in r.err
+
+
+# ------------------------------------------------------------------ issue 14 §3, issue 16 §4
+
+def test_import_without_target_takes_the_exports_dialect(tmp_path):
+    """Before: without --target the GX export was imported for nc5's name but in VS dialect,
+    exit 0, and `mlc check` then failed it on nc5 with no hint."""
+    for name in ("gxworks2.csv", "gxdeveloper.csv", "wplsoft.csv"):
+        r = mlc("import", str(DATA / name), "-o", "prog.il", cwd=tmp_path)
+        assert r.code == 0, r.err
+        assert (tmp_path / "prog.il").read_text("utf-8") == PLAIN
+        assert "(target vs, the dialect of a" in r.err and "`mlc check --target vs prog.il`" in r.err
+        assert mlc("check", "--target", "vs", "prog.il", cwd=tmp_path).code == 0
+    # the command line still decides
+    r = mlc("import", "--target", "nc5", str(DATA / "wplsoft.csv"), cwd=tmp_path)
+    assert r.code == 0 and "DLD>= D2 K100000" in r.out and "dialect" not in r.err
+
+
+def test_an_unrecognised_file_is_an_error_not_a_copy(tmp_path):
+    notes = tmp_path / "notes.txt"
+    notes.write_text("Shopping list\n\nmilk, eggs and bread for the week\n")
+    out = tmp_path / "out.il"
+    r = mlc("import", str(notes), "-o", str(out))
+    assert r.code == 2 and "error[E909]: not recognised as a GX Works2, GX Developer or WPLSoft export" in r.err
+    assert not out.exists()
+    # plain IL is recognised and copied; --from il takes any text as it is
+    r = mlc("import", str(DATA / "program.il"))
+    assert r.code == 0 and r.out == PLAIN
+    r = mlc("import", "--from", "il", str(notes))
+    assert r.code == 0 and r.out.startswith("Shopping list")
+
+
+def test_a_bare_name_is_a_label_only_when_jumped_to():
+    """Issue 16 §4: `NOPLF` (an unknown mnemonic without operands) silently became a label."""
+    text = "000000,LD,X0\n000001,NOPLF\n000002,CJ,HERE\n000005,HERE\n000006,LD,X1\n000007,DONE:\n000008,END\n"
+    out, _, diags = import_text("w.csv", text, VS)
+    assert out is None and [(d.code, d.span.line) for d in diags] == [("E907", 2)]
+    assert diags[0].message == "row 2: unknown instruction 'NOPLF' for target vs; did you mean PLF?"
+    out, _, diags = import_text("w.csv", text.replace("000001,NOPLF\n", ""), VS)
+    assert diags == [] and out == "LD X0\nCJ HERE\nHERE:\nLD X1\nDONE:\nEND\n"
+
+
+def test_unknown_instructions_with_operands_are_import_errors():
+    out, _, diags = import_text("w.csv", "000000,LD,X0\n000001,MOVV,K1,D0\n000004,MOVV,K2,D1\n000007,END\n", VS)
+    assert out is None and len(diags) == 1
+    assert diags[0].message == "row 2: unknown instruction 'MOVV' for target vs; did you mean MOV?"
+    assert diags[0].notes == ("and 1 more row like it: 3",)
+
+
+def test_identical_row_errors_are_reported_once():
+    """Issue 16 §4: one unreadable file gave 220 identical E907 lines."""
+    text = "".join(f"row {k}\n" for k in range(1, 221))
+    out, _, diags = import_text("r.csv", text, VS, "wplsoft")
+    assert out is None and len(diags) == 1
+    assert diags[0].message == "row 2: expected a 6-digit step number, got 'row 2'"
+    assert diags[0].notes == ("and 218 more rows like it: 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, ...",)

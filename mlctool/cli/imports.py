@@ -16,7 +16,7 @@ from mlctool.cli.common import (
     target_option,
 )
 from mlctool.diagnostics import unreadable
-from mlctool.imports import FORMATS, import_file
+from mlctool.imports import DIALECT_TARGET, FORMATS, detect, import_text, read_export
 
 
 @main_group.command("import")
@@ -30,20 +30,33 @@ from mlctool.imports import FORMATS, import_file
 def import_cmd(target_name, config_path, fmt, output, file):
     """Convert an editor's export to plain IL for the target (docs/vs.md, Imports).
 
-    Exit 0: converted; 1: rows that cannot be read; 2: unreadable input.
+    Without --target, a GX Works2, GX Developer or WPLSoft export (FX dialect) is imported
+    for target vs; plain IL for the target of mlc.toml, else nc5.
+
+    Exit 0: converted; 1: rows that cannot be placed; 2: unreadable input or not an export.
     """
     config = get_config(config_path)
     plan = output_plan([file], config)
     if output:
         plan.add(output, "-o")
         plan.validate()
-    target = get_target(target_name, config)
-    text, found_fmt, diags = import_file(file, target, fmt)
+    text, diags = read_export(file)
+    found_fmt = fmt or (detect(text) if text is not None else "")
+    # an FX-dialect export is a VS program unless the command line says otherwise
+    dialect = DIALECT_TARGET.get(found_fmt) if not target_name else None
+    target = get_target(target_name or dialect, config)
+    if text is not None:
+        text, found_fmt, diags = import_text(file, text, target, fmt)
     show(diags, {})
     if text is None:
-        sys.exit(2 if unreadable(diags) else 1)
+        sys.exit(2 if unreadable(diags) or any(d.code == "E909" for d in diags) else 1)
+    how = (f"target {target.name}, the dialect of a {found_fmt} export; --target chooses another"
+           if dialect else f"target {target.name}")
     if output:
         plan.write({output: text})
-        click.echo(f"{file}: {found_fmt} -> {output}", err=True)
+        click.echo(f"{file}: {found_fmt} -> {output} ({how}); check it with "
+                   f"`mlc check --target {target.name} {output}`", err=True)
     else:
         sys.stdout.write(text)
+        if dialect:
+            click.echo(f"{file}: {found_fmt} ({how}); check it with `mlc check --target {target.name}`", err=True)
