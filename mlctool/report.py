@@ -1,4 +1,4 @@
-"""Rendering diagnostics: text for people, JSON and SARIF 2.1.0 for CI."""
+"""Rendering diagnostics: text for people, JSON for CI (SARIF: mlctool/sarif.py)."""
 
 from __future__ import annotations
 
@@ -6,8 +6,6 @@ import json
 import os
 import sys
 
-from mlctool import __version__
-from mlctool.codes import CODES
 from mlctool.diagnostics import Diagnostic
 from mlctool.syntax.source import display_width
 
@@ -123,37 +121,3 @@ def to_json(diags: list[Diagnostic]) -> str:
         "warnings": sum(d.severity == "warning" for d in diags),
     }
     return json.dumps(data, indent=2, ensure_ascii=False) + "\n"
-
-
-def to_sarif(diags: list[Diagnostic]) -> str:
-    rules = [
-        {"id": c.code, "name": c.code, "shortDescription": {"text": c.summary},
-         "fullDescription": {"text": c.summary}, "help": {"text": c.doc},
-         "defaultConfiguration": {"level": c.severity if c.severity in ("error", "warning") else "note"}}
-        for c in CODES.values()
-    ]
-    index = {c: k for k, c in enumerate(CODES)}
-    results = []
-    for d in diags:
-        results.append({
-            "ruleId": d.code,
-            "ruleIndex": index[d.code],
-            "level": d.severity if d.severity in ("error", "warning") else "note",
-            "message": {"text": d.message},
-            "locations": [{"physicalLocation": {
-                "artifactLocation": {"uri": d.file.replace(os.sep, "/"), "uriBaseId": "%SRCROOT%"},
-                "region": {"startLine": d.span.line, "startColumn": d.span.col,
-                           "endLine": d.span.end_line, "endColumn": max(d.span.end_col, d.span.col + 1)},
-            }}],
-        })
-    doc = {
-        "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
-        "version": "2.1.0",
-        "runs": [{
-            "tool": {"driver": {"name": "mlctool", "version": __version__, "semanticVersion": __version__,
-                                "rules": rules}},
-            "results": results,
-            "columnKind": "unicodeCodePoints",
-        }],
-    }
-    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"

@@ -19,7 +19,7 @@ from mlctool.cli.common import (
 from mlctool.codes import CODES
 from mlctool.config import rules_dropped
 from mlctool.diagnostics import Diagnostic, unreadable
-from mlctool.report import SHOW_PER_CODE, render_text, summary_line, to_json, to_sarif
+from mlctool.report import SHOW_PER_CODE, render_text, summary_line, to_json
 from mlctool.targets import available_targets, load_target
 
 
@@ -60,10 +60,13 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
         lines = {**lines, **pos.lines}
     errors = sum(d.severity == "error" for d in diags)
     warnings = sum(d.severity == "warning" for d in diags)
+    code = 2 if unreadable(diags) else 1 if errors or (werror and warnings) else 0
     if fmt == "json":
         _write_utf8(to_json(diags))
     elif fmt == "sarif":
-        _write_utf8(to_sarif(diags))
+        from mlctool.sarif import to_sarif
+
+        _write_utf8(to_sarif(diags, code))
     else:
         render_text(diags, lines, sys.stderr, per_code=None if show_all else SHOW_PER_CODE)
         if diags:
@@ -71,10 +74,7 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
     guesses, their_errors = likely_targets(result.sources, target.name, config, result.diagnostics)
     if guesses:  # many errors of the instruction/device kinds that another target has not
         click.echo(wrong_target_note(guesses, their_errors, target.name, result.errors), err=True)
-    if unreadable(diags):
-        sys.exit(2)
-    if errors or (werror and warnings):
-        sys.exit(1)
+    sys.exit(code)
 
 
 def _project_sources(config) -> list[str]:
