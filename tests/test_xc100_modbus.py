@@ -142,3 +142,48 @@ def test_point_table_written_by_fc10_then_started():
     c.advance(dev, 2_000_000)
     assert dev.motion is None and round(dev.act) == 20000
     assert read_words(dev, 0x1008, 2) == [0, 20000]
+
+
+@pytest.mark.parametrize("name,frame,station,pdu", RTU + ASCII, ids=[r[0] for r in RTU + ASCII])
+def test_manual_frames_through_the_server_stream_receivers(name, frame, station, pdu):
+    """The manual's frames (8.3-8.5) through `mlc device serve`'s own receivers, both ways."""
+    from mlctool.devices.xc100.server import AsciiReceiver, Frame, RtuReceiver
+
+    receiver = AsciiReceiver() if frame.startswith(":") else RtuReceiver()
+    raw = frame.encode() + b"\r\n" if frame.startswith(":") else bytes.fromhex(frame)
+    assert receiver.feed(raw, 0.0) == [Frame(station, bytes.fromhex(pdu))]
+    assert receiver.encode(Frame(station, b""), bytes.fromhex(pdu)) == raw
+
+
+def _unlocked() -> c.Xc100:
+    dev = c.new_xc100()
+    dev.unlocked = True
+    return dev
+
+
+def test_rtu_is_8_data_bits_only():
+    """8.1 通訊規格: "資料長度 | 7、8 BIT | 8 BIT" (ASCII mode 7 or 8 data bits, RTU mode
+    8 only) and "停止位元 | 1 BIT". 5.8: 0A01H DataSize 0 = 8bit, 1 = 7bit; 0A04H Protocol
+    0 = ASCII, 1 = RTU. The pair 7 bit + RTU is refused like a value out of range (10.3
+    上下限錯誤 = ErrorStatus 2), whichever is written last; the status says why."""
+    dev = _unlocked()
+    assert ask(dev, "06 0A 01 00 01") == "06 0A 01 00 01"  # 7-bit ASCII: allowed
+    assert ask(dev, "06 0A 04 00 01") == "86 03"  # ... then RTU: refused
+    assert dev.error == c.ERR_RANGE and "8.1" in dev.refused and dev.params[0x0A04] == 0
+    dev = _unlocked()
+    assert ask(dev, "06 0A 04 00 01") == "06 0A 04 00 01"  # 8-bit RTU: allowed
+    assert ask(dev, "06 0A 01 00 01") == "86 03"  # ... then 7 bit: refused
+    assert dev.params[0x0A01] == 0 and dev.error == 2
+    dev = _unlocked()
+    assert ask(dev, "10 0A 00 00 05 0A 00 01 00 01 00 00 00 00 00 01") == "90 03"  # all at once
+    assert dev.params[0x0A00] == 1 and dev.params[0x0A01] == 0  # nothing of it was written
+    # and back to 8 bits with RTU in one request is fine
+    assert ask(dev, "10 0A 00 00 05 0A 00 01 00 00 00 00 00 00 00 01")[:2] == "10"
+    assert dev.params[0x0A04] == 1
+
+
+def test_parameter_out_of_range_sets_error_2():
+    """10.3 故障排除: "上下限錯誤 | 在參數裡設定超出範圍的數值" (a parameter set outside its range)."""
+    dev = _unlocked()
+    assert ask(dev, "06 0A 00 00 05") == "86 03"  # 0A00H BaudRate 0~4 (5.8)
+    assert dev.error == 2 and "0A00H" in dev.refused and dev.params[0x0A00] == 1

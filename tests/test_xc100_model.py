@@ -232,3 +232,40 @@ def test_inrange_and_near_and_soft_limit():
     run_until(dev, lambda d: d.motion is None)
     assert dev.act / mm == pytest.approx(50.0) and dev.error == c.ERR_SOFT_LIMIT
     assert sig(dev, "SOFTLMT") and not sig(dev, "INRANGE") and dev.action == 2
+
+
+# 4.1 item 4 座標點資料項目 (the point-table screen):
+#   "2 移動座標 ... -9999.99~9999.99 mm", "3 移動速度 ... 1~100 %", "4 扭力極限 ... 1~1000 0.1%",
+#   "10 下一步編號 ... 1~127 ... 初始值 -1"
+# 8.2 步序指令說明 (the registers): 9011H "-2147483648~214748648 pulse", 9013H "0~100%"
+#   ("當值為 0%，速度為 0800 H 起始速度"), 9014H "0~1000 x0.1%", 901DH "-1~127 -1 為結束步序"
+@pytest.mark.parametrize("text,ok", [
+    ("ABS:9999.99:1:1:1:1:0:127", True), ("ABS:-9999.99", True), ("INC:0.01:100:1000:30000:30000:30000:-1", True),
+    ("ABS:10000", False), ("ABS:-10000.00", False), ("ABS:1.005", False), ("ABS:nan", False),
+    ("ABS:100:0", False), ("ABS:100:101", False), ("ABS:100:50:0", False),
+    ("ABS:100:50:1000:300:300:0:0", False), ("ABS:100:50:1000:0", False),
+])
+def test_point_key_takes_the_screen_ranges_of_4_1(text, ok):
+    """The stimulus key pN= is entered as the point-table screen is: 4.1's ranges."""
+    from mlctool.devices.xc100.simmodel import parse_point
+
+    if ok:
+        parse_point(text, 1000.0)
+    else:
+        with pytest.raises(ValueError, match="4.1|not a number"):
+            parse_point(text, 1000.0)
+
+
+def test_point_registers_take_the_wider_ranges_of_8_2():
+    """Modbus writes to the point registers follow 8.2: speed 0 (= LowSpeed 0800H), torque 0,
+    next step 0 and positions far past +-9999.99 mm are stored; 8.2's own bounds still hold."""
+    from mlctool.devices.xc100.registers import write_words
+
+    dev = c.new_xc100()
+    assert write_words(dev, 0x9013, [0]) == 0 and dev.points[1].speed == 0
+    assert write_words(dev, 0x9014, [0]) == 0 and dev.points[1].torque == 0
+    assert write_words(dev, 0x901D, [0]) == 0 and dev.points[1].next == 0
+    big = 2_000_000_000  # pulses: 200,000 mm at 10,000 pulses/mm
+    assert write_words(dev, 0x9011, [big >> 16, big & 0xFFFF]) == 0 and dev.points[1].position == big
+    assert write_words(dev, 0x9013, [101]) == 3 and write_words(dev, 0x9014, [1001]) == 3
+    assert write_words(dev, 0x901D, [128]) == 3 and write_words(dev, 0x901D, [0xFFFE]) == 3  # -2

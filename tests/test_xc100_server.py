@@ -5,6 +5,7 @@ Ctrl-C, the co-simulation sample. Everything local and bounded in time."""
 from __future__ import annotations
 
 import asyncio
+import io
 import os
 import select
 import signal
@@ -181,7 +182,10 @@ def test_model_parameters_are_checked(mlc, tmp_path):
     (tmp_path / "p.il").write_text("LD X0\nOUT Y0\nEND\n")
     for bad, word in (("p1=FLY:10", "unknown move mode"), ("r0703=11", "0..10"),
                       ("r0123=1", "no XC100 parameter"), ("in1=X0", "in1"),
-                      ("stroke=-1", "stroke"), ("mirror=M0", "mirror"), ("speed=1", "speed")):
+                      ("stroke=-1", "stroke"), ("mirror=M0", "mirror"), ("speed=1", "speed"),
+                      # 8.1: "資料長度 | 7、8 BIT | 8 BIT" (RTU: 8 data bits), "停止位元 | 1 BIT"
+                      ("r0A01=1 r0A04=1", "8 data bits only in RTU mode"),
+                      ("stop=2", "1 stop bit"), ("stopbits=1", "no stop-bit setting")):
         (tmp_path / "s.stim").write_text(f"model xc100 in1=Y0 out1=X1 {bad}\nrun 10ms\n")
         r = mlc("sim", "p.il", "--stimulus", "s.stim", cwd=tmp_path)
         assert r.code == 2 and ("E601" in r.err or "E602" in r.err) and word in r.err, (bad, r.err)
@@ -365,3 +369,22 @@ def test_junk_then_silence_then_a_valid_frame(junk, framing):
     frame = {"rtu": _rtu, "ascii": lambda f: b"\r\n" + _ascii(f), "tcp": lambda f: _mbap(3, f)}[framing]
     got = receiver.feed(frame(PIPELINE[1]), 1.0)
     assert [bytes([g.unit]) + g.pdu for g in got][-1:] == [bytes.fromhex(PIPELINE[1])]
+
+
+def test_status_view_shows_the_line_and_a_refused_setting():
+    """The model's status says why a setting was refused (issue 20: 8.1 line settings)."""
+    from rich.console import Console
+
+    from mlctool.devices.xc100.modbus import handle_pdu
+    from mlctool.devices.xc100.status import render
+
+    dev = c.new_xc100()
+    dev.unlocked = True
+    assert handle_pdu(dev, 1, 1, bytes.fromhex("06 0A 04 00 01"))  # RTU: accepted, after reboot
+    assert handle_pdu(dev, 1, 1, bytes.fromhex("06 0A 01 00 01")) == bytes.fromhex("86 03")
+    console = Console(width=200, record=True, file=io.StringIO())
+    console.print(render({1: dev, 2: c.new_xc100()}, "XC100 test"))
+    text = console.export_text()
+    assert "19200 8-N-1 ASCII" in text and "acts after the next power-up" in text
+    assert "refused" in text and "8 data bits only in RTU mode" in text
+    assert "station 2" in text

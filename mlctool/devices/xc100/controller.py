@@ -28,6 +28,7 @@ MODE_INC_R, MODE_ABS_R, MODE_INC_T, MODE_ABS_T = 12, 13, 15, 16
 ALARM_FULL_COUNT, ALARM_EMG = 2, 11
 ERR_BUSY, ERR_SERVO, ERR_LOCK, ERR_SOFT_LIMIT, ERR_NOT_HOMED = 1, 8, 9, 10, 12
 ERR_REBOOT = 6
+ERR_RANGE = 2  # 10.3 上下限錯誤: a parameter value outside its range
 
 
 @dataclass
@@ -85,6 +86,7 @@ class Xc100:
     pending_us: int = 0
     regs: dict[int, int] = field(default_factory=dict)  # last values of the action registers
     requests: list[str] = field(default_factory=list)  # recent Modbus requests (status view)
+    refused: str = ""  # the last parameter write refused as out of range, and why (status view)
 
 
 # -- construction and parameters

@@ -206,15 +206,38 @@ def write_words(dev: c.Xc100, addr: int, words: list[int]) -> int:
         else:
             v = _s32(*chunk) if r.words == 2 else (_s16(chunk[0]) if r.lo < 0 else chunk[0])
             if not (r.lo <= v <= r.hi) or (r.values and v not in r.values):
+                if r.area == "param":  # 10.3 上下限錯誤: "在參數裡設定超出範圍的數值" [A]
+                    dev.error = c.ERR_RANGE
+                    dev.refused = f"{r.base:04X}H ({r.name}) = {v}: outside {r.lo}~{r.hi} (ch. 5)"
                 return ILLEGAL_VALUE
             values.append((r, v))
         k += r.words
+    if reason := line_settings_refused(dev, {r.base: v for r, v in values if r.area == "param"}):
+        dev.error = c.ERR_RANGE
+        dev.refused = reason
+        return ILLEGAL_VALUE
     if any(r.area == "param" for r, _ in values) and not dev.unlocked:
         dev.error = 11  # 10.3 parameter write permission insufficient
         return ILLEGAL_VALUE
     for r, v in values:
         _apply(dev, r, v)
     return 0
+
+
+def line_settings_refused(dev: c.Xc100, writing: dict[int, int]) -> str:
+    """Why the RS-485 settings after this write are not a line the XC100 has ('' if they are).
+
+    8.1's table: 資料長度 (data bits) "7、8 BIT" in ASCII mode but "8 BIT" in RTU mode, so
+    DataSize 0A01H = 1 (7 bit) and Protocol 0A04H = 1 (RTU) together are refused like a value
+    out of range (exception 03, ErrorStatus 2 上下限錯誤) whichever of the two is written
+    last [A: the manual names no error for the pair]. 停止位元 (stop bits) "1 BIT": there is
+    no parameter for them, so nothing here can set another count."""
+    size = writing.get(0x0A01, dev.params[0x0A01])
+    protocol = writing.get(0x0A04, dev.params[0x0A04])
+    if size == 1 and protocol == 1:
+        return ("0A01H DataSize = 1 (7 bit) with 0A04H Protocol = 1 (RTU): "
+                "8.1 allows 8 data bits only in RTU mode")
+    return ""
 
 
 def _apply(dev: c.Xc100, r: Reg, v: int) -> None:

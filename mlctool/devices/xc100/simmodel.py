@@ -16,11 +16,13 @@ PLC's RS-485 port for the VS MBUS instruction (sim/seriallink.py, docs/xc100.md)
 
 from __future__ import annotations
 
+from decimal import Decimal, InvalidOperation
 from typing import NamedTuple
 
 from mlctool.devices.base import DeviceModel, ModelIO, ParamError
 from mlctool.devices.xc100 import controller as c
 from mlctool.devices.xc100.modbus import handle_pdu
+from mlctool.devices.xc100.registers import line_settings_refused
 from mlctool.devices.xc100.tables import tables
 from mlctool.sim.seriallink import PORT_NAMES, LineSettings
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
@@ -38,14 +40,26 @@ def parse_point(text: str, ppmm: float) -> c.Point:
     if len(parts) > 9:
         raise ValueError("at most MODE:POS:SPEED:TORQUE:ACC:DEC:WAIT:NEXT")
     p = c.Point(mode=MODE_CODES[mode])
-    if len(parts) > 1:
-        p.position = round(float(parts[1]) * ppmm)
+    if len(parts) > 1:  # the point-table screen's ranges (4.1), not the registers' (8.2)
+        try:
+            mm = Decimal(parts[1])
+        except InvalidOperation:
+            raise ValueError(f"POS {parts[1]!r} is not a number of mm") from None
+        f = tables().field("position")
+        if not mm.is_finite() or mm.as_tuple().exponent < -2 or not f.ui_allows(int(mm * 100)):
+            raise ValueError(f"POS takes {f.ui_lo / 100:.2f}..{f.ui_hi / 100:.2f} mm in steps "
+                             f"of 0.01 (4.1), not {parts[1]}")
+        p.position = round(float(mm) * ppmm)
     names = ("speed", "torque", "accel", "decel", "wait", "next")
     for name, raw in zip(names, parts[2:]):
         f = tables().field(name)
-        v = int(raw)
-        if not f.lo <= v <= f.hi:
-            raise ValueError(f"{name} takes {f.lo}..{f.hi}, not {v}")
+        try:
+            v = int(raw)
+        except ValueError:
+            raise ValueError(f"{name} {raw!r} is not an integer") from None
+        if not f.ui_allows(v):
+            also = f" or {f.default}" if not f.ui_lo <= f.default <= f.ui_hi else ""
+            raise ValueError(f"{name} takes {f.ui_lo}..{f.ui_hi}{also} (4.1), not {v}")
         setattr(p, name, v)
     return p
 
@@ -66,6 +80,15 @@ class XC100Model(DeviceModel):
         for key in sorted(k for k in params if k.startswith("r") and k[1:] and _is_hex(k[1:])):
             self.used.add(key)
             regs[int(key[1:], 16)] = self._register(key, params[key])
+        for key in ("stop", "stopbits"):
+            if key in params:  # 8.1 停止位元 "1 BIT": no parameter, no option
+                raise ParamError(key, f"{key}=: the XC100 has no stop-bit setting; its line "
+                                      "always has 1 stop bit (manual 004 8.1)")
+        probe = c.new_xc100(params={a: v for a, v in regs.items() if a in (0x0A01, 0x0A04)})
+        if reason := line_settings_refused(probe, {}):
+            key = next(k for k in ("r0a01", "r0a04", "protocol") if k in params)
+            raise ParamError(key, f"{reason}; the XC100 refuses this setting (exception 03, "
+                                  "ErrorStatus 2)")
         dev = c.new_xc100(lead_mm=lead, stroke_mm=stroke, start_mm=start, work_mm=work, params=regs)
         points = {}
         for key in sorted(k for k in params if k.startswith("p") and k[1:].isdigit()):

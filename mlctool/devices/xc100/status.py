@@ -44,15 +44,31 @@ def _render_one(dev: c.Xc100) -> list:
         ("alarm", f"{dev.alarm} {t.alarms[dev.alarm][0]} (ERR LED {c.led_blinks(dev)} blinks)"
          if dev.alarm else "none"),
         ("error", f"{dev.error} {t.errors.get(dev.error, '')}"),
+        ("line", line_text(dev)),
         ("inputs", " ".join(f"IN{k + 1}" for k in range(14) if c.effective_pins(dev) >> k & 1) or "-"),
         ("outputs", " ".join(name for name, on in c.output_signals(dev).items() if on) or "-"),
     ]
+    if dev.refused:
+        rows.append(("refused", dev.refused))
     for k, v in rows:
         state.add_row(k, v)
     reqs = Table(title="last requests", show_header=False, box=None)
     for line in dev.requests[-6:] or ["(none yet)"]:
         reqs.add_row(line)
     return [state, reqs]
+
+
+BAUDS = (9600, 19200, 38400, 57600, 115200)  # 0A00H 0-4 (5.8)
+
+
+def line_text(dev: c.Xc100) -> str:
+    """The RS-485 settings of 0A00H-0A04H as of power-up (5.8, 8.1: 1 stop bit always)."""
+    b = dev.boot
+    text = (f"{BAUDS[b[0x0A00]]} {7 if b[0x0A01] else 8}-{'NEO'[b[0x0A02]]}-1 "
+            f"{'RTU' if b[0x0A04] else 'ASCII'} (0A00H-0A04H as of power-up)")
+    if any(dev.params[a] != b[a] for a in range(0x0A00, 0x0A05) if a != 0x0A03):
+        text += ", changed: acts after the next power-up"
+    return text
 
 
 class StatusView:

@@ -34,6 +34,12 @@ class PointField:
     hi: int
     default: int
     values: tuple[int, ...]  # allowed values when not a range
+    ui_lo: int  # the 4.1 point-table screen's range (positions in 0.01 mm); lo/hi are 8.2's
+    ui_hi: int
+
+    def ui_allows(self, v: int) -> bool:
+        """4.1's range, or the field's initial value (which the screen shows unchanged)."""
+        return self.ui_lo <= v <= self.ui_hi or v == self.default
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,7 +78,8 @@ def tables() -> Tables:
         values = tuple(f.get("values", ()))
         lo = f.get("min", min(values) if values else 0)
         hi = f.get("max", max(values) if values else 0)
-        fields.append(PointField(f["offset"], f.get("words", 1), f["name"], lo, hi, f["default"], values))
+        fields.append(PointField(f["offset"], f.get("words", 1), f["name"], lo, hi, f["default"], values,
+                                 f.get("ui_min", lo), f.get("ui_max", hi)))
     al = _load("alarms.toml")
     return Tables(
         params=params,
