@@ -29,6 +29,20 @@ class Config:
     severity: dict[str, str] = field(default_factory=dict)
     data: dict = field(default_factory=dict)  # the whole table, for other commands (build, test)
     root: Path | None = None
+    file: Path | None = None  # mlc.toml or pyproject.toml, as read
+    positions: dict[tuple[str, ...], tuple[int, int, int]] = field(default_factory=dict, repr=False)
+
+    def locate(self, *keys: str) -> tuple[str, Span]:
+        """Where a key of the configuration is written: (file, span); the nearest enclosing
+        table's line when the key itself is not found, line 1 when nothing is."""
+        where = str(self.file) if self.file else "mlc.toml"
+        prefix = ("tool", "mlc") if self.file is not None and self.file.name == "pyproject.toml" else ()
+        for k in range(len(keys), -1, -1):
+            found = self.positions.get(prefix + keys[:k])
+            if found:
+                line, col, length = found
+                return where, Span.at(line, col, length)
+        return where, Span.at(1)
 
 
 SEVERITIES = ("error", "warning", "off")
@@ -195,7 +209,7 @@ def _shown(value) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-def _table(path: Path) -> dict | None:
+def _table(path: Path) -> tuple[dict, str] | None:
     text, data = _read(path)
     prefix: tuple[str, ...] = ()
     if path.name == "pyproject.toml":
@@ -210,7 +224,7 @@ def _table(path: Path) -> dict | None:
     problems = validate(str(path), text, data, prefix)
     if problems:
         raise ConfigError(problems, {str(path): text.split("\n")})
-    return data
+    return data, text
 
 
 def load_config(start: Path | None = None, explicit: str | None = None) -> Config:
@@ -223,11 +237,13 @@ def load_config(start: Path | None = None, explicit: str | None = None) -> Confi
             candidates += [d / "mlc.toml", d / "pyproject.toml"]
     for path in candidates:
         if path.is_file():
-            table = _table(path)
-            if table is None:
+            found = _table(path)
+            if found is None:
                 continue
+            table, text = found
             sev = {k.upper(): v.lower() for k, v in table.get("severity", {}).items()}
-            return Config(table.get("target"), table.get("capacity"), sev, table, path.parent)
+            return Config(table.get("target"), table.get("capacity"), sev, table, path.parent, path,
+                          key_positions(text))
     return Config()
 
 

@@ -19,3 +19,12 @@ def test_suggest_is_case_insensitive_and_quiet_when_nothing_is_near():
     assert closest("otu", ["OUT", "LD"]) == "OUT"
     assert closest("sorces", ["target", "sources"]) == "sources"
     assert did_you_mean("qqqq", ["OUT", "LD"]) == ""
+
+
+def test_mistyped_target_and_code_name_the_nearest(mlc, tmp_path):
+    p = tmp_path / "a.il"
+    p.write_text("LD X0\nOUT Y0\nEND\n")
+    r = mlc("check", "--target", "vz", str(p))
+    assert r.code == 2 and "error[E110]: unknown target 'vz' (available: fbs, nc5, vs); did you mean 'vs'?" in r.err
+    r = mlc("explain", "W4O1")
+    assert r.code == 2 and r.err.rstrip().endswith("did you mean W401?")

@@ -156,3 +156,12 @@ def test_config_error_is_an_mlc_error(tmp_path):
     with pytest.raises(MlcError) as e:
         load_config(tmp_path)
     assert e.value.exit_code == 2 and e.value.diagnostic.code == "E110"
+
+
+def test_errors_about_a_keys_value_point_at_its_line(mlc, tmp_path):
+    """[symbols] entries (E106) and an empty `sources` (E510) name their own line, in the file read."""
+    _project(tmp_path, '[tool.mlc]\nsources = []\n\n[tool.mlc.symbols]\nSTART = "X0"\nX1 = "X2"\n', "pyproject.toml")
+    r = mlc("check", "a.il", cwd=tmp_path)
+    assert f"{tmp_path / 'pyproject.toml'}:6:1: error[E106]: [symbols] X1 = 'X2'" in r.err, r.err
+    r = mlc("build", cwd=tmp_path)
+    assert r.code == 2 and f"{tmp_path / 'pyproject.toml'}:2:1: error[E510]" in r.err, r.err

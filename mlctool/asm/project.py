@@ -32,21 +32,21 @@ class ProjectBuild:
     root: str | None
 
 
-def _bad(where: str, message: str) -> MlcError:
-    return MlcError(diag(where, Span.at(1), "E510", message), 2)
+def _bad(where: str | tuple[str, Span], message: str) -> MlcError:
+    file, span = where if isinstance(where, tuple) else (where, Span.at(1))
+    return MlcError(diag(file, span, "E510", message), 2)
 
 
 def project_build(config: Config) -> ProjectBuild:
     if config.root is None:
         raise _bad("<command line>", "no sources given and no mlc.toml found here or above")
-    where = str(config.root / "mlc.toml")
     data = config.data
     sources = data.get("sources")
     if not isinstance(sources, list) or not sources or not all(isinstance(s, str) for s in sources):
-        raise _bad(where, "mlc.toml needs `sources = [\"main.il\", ...]` to build without arguments")
+        raise _bad(config.locate("sources"), "mlc.toml needs `sources = [\"main.il\", ...]` to build without arguments")
     for key in ("output", "listing", "map"):
         if key in data and not isinstance(data[key], str):
-            raise _bad(where, f"mlc.toml `{key}` must be a path string")
+            raise _bad(config.locate(key), f"mlc.toml `{key}` must be a path string")
 
     def here(p: str | None) -> str | None:
         return None if p is None else os.path.relpath(os.path.join(config.root, p))

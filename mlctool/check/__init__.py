@@ -115,13 +115,12 @@ def broken_lines(modules: list[Module], diags: list[Diagnostic]) -> dict[str, fr
 def project_symbols(config: Config) -> tuple[dict[str, str], list[Diagnostic]]:
     """mlc.toml `[symbols]` NAME = "OPERAND": device symbols of every module (docs/project.md)."""
     table = config.data.get("symbols", {})
-    where = str(config.root / "mlc.toml") if config.root else "mlc.toml"
     if not isinstance(table, dict):
-        return {}, [diag(where, Span.at(1), "E106", "[symbols] must be a table of NAME = \"OPERAND\"")]
+        return {}, [diag(*config.locate("symbols"), "E106", "[symbols] must be a table of NAME = \"OPERAND\"")]
     out, diags = {}, []
     for name, value in table.items():
         if not (isinstance(value, str) and SYMBOL.fullmatch(name) and _operand_ok(value)) or _operand_ok(name):
-            diags.append(diag(where, Span.at(1), "E106", f"[symbols] {name} = {value!r}: "
+            diags.append(diag(*config.locate("symbols", name), "E106", f"[symbols] {name} = {value!r}: "
                               "a symbol name (not an operand) and an operand are needed"))
         else:
             out[name.upper()] = value

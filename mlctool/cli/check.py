@@ -92,7 +92,9 @@ def explain_cmd(code):
     """Print the documentation of a diagnostic code (e.g. mlc explain W401)."""
     c = CODES.get(code.upper())
     if c is None:
-        click.echo(f"mlc: unknown code {code!r}; codes: {', '.join(CODES)}", err=True)
+        from mlctool.suggest import did_you_mean
+
+        click.echo(f"mlc: unknown code {code!r} (codes: {', '.join(CODES)}){did_you_mean(code, CODES)}", err=True)
         sys.exit(2)
     click.echo(f"{c.code} ({c.severity}): {c.summary}\n\n{c.doc.strip()}")
 

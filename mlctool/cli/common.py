@@ -95,10 +95,13 @@ def get_target(name: str | None, config: Config, model: str | None = None) -> Ta
     try:
         return load_target(name, str(model).upper() if model else None)
     except KeyError:
-        raise MlcError(diag("<command line>", Span.at(1), "E100",
-                            f"unknown target {name!r}; available: {', '.join(available_targets())}")) from None
+        from mlctool.suggest import did_you_mean
+
+        names = available_targets()
+        raise MlcError(diag("<command line>", Span.at(1), "E110", f"unknown target {name!r} (available: "
+                            f"{', '.join(names)})" + did_you_mean(name, names, "'", 0.5))) from None
     except UnknownModel as e:
-        raise MlcError(diag("<command line>", Span.at(1), "E100", str(e))) from None
+        raise MlcError(diag("<command line>", Span.at(1), "E110", str(e))) from None
 
 
 def show(diags: list[Diagnostic], lines: dict[str, list[str]]) -> None:

@@ -15,7 +15,7 @@ from functools import lru_cache
 
 from mlctool.asm import program_from_paths
 from mlctool.config import Config, load_config
-from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.diagnostics import Diagnostic, diag
 from mlctool.program import Image
 from mlctool.sim.coverage import Probe
 from mlctool.sim.output import run_diagnostics
@@ -41,17 +41,17 @@ class Scenario:
 
 def discover(config: Config) -> tuple[list[str], list[str], list[Diagnostic]]:
     """(program sources, stimulus files, problems) named by the project file, relative to its folder."""
-    where = str(config.root / "mlc.toml") if config.root else "mlc.toml"
+    where, at = config.locate()
     problems = []
     sources = config.data.get("sources") or []
     patterns = config.data.get("tests") or []
     if not sources:
-        problems.append(diag(where, Span.at(1), "E105", "mlc.toml names no `sources` (the program to test)"))
+        problems.append(diag(where, at, "E105", "mlc.toml names no `sources` (the program to test)"))
     if not patterns:
-        problems.append(diag(where, Span.at(1), "E105", 'mlc.toml names no `tests` (e.g. tests = ["tests/*.stim"])'))
+        problems.append(diag(where, at, "E105", 'mlc.toml names no `tests` (e.g. tests = ["tests/*.stim"])'))
     stims = sorted({p for pat in patterns for p in glob.glob(pat, recursive=True)})
     if patterns and not stims:
-        problems.append(diag(where, Span.at(1), "E105", f"no stimulus file matches {patterns}"))
+        problems.append(diag(*config.locate("tests"), "E105", f"no stimulus file matches {patterns}"))
     return list(sources), stims, problems
 
 
