@@ -28,7 +28,8 @@ from mlctool.targets import available_targets, load_target
 @config_option
 @click.option("--format", "fmt", type=click.Choice(["text", "json", "sarif"]), default="text", show_default=True)
 @click.option("--werror", is_flag=True, help="treat warnings as errors (exit 1)")
-@click.option("--ignore", multiple=True, metavar="CODE", help="drop diagnostics with this code (repeatable)")
+@click.option("--ignore", multiple=True, metavar="CODE",
+              help="drop this warning code (repeatable; errors cannot be dropped)")
 @click.option("--no-lint", is_flag=True, help="drop the lint warnings (W4xx)")
 @click.option("--select", "select", multiple=True, metavar="CODE[,CODE]",
               help="run only these lint rules (W4xx); legality and structure checks always run")
