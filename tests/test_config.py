@@ -165,3 +165,16 @@ def test_errors_about_a_keys_value_point_at_its_line(mlc, tmp_path):
     assert f"{tmp_path / 'pyproject.toml'}:6:1: error[E106]: [symbols] X1 = 'X2'" in r.err, r.err
     r = mlc("build", cwd=tmp_path)
     assert r.code == 2 and f"{tmp_path / 'pyproject.toml'}:2:1: error[E510]" in r.err, r.err
+
+
+@pytest.mark.parametrize("line, code", [("OTU Y0", "E201"), ("OUT Y99999", "E205")])
+def test_a_severity_table_made_in_code_cannot_make_build_and_sim_run_an_invalid_program(tmp_path, line, code):
+    """Issue 21 #6 in depth: even a Config that bypasses the file check (E201/E205 "off")
+    yields no program image: the instruction neither vanishes nor reaches the simulator."""
+    from mlctool.asm import program_from_paths
+
+    p = tmp_path / "b.il"
+    p.write_text(f"LD X0\n{line}\nEND\n")
+    config = Config(severity={"E201": "off", "E205": "off"})
+    image, diags, _ = program_from_paths([str(p)], load_target("nc5"), config)
+    assert image is None and [(d.code, d.severity) for d in diags] == [(code, "error")]
