@@ -8,7 +8,7 @@ import xml.etree.ElementTree as ET
 
 import pytest
 
-from conftest import run_mlc
+from conftest import run_mlc, without_times
 from mlctool.sim.batch import Options, run_batch
 from simkit import NC5, image_of
 
@@ -61,7 +61,7 @@ def project(tmp_path):
 
 def _xml(suite) -> bytes:
     suite.tail = None
-    return ET.tostring(suite)
+    return without_times(ET.tostring(suite))
 
 
 def _single(project, name, *extra):

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 import sys
+import time
 
 import click
 
@@ -167,7 +168,9 @@ def _simulate(plan: Outputs, keep_gtkw, target_name, config, stim_path, scan_us,
         vcd_file = plan.stream(vcd_path)
         vcd_stream = VcdStream(vcd_file, sim.views, image, target)
         sim.trace_sink = vcd_stream.add
+    started = time.perf_counter()
     result = _run(sim, n_scans)
+    seconds = time.perf_counter() - started
     if result.pin_window is not None and result.pin_window.overflow:
         raise click.UsageError(f"--pulse-window {pulse_window}: the pulse pins change more than "
                                f"{EDGE_LIMIT} times in the window; give a shorter one (no VCD written)")
@@ -192,7 +195,7 @@ def _simulate(plan: Outputs, keep_gtkw, target_name, config, stim_path, scan_us,
         from mlctool.sim.junit import to_junit
         from mlctool.sim.suite import Scenario
 
-        scenario = Scenario(st.path, result, run_diagnostics(result, st.path), st.lines)
+        scenario = Scenario(st.path, result, run_diagnostics(result, st.path), st.lines, seconds=seconds)
         files[junit_path] = to_junit([scenario], " ".join(program))
     if report_path:
         from mlctool.ladder.report import report_html

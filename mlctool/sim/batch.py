@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import os
 import pickle
+import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 
@@ -77,6 +78,14 @@ class BatchStats:
 def run_one(image: Image, target: Target, path: str, opts: Options,
             loaded: tuple[Stimulus | None, list] | None = None) -> Scenario:
     """Exactly `mlc sim PROGRAM --stimulus PATH` (without --vcd/--report)."""
+    start = time.perf_counter()
+    sc = _run_one(image, target, path, opts, loaded)
+    sc.seconds = time.perf_counter() - start
+    return sc
+
+
+def _run_one(image: Image, target: Target, path: str, opts: Options,
+             loaded: tuple[Stimulus | None, list] | None) -> Scenario:
     st, diags = loaded if loaded is not None else load_stimulus(path, target)
     if st is None or any(d.severity == "error" for d in diags):
         return Scenario(path, None, diags, st.lines if st else [])
@@ -693,16 +702,16 @@ def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], perio
 
 # ---------------------------------------------------------------------------- the batch
 
-def _take_lanes(group, outcomes, results: dict, rest: list, stats: BatchStats) -> int:
-    """Scenarios that passed as lanes become results; the others are run again on their own.
-    Returns how many passed."""
+def _take_lanes(group, outcomes, results: dict, rest: list, stats: BatchStats, seconds: float) -> int:
+    """Scenarios that passed as lanes become results (each with an even share of the group's
+    wall time); the others are run again on their own. Returns how many passed."""
     passed = 0
     for (p, st), r in zip(group, outcomes):
         if r is None:
             rest.append(p)
             stats.reruns += 1
         else:
-            results[p] = Scenario(p, r, run_diagnostics(r, p), st.lines)
+            results[p] = Scenario(p, r, run_diagnostics(r, p), st.lines, seconds=seconds / len(group))
             passed += 1
     stats.lanes += passed
     return passed
@@ -743,10 +752,13 @@ def run_batch(image: Image, target: Target, paths: list[str], opts: Options, job
         if len(group) < 2:  # one scenario: the compiled engine is faster than numpy lanes
             rest += [p for p, _ in group]
             continue
-        stats.word_lanes += _take_lanes(group, run_word_lanes(wp, group, period, n_scans, opts, target),
-                                        results, rest, stats)
+        start = time.perf_counter()
+        outcomes = run_word_lanes(wp, group, period, n_scans, opts, target)
+        stats.word_lanes += _take_lanes(group, outcomes, results, rest, stats, time.perf_counter() - start)
     for (period, n_scans), group in groups.items():
-        _take_lanes(group, run_lanes(lp, group, period, n_scans, opts), results, rest, stats)
+        start = time.perf_counter()
+        outcomes = run_lanes(lp, group, period, n_scans, opts)
+        _take_lanes(group, outcomes, results, rest, stats, time.perf_counter() - start)
     stats.single = len(rest) - stats.reruns
     rest = [p for p in paths if p in set(rest)]
     if jobs > 1 and len(rest) > 1:

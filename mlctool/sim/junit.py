@@ -1,35 +1,61 @@
 """JUnit XML: one <testsuite> per stimulus file, one <testcase> per expectation line.
 
-The output validates against the JUnit schema CI servers use (Jenkins xUnit junit-10.xsd;
-tests/data): the stimulus line is part of the test case's name.
+Decisions (docs/stimulus.md "Outputs"):
+- `classname` is the stimulus path with its dots made underscores (`tests/pick_cycle.stim`
+  -> `tests/pick_cycle_stim`): Jenkins splits a classname at its last dot into package and
+  class, which would file the scenario under a class named `stim`.
+- `time` is wall time in seconds: a suite's is its scenario's (load and run), a test case's the
+  simulation since the previous expectation was checked (scenarios run together as lanes
+  share the group's time evenly among their cases). Durations differ from run to run; every
+  other byte is deterministic.
+- Each test case has `file` and `line` (the stimulus line, or the diagnostic's place), which
+  GitLab, pytest's xunit1 files and Jenkins' JUnit plugin read; the suite has `file` too. The
+  output validates against Jenkins xUnit's junit-10.xsd (tests/data) extended by just those two
+  optional testcase attributes.
 """
 
 from __future__ import annotations
 
+import os
 import xml.etree.ElementTree as ET
 
 from mlctool.sim.output import failure_message, ms
 from mlctool.sim.suite import Scenario
 
 
+def classname(path: str) -> str:
+    name = path.replace(os.sep, "/")
+    while name.startswith("./"):
+        name = name[2:]
+    return name.replace(".", "_")
+
+
+def _seconds(s: float) -> str:
+    return f"{max(s, 0.0):.6f}"
+
+
 def to_junit(scenarios: list[Scenario], suite_name: str) -> str:
     """One <testsuite> per stimulus file, one <testcase> per expectation line."""
-    root = ET.Element("testsuites", name=suite_name)
+    root = ET.Element("testsuites", name=suite_name, time=_seconds(sum(sc.seconds for sc in scenarios)))
     for sc in scenarios:
         r = sc.result
         cases = r.expectations if r else []
         problems = [d for d in sc.diagnostics if d.code != "E603"]  # faults, alarms, bad stimulus
         ts = ET.SubElement(root, "testsuite", name=sc.stim, tests=str(len(cases) + len(problems)),
                            failures=str(sum(not e.passed for e in cases)), errors=str(len(problems)),
-                           time="0")
+                           time=_seconds(sc.seconds), file=sc.stim)
+        cls = classname(sc.stim)
+        measured = any(e.seconds for e in cases)
+        share = sc.seconds / max(1, len(cases) + len(problems))
         for e in cases:
-            tc = ET.SubElement(ts, "testcase", classname=sc.stim, name=f"line {e.line}: {e.text}", time="0")
+            tc = ET.SubElement(ts, "testcase", classname=cls, name=f"line {e.line}: {e.text}",
+                               time=_seconds(e.seconds if measured else share), file=sc.stim, line=str(e.line))
             for f in e.failures:
                 node = ET.SubElement(tc, "failure", message=failure_message(f), type="E603")
                 node.text = f"{sc.stim}:{f.line}:{f.col}: {failure_message(f)}"
         for d in problems:
-            tc = ET.SubElement(ts, "testcase", classname=sc.stim, name=f"{d.code} {d.file}:{d.span.line}",
-                               time="0")
+            tc = ET.SubElement(ts, "testcase", classname=cls, name=f"{d.code} {d.file}:{d.span.line}",
+                               time=_seconds(0.0 if measured else share), file=d.file, line=str(d.span.line))
             ET.SubElement(tc, "error", message=d.message, type=d.code).text = \
                 f"{d.file}:{d.span.line}:{d.span.col}: {d.message}"
         if r is not None:

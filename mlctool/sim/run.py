@@ -8,6 +8,7 @@ expectations at time t are checked after that same scan completes.
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -49,6 +50,8 @@ class ExpectOutcome:
     time_us: int
     scan: int
     failures: list[Failure] = field(default_factory=list)
+    # wall time simulated since the previous check (JUnit test case `time`); not compared
+    seconds: float = field(default=0.0, compare=False)
 
     @property
     def passed(self) -> bool:
@@ -262,6 +265,7 @@ class Simulation:
         seen_alarms = 0
         alarms: list[AlarmReport] = []
         scans_done = 0
+        checked_at = time.perf_counter()
         for k in range(n_scans):
             m.now_us = k * self.period
             if self.before_scan:  # target hardware catches up to now, before the new inputs
@@ -315,6 +319,8 @@ class Simulation:
             for e in events:
                 if e.kind in ("expect", "alarm"):
                     outcomes.append(self.check(e, k))
+                    now = time.perf_counter()
+                    outcomes[-1].seconds, checked_at = now - checked_at, now
             if progress:
                 progress(k + 1)
         for k in sorted(s for s in self.by_scan if s >= scans_done):

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import glob
 import os
+import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -33,6 +34,9 @@ class Scenario:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     stim_lines: list[str] = field(default_factory=list)
     probe: Probe | None = None
+    # wall time of loading and running the scenario (JUnit `time`); scenarios run together as
+    # lanes share the group's time evenly. Not part of a result's identity (it is not deterministic).
+    seconds: float = field(default=0.0, compare=False)
 
     @property
     def ok(self) -> bool:
@@ -56,6 +60,13 @@ def discover(config: Config) -> tuple[list[str], list[str], list[Diagnostic]]:
 
 
 def run_scenario(image: Image, target: Target, stim_path: str, coverage: bool = False) -> Scenario:
+    start = time.perf_counter()
+    sc = _run_scenario(image, target, stim_path, coverage)
+    sc.seconds = time.perf_counter() - start
+    return sc
+
+
+def _run_scenario(image: Image, target: Target, stim_path: str, coverage: bool) -> Scenario:
     st, diags = load_stimulus(stim_path, target)
     if st is None or any(d.severity == "error" for d in diags):
         return Scenario(stim_path, None, diags, st.lines if st else [])
