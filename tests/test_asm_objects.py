@@ -266,3 +266,23 @@ def test_well_formed_but_wrong_objects_are_rejected(good_object):
     obj.instrs[0].texts = ()
     with pytest.raises(ObjectError):
         decode(encode(obj), T)
+
+
+@pytest.mark.parametrize("output", ["x.mlo", "x.mlx"])
+def test_objects_never_store_an_absolute_source_path(tmp_path, output):
+    """Given absolutely (or as ../c.il), a source was stored with its absolute path: the same
+    source gave other bytes from another folder, and objdump --il-dir refused the object
+    (issue 21 item 15). Names are relative to the project, else the current folder."""
+    src = tmp_path / "c.il"
+    src.write_text((SAMPLES / "nc5" / "conveyor.il").read_text())
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    assert run_mlc("build", "c.il", "-o", output, cwd=tmp_path).code == 0
+    assert run_mlc("build", str(src), "-o", output, cwd=tmp_path / "a").code == 0
+    assert run_mlc("build", "../c.il", "-o", output, cwd=tmp_path / "b").code == 0
+    built = [(d / output).read_bytes() for d in (tmp_path, tmp_path / "a", tmp_path / "b")]
+    assert built[0] == built[1] == built[2]
+    assert str(tmp_path).encode() not in built[1]
+    r = run_mlc("objdump", output, "--il-dir", "il", cwd=tmp_path / "a")
+    assert r.code == 0, r.err
+    assert (tmp_path / "a" / "il" / "c.il").is_file()

@@ -131,7 +131,9 @@ def build_cmd(target_name, config_path, output, compile_only, listing_path, map_
         plan = _plan(sources, config, {f"{where}output" if where else "-o": output,
                                        f"{where}listing" if where else "--listing": listing_path,
                                        f"{where}map" if where else "--map": map_path})
-    root = str(config.root) if config.root else None
+    # objects name their sources relative to the project (else the current folder), never
+    # absolutely: the same source gives the same bytes from any folder (asm/encode.py)
+    root = str(config.root) if config.root else os.getcwd()
     # objects compile separately: a CALL into another module is the linker's to resolve
     separate = compile_only or output.lower().endswith(".mlo") or any(is_object(s) for s in sources)
     inputs = load_inputs(list(sources), target, config, root, separate)
