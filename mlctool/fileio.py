@@ -19,8 +19,10 @@ temporary file to write during a long run (the VCD), renamed with the others.
 
 from __future__ import annotations
 
+import errno
 import os
 import signal
+import stat
 import tempfile
 from collections.abc import Iterable
 from typing import IO
@@ -187,6 +189,23 @@ def _settle(tmp: str, path: str) -> None:
         os.chmod(tmp, 0o644)
     except OSError as e:
         raise _cannot_write(path, e.strerror or e) from e
+
+
+def open_input(path: str, mode: str = "rb", encoding: str | None = None) -> IO:
+    """An input file opened for reading; OSError for anything but a regular file (a FIFO or
+    a device would block the command forever or never end; a folder cannot be read)."""
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))  # a FIFO opens at once
+    try:
+        kind = os.fstat(fd).st_mode
+        if not stat.S_ISREG(kind):
+            raise OSError(errno.EISDIR if stat.S_ISDIR(kind) else errno.EINVAL,
+                          "Is a directory" if stat.S_ISDIR(kind) else
+                          "not a regular file (a pipe, FIFO, socket or device)")
+        os.set_blocking(fd, True)
+        return os.fdopen(fd, mode, encoding=encoding)
+    except BaseException:
+        os.close(fd)
+        raise
 
 
 def write_atomic(path: str, data: bytes | str) -> None:

@@ -27,6 +27,7 @@ import io
 import re
 
 from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.fileio import open_input
 from mlctool.syntax.operands import OperandSyntaxError, format_operand, parse_operand
 from mlctool.targets.model import Target
 
@@ -308,7 +309,7 @@ def import_file(path: str, target: Target, fmt: str | None = None) -> tuple[str 
 def read_export(path: str) -> tuple[str | None, list[Diagnostic]]:
     """The text of an export file, line ends normalised, or None and the reason."""
     try:
-        with open(path, "rb") as f:
+        with open_input(path) as f:
             data = f.read(64 * 1024 * 1024 + 1)
     except OSError as e:
         return None, [diag(path, Span.at(1), "E100", f"cannot read: {e.strerror or e}")]

@@ -61,3 +61,30 @@ def test_ctrl_c_exits_130_and_leaves_no_partial_output(tmp_path):
     assert "interrupted" in err and "Traceback" not in err
     assert (tmp_path / "w.vcd").read_text() == "older waveform\n"
     assert not [p for p in os.listdir(tmp_path) if p.startswith(".mlc-")]
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
+@pytest.mark.parametrize("command", [["check"], ["fmt"], ["ladder"], ["build", "-o", "x.mlx"], ["sim"],
+                                     ["import"], ["objdump"], ["sim", "c.il", "--stimulus"]],
+                         ids=lambda c: " ".join(c))
+def test_a_fifo_is_refused_not_read_forever(tmp_path, command):
+    """`mlc check` on a FIFO blocked forever (issue 21 item 14): anything but a regular file
+    is E100, exit 2. A subprocess, so a regression fails by its timeout instead of hanging."""
+    (tmp_path / "c.il").write_text("LD X0\nOUT Y0\nEND\n")
+    os.mkfifo(tmp_path / "f.il")
+    done = subprocess.run([*MLC_COMMAND, *command, "f.il"], cwd=tmp_path, capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 2, done.stderr
+    assert "E100" in done.stderr and "not a regular file" in done.stderr
+
+
+def test_mlc_toml_globs_stay_inside_the_project(tmp_path):
+    """`tests = ["/**"]` walked the whole disk; patterns leaving the project are refused."""
+    (tmp_path / "c.il").write_text("LD X0\nOUT Y0\nEND\n")
+    (tmp_path / "t.stim").write_text("0ms X0=1\n10ms expect Y0=1\n")
+    for pattern in ["/**", "/tmp/*.stim", "../*.stim", "tests/../../*.stim"]:
+        (tmp_path / "mlc.toml").write_text(f'sources = ["c.il"]\ntests = [{pattern!r}]\n'.replace("'", '"'))
+        r = run_mlc("test", cwd=tmp_path)
+        assert r.code == 2 and "E105" in r.err and "leaves the project" in r.err, (pattern, r.err)
+    (tmp_path / "mlc.toml").write_text('sources = ["c.il"]\ntests = ["**/*.stim"]\n')
+    assert run_mlc("test", cwd=tmp_path).code == 0

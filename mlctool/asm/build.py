@@ -15,6 +15,7 @@ from mlctool.asm.objfile import MAGIC, ObjectError, ObjectFile, decode, read_hea
 from mlctool.check import check_files
 from mlctool.config import Config
 from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.fileio import open_input
 from mlctool.program import Module
 from mlctool.targets import Target
 
@@ -44,7 +45,7 @@ def is_object(path: str) -> bool:
     if path.lower().endswith(OBJECT_SUFFIXES):
         return True
     try:
-        with open(path, "rb") as f:
+        with open_input(path) as f:
             return f.read(len(MAGIC)) == MAGIC
     except OSError:
         return False
@@ -53,7 +54,7 @@ def is_object(path: str) -> bool:
 def read_object(path: str, target: Target) -> tuple[ObjectFile | None, Diagnostic | None]:
     """Read and verify one object file; a bad file gives one diagnostic (E100, E501-E503)."""
     try:
-        with open(path, "rb") as f:
+        with open_input(path) as f:
             data = f.read()
     except OSError as e:
         return None, diag(path, Span.at(1), "E100", f"cannot read: {e.strerror or e}")
@@ -66,7 +67,7 @@ def read_object(path: str, target: Target) -> tuple[ObjectFile | None, Diagnosti
 def object_target(path: str) -> str | None:
     """The target an object file names, or None if it cannot be read as an object."""
     try:
-        with open(path, "rb") as f:
+        with open_input(path) as f:
             return read_header_target(f.read())
     except (OSError, ObjectError):
         return None

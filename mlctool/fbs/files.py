@@ -16,6 +16,7 @@ from mlctool.fbs.image import ImageError, parse_sr, read_image, to_csv, to_json
 from mlctool.fbs.lang import parse_program
 from mlctool.fbs.model import PosProgram, tables
 from mlctool.fbs.table import TableError, decode, encode, program_text
+from mlctool.fileio import open_input
 from mlctool.syntax.source import read_source
 
 IMAGE_SUFFIXES = (".json", ".csv")
@@ -66,7 +67,7 @@ def build_image(program: PosProgram, output: str, sr_text: str | None) -> str:
 def load_image(path: str) -> tuple[PosProgram | None, str, Diagnostic | None]:
     """Read and decode an image file -> (program, SR name, problem)."""
     try:
-        with open(path, encoding="utf-8-sig") as f:
+        with open_input(path, "r", encoding="utf-8-sig") as f:
             text = f.read(16 * 1024 * 1024)
     except (OSError, UnicodeDecodeError) as e:
         return None, "", diag(path, Span.at(1), "E100", f"cannot read: {getattr(e, 'strerror', None) or e}")
@@ -103,7 +104,7 @@ def table_preload(spec: str) -> tuple[tuple[str, int, list[int]] | None, list[Di
     sr_text, _, path = spec.rpartition("=")
     if is_image(path):
         try:
-            with open(path, encoding="utf-8-sig") as f:
+            with open_input(path, "r", encoding="utf-8-sig") as f:
                 words, sr_image = read_image(f.read(16 * 1024 * 1024))
         except (OSError, UnicodeDecodeError) as e:
             return None, [diag(path, Span.at(1), "E100", f"cannot read: {getattr(e, 'strerror', None) or e}")]

@@ -43,6 +43,13 @@ class Scenario:
         return self.result is not None and self.result.ok
 
 
+def _escapes(pattern: str) -> bool:
+    """A glob that could walk outside the project: absolute (`/**` walked the whole disk), on
+    another drive, or with a `..` part."""
+    parts = pattern.replace("\\", "/").split("/")
+    return os.path.isabs(pattern) or bool(os.path.splitdrive(pattern)[0]) or ".." in parts
+
+
 def discover(config: Config) -> tuple[list[str], list[str], list[Diagnostic]]:
     """(program sources, stimulus files, problems) named by the project file, relative to its folder."""
     where, at = config.locate()
@@ -53,6 +60,12 @@ def discover(config: Config) -> tuple[list[str], list[str], list[Diagnostic]]:
         problems.append(diag(where, at, "E105", "mlc.toml names no `sources` (the program to test)"))
     if not patterns:
         problems.append(diag(where, at, "E105", 'mlc.toml names no `tests` (e.g. tests = ["tests/*.stim"])'))
+    outside = [p for p in patterns if isinstance(p, str) and _escapes(p)]
+    for pat in outside:
+        problems.append(diag(*config.locate("tests"), "E105", f"`tests` pattern {pat!r} leaves the project "
+                             "folder: patterns are relative to mlc.toml, without `..` (docs/project.md)"))
+    if outside:
+        return list(sources), [], problems
     stims = sorted({p for pat in patterns for p in glob.glob(pat, recursive=True)})
     if patterns and not stims:
         problems.append(diag(*config.locate("tests"), "E105", f"no stimulus file matches {patterns}"))

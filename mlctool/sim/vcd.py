@@ -14,6 +14,7 @@ from typing import IO
 
 from vcd import VCDWriter
 
+from mlctool.fileio import open_input
 from mlctool.program import Image
 from mlctool.sim.run import RunResult
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
@@ -129,7 +130,7 @@ def gtkw_is_ours(path: str) -> bool:
     """True when `path` is missing or was written by mlc sim (its first line is GTKW_HEADER):
     mlc sim replaces only its own save file; a user's, with their own view, is kept."""
     try:
-        with open(path, "rb") as f:
+        with open_input(path) as f:
             first = f.readline(len(GTKW_HEADER) + 2)
     except FileNotFoundError:
         return True

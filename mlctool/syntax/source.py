@@ -6,6 +6,7 @@ import codecs
 from dataclasses import dataclass
 
 from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.fileio import open_input
 
 MAX_BYTES = 64 * 1024 * 1024
 MAX_LINES = 1_000_000
@@ -51,7 +52,7 @@ def decode(path: str, data: bytes) -> tuple[SourceText | None, list[Diagnostic]]
 
 def read_source(path: str) -> tuple[SourceText | None, list[Diagnostic]]:
     try:
-        with open(path, "rb") as f:
+        with open_input(path) as f:
             data = f.read(MAX_BYTES + 1)
     except OSError as e:
         return None, [diag(path, Span.at(1), "E100", f"cannot read: {e.strerror or e}")]
