@@ -14,7 +14,7 @@ import sys
 import click
 
 from mlctool import __version__
-from mlctool.cli.common import run_guarded
+from mlctool.cli.common import examples, run_guarded
 
 COMMAND_MODULES = {
     "build": "mlctool.cli.asm", "link": "mlctool.cli.asm", "objdump": "mlctool.cli.asm",
@@ -88,7 +88,11 @@ class LazyGroup(click.Group):
                 formatter.write_dl(rows)
 
 
-@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
+@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]}, epilog=examples(
+    "mlc check && mlc build && mlc test    # in a project folder (mlc.toml)",
+    "mlc sim prog.il --stimulus s.stim     # one program, one scenario",
+    "mlc explain W401                      # what a diagnostic means",
+))
 @click.version_option(__version__, prog_name="mlc")
 def main_group() -> None:
     """mlctool: check, build and simulate PLC instruction-list programs."""

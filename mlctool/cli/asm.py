@@ -28,6 +28,7 @@ from mlctool.asm.project import project_build
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     config_option,
+    examples,
     get_config,
     get_target,
     output_plan,
@@ -94,21 +95,29 @@ def _write_program(plan: Outputs, program: ObjectFile, target, out: str, listing
     plan.write(files)
 
 
-@main_group.command("build")
+@main_group.command("build", epilog=examples(
+    "mlc build                             # the project of mlc.toml",
+    "mlc build src/main.il src/lib.il -o build/program.mlx --map build/program.map",
+    "mlc build -c src/main.il src/lib.il -o objs/   # one object module per source",
+))
 @target_option
 @config_option
-@click.option("-o", "--output", default=None, help="program.mlx (link), module.mlo, or a folder with -c")
+@click.option("-o", "--output", default=None, metavar="FILE|DIR",
+              help="program.mlx (link), module.mlo, or a folder with -c")
 @click.option("-c", "compile_only", is_flag=True, help="write one object module (.mlo) per source")
 @click.option("--listing", "listing_path", default=None, metavar="FILE", help="write a listing")
 @click.option("--map", "map_path", default=None, metavar="FILE", help="write a link map (linking only)")
 @click.option("--sr", "sr", default=None, metavar="REG",
               help="FBs positioning table (.pos/.mpos): its start register SR (default R0)")
-@click.argument("sources", nargs=-1, type=click.Path())
+@click.argument("sources", nargs=-1, type=click.Path(), metavar="[FILE]...")
 def build_cmd(target_name, config_path, output, compile_only, listing_path, map_path, sr, sources):
     """Assemble sources into object modules (.mlo) or a linked program (.mlx).
 
-    With no SOURCES, builds the project described by mlc.toml (docs/project.md).
+    With no FILE, builds the project described by mlc.toml (docs/project.md).
     A positioning program (.pos/.mpos) builds into a register image (-o TABLE.json|.csv).
+
+    Exit 0: built; 1: errors in the sources or at link (nothing written); 2: usage error,
+    unreadable input or a bad object file.
     """
     config = get_config(config_path)
     if any(is_positioning_source(s) for s in sources):
@@ -214,15 +223,22 @@ def _object_target_name(path: str, explicit: str | None, config) -> str:
     return explicit or config.target or object_target(path) or "nc5"
 
 
-@main_group.command("link")
+@main_group.command("link", epilog=examples(
+    "mlc link objs/main.mlo objs/lib.mlo -o build/program.mlx",
+    "mlc link objs/main.mlo objs/lib.mlo -o build/program.mlx --map build/program.map --listing build/program.lst",
+))
 @target_option
 @config_option
-@click.option("-o", "--output", required=True, help="the linked program (.mlx)")
+@click.option("-o", "--output", required=True, metavar="FILE", help="the linked program (.mlx)")
 @click.option("--listing", "listing_path", default=None, metavar="FILE", help="write a listing")
 @click.option("--map", "map_path", default=None, metavar="FILE", help="write a link map")
-@click.argument("objects", nargs=-1, required=True, type=click.Path())
+@click.argument("objects", nargs=-1, required=True, type=click.Path(), metavar="FILE...")
 def link_cmd(target_name, config_path, output, listing_path, map_path, objects):
-    """Link object modules (.mlo): one main module and its subroutine libraries."""
+    """Link object modules (.mlo): one main module and its subroutine libraries.
+
+    Exit 0: linked; 1: link errors (nothing written); 2: usage error, unreadable input or a
+    bad object file.
+    """
     config = get_config(config_path)
     target = with_capacity(get_target(target_name or _object_target_name(objects[0], None, config), config),
                            config)
@@ -250,7 +266,11 @@ def link_cmd(target_name, config_path, output, listing_path, map_path, objects):
     _link_and_write(plan, inputs, target, output, listing_path, map_path)
 
 
-@main_group.command("objdump")
+@main_group.command("objdump", epilog=examples(
+    "mlc objdump build/program.mlx",
+    "mlc objdump --json build/program.mlx",
+    "mlc objdump build/program.mlx --il-dir rebuilt/   # IL that rebuilds the same bytes",
+))
 @target_option
 @click.option("--json", "as_json", is_flag=True, help="machine-readable JSON")
 @click.option("--il", "as_il", is_flag=True, help="IL source that assembles back to the same bytes")
@@ -259,7 +279,10 @@ def link_cmd(target_name, config_path, output, listing_path, map_path, objects):
 @click.argument("file", type=click.Path())
 def objdump_cmd(target_name, as_json, as_il, il_dir, file):
     """Show an object module (.mlo) or linked program (.mlx), or an FBs positioning
-    register image (.json/.csv) as program text."""
+    register image (.json/.csv) as program text.
+
+    Exit 0: shown; 2: usage error, unreadable input or a bad object file.
+    """
     if is_image(file):
         program, sr, problem = load_image(file)
         if problem is not None:

@@ -11,6 +11,7 @@ from mlctool.check.misuse import likely_targets, wrong_target_note
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     config_option,
+    examples,
     expand_sources,
     get_config,
     get_target,
@@ -23,7 +24,11 @@ from mlctool.report import SHOW_PER_CODE, render_text, summary_line, to_json
 from mlctool.targets import available_targets, load_target
 
 
-@main_group.command("check")
+@main_group.command("check", epilog=examples(
+    "mlc check                             # the project of the nearest mlc.toml",
+    "mlc check src/main.il src/lib.il      # these files, as one program",
+    "mlc check --format sarif src > mlc.sarif",
+))
 @target_option
 @config_option
 @click.option("--format", "fmt", type=click.Choice(["text", "json", "sarif"]), default="text", show_default=True)
@@ -87,10 +92,16 @@ def _project_sources(config) -> list[str]:
     return project_build(config).sources
 
 
-@main_group.command("explain")
-@click.argument("code")
+@main_group.command("explain", epilog=examples(
+    "mlc explain W401",
+    "mlc explain e304                      # codes are not case sensitive",
+))
+@click.argument("code", metavar="CODE")
 def explain_cmd(code):
-    """Print the documentation of a diagnostic code (e.g. mlc explain W401)."""
+    """Print the documentation of a diagnostic code.
+
+    Exit 0: printed; 2: no such code.
+    """
     c = CODES.get(code.upper())
     if c is None:
         from mlctool.suggest import did_you_mean
@@ -100,7 +111,10 @@ def explain_cmd(code):
     click.echo(f"{c.code} ({c.severity}): {c.summary}\n\n{c.doc.strip()}")
 
 
-@main_group.command("targets")
+@main_group.command("targets", epilog=examples(
+    "mlc targets",
+    "mlc check --target vs --model VS1 prog.il   # then check for one of them",
+))
 def targets_cmd():
     """List the targets and the manual each one follows."""
     for name in available_targets():

@@ -54,6 +54,12 @@ def run_guarded(group: click.Group, argv: list[str] | None) -> int:
         return 3
 
 
+def examples(*lines: str) -> str:
+    """A command's help epilog: "Examples:" and command lines kept as written (the `\\b` line
+    stops click from rewrapping them). tests/test_docs_commands.py runs them."""
+    return "\b\nExamples:\n" + "\n".join("  " + line for line in lines)
+
+
 def get_config(explicit: str | None = None) -> Config:
     return load_config(explicit=explicit)
 

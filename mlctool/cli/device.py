@@ -14,6 +14,7 @@ import sys
 import click
 
 from mlctool.cli import main_group
+from mlctool.cli.common import examples
 from mlctool.diagnostics import MlcError, Span, diag
 from mlctool.sim.stimulus import StimError, parse_time
 
@@ -45,12 +46,19 @@ class FiniteRange(click.FloatRange):
         return number
 
 
-@main_group.group("device")
+@main_group.group("device", epilog=examples(
+    "mlc device serve xc100 --tcp 127.0.0.1:5020",
+    "mlc device serve xc100 --serial /dev/ttyUSB0 --rtu --station 2",
+))
 def device_group() -> None:
     """Device models as real devices on a Modbus link."""
 
 
-@device_group.command("serve")
+@device_group.command("serve", epilog=examples(
+    "mlc device serve xc100 --tcp 127.0.0.1:5020",
+    "mlc device serve xc100 --serial /dev/ttyUSB0 --rtu --station 2 --baud 38400",
+    "mlc device serve xc100 --tcp 127.0.0.1:5020 --duration 10s   # stops by itself",
+))
 @click.argument("kind", type=click.Choice(["xc100"]))
 @click.option("--tcp", metavar="HOST:PORT", help="serve over TCP on loopback")
 @click.option("--serial", metavar="PATH", help="serve on a serial device (or pseudo-terminal)")

@@ -8,20 +8,24 @@ import sys
 import click
 
 from mlctool.cli import main_group
-from mlctool.cli.common import config_option, get_config, get_target, show, target_option
+from mlctool.cli.common import config_option, examples, get_config, get_target, show, target_option
 from mlctool.diagnostics import unreadable
 from mlctool.fileio import Outputs, write_atomic
 from mlctool.syntax.layout import FormatOptions, format_source
 from mlctool.syntax.source import read_source
 
 
-@main_group.command("fmt")
+@main_group.command("fmt", epilog=examples(
+    "mlc fmt src/*.il",
+    "mlc fmt --check src/*.il              # CI: a diff and exit 1, nothing changed",
+    "mlc fmt --steps renumber src/main.il  # leading step numbers, recomputed",
+))
 @target_option
 @config_option
 @click.option("--check", "check_only", is_flag=True, help="change nothing; exit 1 and show a diff if a file would change")
 @click.option("--steps", type=click.Choice(["drop", "keep", "renumber"]), default="drop", show_default=True,
               help="leading step numbers: drop them, keep them, or write the computed addresses")
-@click.argument("files", nargs=-1, required=True, type=click.Path())
+@click.argument("files", nargs=-1, required=True, type=click.Path(), metavar="FILE...")
 def fmt_cmd(target_name, config_path, check_only, steps, files):
     """Rewrite IL files in the canonical layout (idempotent; code unchanged).
 

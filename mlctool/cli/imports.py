@@ -9,6 +9,7 @@ import click
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     config_option,
+    examples,
     get_config,
     get_target,
     output_plan,
@@ -19,7 +20,10 @@ from mlctool.diagnostics import unreadable
 from mlctool.imports import DIALECT_TARGET, FORMATS, detect, import_text, read_export
 
 
-@main_group.command("import")
+@main_group.command("import", epilog=examples(
+    "mlc import --target vs export.csv -o prog.il      # the format is recognised",
+    "mlc import --target vs --from gxworks2 export.csv -o prog.il",
+))
 @target_option
 @config_option
 @click.option("--from", "fmt", type=click.Choice(FORMATS), default=None,

@@ -9,6 +9,7 @@ import click
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     config_option,
+    examples,
     get_config,
     get_target,
     output_plan,
@@ -22,16 +23,20 @@ from mlctool.report import summary_line
 WRITERS = {".svg": "svg", ".html": "html", ".htm": "html"}
 
 
-@main_group.command("ladder")
+@main_group.command("ladder", epilog=examples(
+    "mlc ladder prog.il                    # on the terminal",
+    "mlc ladder src/main.il src/lib.il -o program.html   # a main program and its library",
+    "mlc ladder prog.il -o prog.svg",
+))
 @target_option
 @config_option
 @click.option("-o", "--output", "out_path", default=None, type=click.Path(dir_okay=False),
               help="write OUT.svg (rungs stacked) or OUT.html (self-contained page)")
 @click.option("--term", is_flag=True, help="print the ladder on the terminal (default without -o)")
 @click.option("--title", default="", help="title of the HTML page")
-@click.argument("files", nargs=-1, required=True, type=click.Path())
+@click.argument("files", nargs=-1, required=True, type=click.Path(), metavar="FILE...")
 def ladder_cmd(target_name, config_path, out_path, term, title, files):
-    """Draw FILES as ladder diagrams, one rung per IL rung, in program order.
+    """Draw the FILEs as ladder diagrams, one rung per IL rung, in program order.
 
     The sources must pass `mlc check` without errors. Exit 0: drawn; 1: the sources have
     errors (shown as by mlc check, nothing written); 2: usage error or unreadable input.

@@ -16,6 +16,7 @@ from mlctool.asm import program_from_paths
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     config_option,
+    examples,
     get_config,
     get_target,
     output_plan,
@@ -55,7 +56,11 @@ def _errors(diags: list[Diagnostic]) -> bool:
     return any(d.severity == "error" for d in diags)
 
 
-@main_group.command("sim")
+@main_group.command("sim", epilog=examples(
+    "mlc sim build/program.mlx --stimulus tests/start.stim --vcd out.vcd",
+    "mlc sim prog.il --stimulus s.stim --report run.html   # the ladder lit scan by scan",
+    "mlc sim src/main.il src/lib.il --stimulus 'tests/*.stim' -j 2 --junit junit.xml",
+))
 @target_option
 @config_option
 @click.option("--stimulus", "stim_path", default=None, type=click.Path(dir_okay=False),
@@ -83,10 +88,14 @@ def _errors(diags: list[Diagnostic]) -> bool:
 @click.option("--pulse-window", "pulse_window", default=None, metavar="FROM..TO",
               help="trace the pulse output pins as pulse trains between FROM and TO in the VCD "
                    f"(at most {EDGE_LIMIT} edges; FBs: docs/fbs.md)")
-@click.argument("program", nargs=-1, required=True, type=click.Path())
+@click.argument("program", nargs=-1, required=True, type=click.Path(), metavar="FILE...")
 def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_path, watch,
             as_json, junit_path, watchdog, report_path, engine, jobs, tables, pulse_window, program):
-    """Simulate PROGRAM (sources, objects or a linked image) on virtual time."""
+    """Simulate the program of FILE... (sources, objects or a linked image) on virtual time.
+
+    Exit 0: every expectation held; 1: an expectation failed, the program faulted or raised
+    an alarm no expectation names; 2: usage error or unreadable input.
+    """
     if until is not None and scans is not None:
         raise click.UsageError("give --until or --scans, not both")
     window = _window_option(pulse_window, vcd_path, stim_path)

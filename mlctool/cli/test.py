@@ -10,7 +10,7 @@ import click
 
 from mlctool.asm import program_from_paths
 from mlctool.cli import main_group
-from mlctool.cli.common import get_target, output_plan, show, target_option
+from mlctool.cli.common import examples, get_target, output_plan, show, target_option
 from mlctool.config import load_config
 from mlctool.diagnostics import MlcError, Span, diag
 from mlctool.sim import coverage as cov
@@ -38,17 +38,21 @@ def _enter_project(path: str | None):
     return load_config(explicit="mlc.toml")
 
 
-@main_group.command("test")
+@main_group.command("test", epilog=examples(
+    "mlc test                              # the project of the nearest mlc.toml",
+    "mlc test --coverage --junit junit.xml -j 2",
+    "mlc test samples/project",
+))
 @target_option
 @click.option("--jobs", "-j", type=click.IntRange(1, 64), default=1, show_default=True,
               help="run scenarios in N worker processes")
-@click.option("--junit", "junit_path", default=None, help="write JUnit XML (path relative to the project)")
+@click.option("--junit", "junit_path", default=None, metavar="FILE", help="write JUnit XML (path relative to the project)")
 @click.option("--coverage", "with_coverage", is_flag=True,
               help="record coverage; writes coverage.txt, coverage.json and coverage.xml (Cobertura)")
-@click.option("--coverage-dir", default=".", show_default=True, help="folder for the coverage reports")
-@click.argument("path", required=False, type=click.Path())
+@click.option("--coverage-dir", default=".", show_default=True, metavar="DIR", help="folder for the coverage reports")
+@click.argument("path", required=False, type=click.Path(), metavar="[DIR]")
 def test_cmd(target_name, jobs, junit_path, with_coverage, coverage_dir, path):
-    """Run the stimulus files of the project at PATH (default: the nearest mlc.toml at or above
+    """Run the stimulus files of the project in DIR (default: the nearest mlc.toml at or above
     the current folder).
 
     mlc.toml names the program (`sources`) and the scenarios (`tests`, globs). Exit 0 when
