@@ -33,16 +33,16 @@ COMMAND_SUMMARIES = {
     "build": "Assemble sources into object modules (.mlo) or a linked program (.mlx).",
     "check": "Check instruction-list sources against the target's manual.",
     "device": "Device models as real devices on a Modbus link.",
-    "explain": "Print the documentation of a diagnostic code (e.g. mlc explain W401).",
+    "explain": "Print the documentation of a diagnostic code.",
     "fmt": "Rewrite IL files in the canonical layout (idempotent; code unchanged).",
     "import": "Convert an editor's export to plain IL for the target (docs/vs.md, Imports).",
-    "ladder": "Draw FILES as ladder diagrams, one rung per IL rung, in program order.",
+    "ladder": "Draw the FILEs as ladder diagrams, one rung per IL rung, in program order.",
     "link": "Link object modules (.mlo): one main module and its subroutine libraries.",
     "objdump": "Show an object module (.mlo) or linked program (.mlx), or an FBs positioning "
                "register image (.json/.csv) as program text.",
-    "sim": "Simulate PROGRAM (sources, objects or a linked image) on virtual time.",
+    "sim": "Simulate the program of FILE... (sources, objects or a linked image) on virtual time.",
     "targets": "List the targets and the manual each one follows.",
-    "test": "Run the stimulus files of the project at PATH (default: the nearest mlc.toml at or above "
+    "test": "Run the stimulus files of the project in DIR (default: the nearest mlc.toml at or above "
             "the current folder).",
 }
 
