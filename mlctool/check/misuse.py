@@ -51,7 +51,7 @@ def not_a_source_by_content(src: SourceText) -> Diagnostic | None:
 # errors that say "this target has no such instruction, device or syntax"
 _TARGET_SHAPED = frozenset({"E103", "E105", "E201", "E202", "E203", "E204", "E205", "E209", "E211", "E215"})
 MIN_ERRORS = 5  # fewer: a few typos, not a program for another target
-MAX_LINES = 50_000  # beyond: checking again on each target costs more than the hint is worth
+MAX_LINES = 10_000  # beyond: checking again on each target costs more than the hint is worth
 
 
 def likely_targets(sources: list[SourceText], target_name: str, config: Config | None,
@@ -65,14 +65,31 @@ def likely_targets(sources: list[SourceText], target_name: str, config: Config |
     from mlctool.targets import available_targets, load_target
 
     errors = sum(d.severity == "error" for d in diags)
+    unknown = _unknown_mnemonics(sources, diags)
     found: dict[str, int] = {}
     for name in available_targets():
-        if name != target_name:
-            other = check_texts(sources, load_target(name), config).errors
-            if other <= errors // 10:  # "clean or nearly": a tenth of the errors at most
-                found[name] = other
+        if name == target_name:
+            continue
+        t = load_target(name)
+        # cheap first: most of the unknown mnemonics must be the other target's (a file of
+        # garbage is not checked again on every target)
+        if unknown and 2 * sum(m in t.instructions or m in t.variants for m in unknown) < len(unknown):
+            continue
+        other = check_texts(sources, t, config).errors
+        if other <= errors // 10:  # "clean or nearly": a tenth of the errors at most
+            found[name] = other
     best = min(found.values(), default=0)
     return sorted(n for n, e in found.items() if e == best), best
+
+
+def _unknown_mnemonics(sources: list[SourceText], diags: list[Diagnostic]) -> list[str]:
+    """The mnemonics of the E201 diagnostics, upper case, as written at their spans."""
+    lines = {s.path: s.text.split("\n") for s in sources}
+    out = []
+    for d in diags:
+        if d.code == "E201" and d.file in lines and d.span.line <= len(lines[d.file]):
+            out.append(lines[d.file][d.span.line - 1][d.span.col - 1:d.span.end_col - 1].upper())
+    return out
 
 
 def wrong_target_note(candidates: list[str], their_errors: int, target_name: str, errors: int) -> str:
