@@ -172,9 +172,9 @@ def test_cosimulation_sample_passes(mlc, tmp_path):
     r = mlc("sim", "samples/nc5/xc100_points.il", "--stimulus", "samples/nc5/xc100_points.stim",
             "--vcd", str(vcd), cwd=ROOT)
     assert r.code == 0, r.err
-    assert "9 passed, 0 failed" in r.out
+    assert "10 passed, 0 failed" in r.out
     text = vcd.read_text()
-    assert "D200_d" in text  # the cylinder position (0.01 mm) is a waveform
+    assert "XC1.pos" in text  # the cylinder position (0.01 mm) is a waveform, the model's own
     assert f"b{12950:b} " in text  # 12950 = 129.50 mm, the end of P3
 
 

@@ -152,7 +152,7 @@ def _simulate(plan: Outputs, keep_gtkw, target_name, config, stim_path, scan_us,
     st, stim_diags = (load_stimulus(stim_path, target) if stim_path
                       else (Stimulus("<none>", []), []))
     watch_views, watch_diags = _watch(watch, target)
-    models, model_diags = build_models(st, target) if st is not None else ([], [])
+    models, model_diags = build_models(st, target, watch_views) if st is not None else ([], [])
     bad = stim_diags + watch_diags + model_diags
     if st is None or _errors(bad):
         show(bad, {stim_path: st.lines} if st is not None else {})

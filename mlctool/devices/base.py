@@ -7,6 +7,7 @@ wall clock. A stimulus file attaches one with `model KIND key=value ...` (docs/s
 
 from __future__ import annotations
 
+from mlctool.sim.signals import NAMES, SIGNAL
 from mlctool.sim.state import DeviceView, Machine, NameError_, parse_device_name
 from mlctool.sim.stimulus import StimError, parse_time
 from mlctool.targets.model import Target
@@ -31,6 +32,12 @@ class ModelIO:
     def set_torque_reached(self, station: int, reached: bool) -> None:
         self._m.servo_at_limit[station] = 1 if reached else 0
 
+    def publish(self, model: str, values: dict[str, int]) -> None:
+        """A model's signals (sim/signals.py) as of this step: `XC1.pos` and the like."""
+        kind = SIGNAL + model
+        for signal, value in values.items():
+            self._m.signals[(kind, NAMES.index(signal))] = int(value)
+
     def serial_port(self, name: str):
         """The PLC's serial port `name` (CP1...), for models on a Modbus link (sim/seriallink.py)."""
         from mlctool.sim.seriallink import port  # only models on a link need it
@@ -43,6 +50,7 @@ class DeviceModel:
     ParamError naming the parameter) and implement `step`."""
 
     kind = ""
+    name = ""  # set by models that publish signals (sim/signals.py): `XC1` of `XC1.pos`
 
     def __init__(self, params: dict[str, str], target: Target):
         self.params = params

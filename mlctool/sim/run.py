@@ -9,13 +9,13 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 from mlctool.devices import MODELS, DeviceModel, ModelIO, ParamError
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image
-from mlctool.sim import seriallink
+from mlctool.sim import seriallink, signals
 from mlctool.sim.decode import Program, program_devices
 from mlctool.sim.engine import scanner
 from mlctool.sim.extension import extension
@@ -23,6 +23,7 @@ from mlctool.sim.fx.interrupts import Interrupts
 from mlctool.sim.pin_window import PinWindow
 from mlctool.sim.pulses import Quadrature, Train, add_quadrature, add_train, drive_inputs
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, load_program
+from mlctool.sim.signals import SIGNAL
 from mlctool.sim.state import DeviceView, Machine
 from mlctool.sim.stimulus import Check, Event, Stimulus
 from mlctool.targets.model import Target
@@ -107,8 +108,9 @@ class RunResult:
                 and all(a.expected for a in self.alarms))
 
 
-def build_models(st: Stimulus, target: Target) -> tuple[list[DeviceModel], list[Diagnostic]]:
-    models, diags = [], []
+def build_models(st: Stimulus, target: Target, watch: Sequence[DeviceView] = ()
+                 ) -> tuple[list[DeviceModel], list[Diagnostic]]:
+    models, diags, built = [], [], []
     for spec in st.models:
         cls = MODELS.get(spec.kind)
         if cls is None:
@@ -117,10 +119,52 @@ def build_models(st: Stimulus, target: Target) -> tuple[list[DeviceModel], list[
             continue
         try:
             models.append(cls({k: v for k, (v, _) in spec.params.items()}, target))
+            built.append(spec)
         except ParamError as e:
             col = spec.params.get(e.key, ("", spec.col))[1]
             diags.append(diag(st.path, Span.at(spec.line, col, len(e.key)), e.code, e.message))
-    return models, diags
+    return models, diags + _signal_diags(st, list(zip(built, models)), watch)
+
+
+def _signal_diags(st: Stimulus, models: list[tuple[object, DeviceModel]],
+                  watch: Sequence[DeviceView]) -> list[Diagnostic]:
+    """Every model signal named (`XC1.pos`) belongs to a model of that name that has it; two
+    models never share a name."""
+    diags, owners = [], {}
+    counts: dict[str, int] = {}
+    for _spec, model in models:
+        if model.kind in signals.DEFAULT_PREFIX:
+            counts[model.kind] = counts.get(model.kind, 0) + 1
+            if not model.name:
+                model.name = f"{signals.DEFAULT_PREFIX[model.kind]}{counts[model.kind]}"
+    for spec, model in models:
+        if not model.name:
+            continue
+        if model.name in owners:
+            col = spec.params.get("name", ("", spec.col))[1]
+            diags.append(diag(st.path, Span.at(spec.line, col), "E601",
+                              f"two models are named {model.name}: give each its own name=..."))
+        owners[model.name] = model
+    places = [(v, st.path, e.line, e.col) for e in st.events
+              for v in [c.view for c in e.checks] + [v for v, _ in e.assigns]]
+    places += [(v, "<--watch>", 1, 1) for v in watch]
+    seen = set()
+    for view, path, line, col in places:
+        if not view.kind.startswith(SIGNAL) or view in seen:
+            continue
+        seen.add(view)
+        model = owners.get(signals.model_of(view.kind))
+        name = signals.signal_of(view.number)
+        if model is None:
+            known = ", ".join(sorted(owners)) or "none"
+            diags.append(diag(path, Span.at(line, col), "E602",
+                              f"{view.name}: no model named {signals.model_of(view.kind)} "
+                              f"(models with signals: {known})"))
+        elif name not in signals.KINDS.get(model.kind, {}):
+            diags.append(diag(path, Span.at(line, col), "E602",
+                              f"{view.name}: model {model.kind} has no signal {name!r}; signals: "
+                              f"{', '.join(signals.KINDS.get(model.kind, {}))}"))
+    return diags
 
 
 def plan_scans(st: Stimulus, period_us: int, until_us: int | None, scans: int | None) -> int:

@@ -11,6 +11,8 @@ import re
 import struct
 from dataclasses import dataclass
 
+from mlctool.sim import signals
+from mlctool.sim.signals import SIGNAL
 from mlctool.sim.unit_words import UnitWords, unit_word_arrays
 from mlctool.syntax.operands import device_number
 from mlctool.targets.model import Target
@@ -119,6 +121,9 @@ class Machine:
         # peer stations on the serial ports (sim/peers.py, VS LINK/CPUL): (port, station) ->
         # (kind, number) -> raw value; other PLCs, so a power cycle of this one keeps them
         self.peers: dict[tuple[int, int], dict[tuple[str, int], int]] = {}
+        # model-owned signals (sim/signals.py, `XC1.pos`): (kind "@XC1", signal index) -> value,
+        # published by the models each step
+        self.signals: dict[tuple[str, int], int] = {}
         self.pin_window = None  # sim/pin_window.py PinWindow: pulse pins inside a window (kept over power)
         self.image = None  # the linked program (Image): data kept beside the code (.table rows)
         self.scans_done = 0  # scans completed since power-on (first-scan relays)  # 1 ms timers skipped by CJ: contact held until OUT runs
@@ -230,6 +235,8 @@ class DeviceView:
 
     @property
     def name(self) -> str:
+        if self.kind.startswith(SIGNAL):  # XC1.pos
+            return signals.name_of(self.kind, self.number)
         if self.kind == BFM:  # BFM2#5, BFM2#5:d
             slot, reg = divmod(self.number, BFM_SLOT)
             return f"BFM{slot}#{reg}" + ("" if self.view == "w" else f":{self.view}")
@@ -265,6 +272,8 @@ class DeviceView:
     # -- access
     def read(self, m: Machine) -> int | float:
         k, n, v = self.kind, self.number, self.view
+        if k.startswith(SIGNAL):
+            return m.signals.get((k, n), 0)
         if k.startswith(PEER):
             from mlctool.sim.peers import read_view
             return read_view(m, self)
@@ -293,6 +302,9 @@ class DeviceView:
 
     def write(self, m: Machine, value: int | float) -> None:
         k, n, v = self.kind, self.number, self.view
+        if k.startswith(SIGNAL):  # only models publish (the stimulus refuses to set them)
+            m.signals[(k, n)] = int(value)
+            return
         if k.startswith(PEER):
             from mlctool.sim.peers import write_view
             write_view(m, self, value)
@@ -404,6 +416,8 @@ def parse_device_name(text: str, target: Target) -> DeviceView:
     if re.match(PEER + r"[0-9]+#", text.strip().upper()):
         from mlctool.sim.peers import parse_name
         return parse_name(text, target)
+    if signals.looks_like(text):
+        return signals.parse(text)
     m = _NAME.fullmatch(text.strip().upper())
     if not m:
         raise NameError_(f"{text!r} is not a device name (e.g. X0, T0:w, D0:d, K4M0)")

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.sim.signals import SIGNAL
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name, to_f32
 from mlctool.syntax.source import read_source
 from mlctool.targets.model import Target
@@ -304,6 +305,9 @@ class _Parser:
                                     "power-cycle" + hint, off + k)
                 name, value = t.split("=", 1)
                 view = self.view(name, off + k)
+                if view.kind.startswith(SIGNAL):
+                    raise StimError(f"{name}: a model signal is the device's own state: expect "
+                                    "it, it cannot be set or forced", off + k, "E602")
                 ev.assigns.append((view, self.at(off + k, lambda v=value, w=view: parse_value(v, w))))
         self.st.events.append(ev)
 

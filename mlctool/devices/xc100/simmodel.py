@@ -1,15 +1,17 @@
 """The XC100 as an `mlc sim` device model: CN-4 wired to PLC outputs and inputs.
 
     model xc100 in1=Y0 in2=Y1 ... out1=X0 out2=X1 ... [p1=ABS:100.00:50 ...] [r0703=5 ...]
-                [lead=10] [stroke=300] [start=50] [work=MM] [emg=Y20] [mirror=D200]
+                [lead=10] [stroke=300] [start=50] [work=MM] [emg=Y20] [name=XC1] [mirror=D200]
 
 `inN` wires CN-4 input N (IN1-IN14) to a PLC output; `outN` wires output N (OUT1-OUT10) to a
 PLC input. What each pin means is the XC100's input/output assignment (parameters 0600H-0714H,
 defaults of manual 3.8); `rHHHH=V` sets parameter HHHH (hex) before power-up, e.g. r0703=5
 puts MOVE on OUT5. `pN=MODE:POS[:SPEED[:TORQUE[:ACC[:DEC[:WAIT[:NEXT]]]]]]` stores point N
-(0-127; POS in mm, modes INC ABS ORG +TSL -TSL INC-R ABS-R INC-T ABS-T). `mirror=Dn` writes
-the device's state into Dn..Dn+5 every scan (test instrumentation): Dn:d = position in
-0.01 mm, Dn+2 ActionStatus, Dn+3 AlarmStatus, Dn+4 ErrorStatus, Dn+5 StepNo (1000H-100EH).
+(0-127; POS in mm, modes INC ABS ORG +TSL -TSL INC-R ABS-R INC-T ABS-T; the 4.1 screen's
+ranges). The model publishes its signals as `NAME.pos`, `NAME.torque` ... (`name=`, default
+XC1, XC2 ... in stimulus order; sim/signals.py) for expectations, --watch, JSON and the VCD.
+`mirror=Dn`, the older form, writes Dn:d = position in 0.01 mm, Dn+2 ActionStatus, Dn+3
+AlarmStatus, Dn+4 ErrorStatus, Dn+5 StepNo into PLC memory every scan.
 `link=CPn station=N [baud=] [protocol=rtu|ascii] [reply=TIME] [timeout=TIME]` puts it on the
 PLC's RS-485 port for the VS MBUS instruction (sim/seriallink.py, docs/xc100.md).
 """
@@ -25,6 +27,8 @@ from mlctool.devices.xc100.modbus import handle_pdu
 from mlctool.devices.xc100.registers import line_settings_refused
 from mlctool.devices.xc100.tables import tables
 from mlctool.sim.seriallink import PORT_NAMES, LineSettings
+from mlctool.sim.signals import KINDS, MODEL_NAME
+from mlctool.sim.signals import parse as parse_signal
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
 from mlctool.targets.model import Target
 
@@ -100,6 +104,7 @@ class XC100Model(DeviceModel):
                 points[n] = parse_point(params[key], c.pulses_per_mm(dev))
             except ValueError as e:
                 raise ParamError(key, f"{key}: {e}") from None
+        self.name = self._name()
         self.mirror = self._mirror() if "mirror" in params else []
         self.link = self._link()
         self.check_unused()
@@ -139,6 +144,17 @@ class XC100Model(DeviceModel):
         if not p.lo <= v <= p.hi:
             raise ParamError(key, f"{key} ({p.name}, {p.section}) takes {p.lo}..{p.hi}, not {v}")
         return v
+
+    def _name(self) -> str:
+        """name=XC1: the model's signals are XC1.pos, XC1.alarm ... (sim/signals.py); without
+        it the n-th xc100 of the stimulus is XCn (run.build_models)."""
+        if "name" not in self.params:
+            return ""
+        text = self._param("name", None)
+        if not MODEL_NAME.fullmatch(text):
+            raise ParamError("name", f"name takes a letter then letters, digits or _ (e.g. XC1), "
+                                     f"not {text!r}")
+        return text.upper()
 
     def _mirror(self) -> list[DeviceView]:
         base = self.device("mirror")
@@ -184,8 +200,10 @@ class XC100Model(DeviceModel):
 
     # -- simulation
     def devices(self) -> list[DeviceView]:
+        """The wired pins and every signal of the model (so the VCD shows the cylinder)."""
         return list(self.ins.values()) + list(self.outs.values()) + \
-            ([self.emg] if self.emg else []) + self.mirror
+            ([self.emg] if self.emg else []) + self.mirror + \
+            [parse_signal(f"{self.name}.{s}") for s in KINDS["xc100"] if self.name]
 
     def step(self, io: ModelIO, t_us: int, period_us: int) -> None:
         dev = self.dev
@@ -200,6 +218,8 @@ class XC100Model(DeviceModel):
         bits = c.output_pins(dev)
         for n, view in self.outs.items():
             io.set(view, bits >> (n - 1) & 1)
+        if self.name:  # named by run.build_models when not by name=
+            io.publish(self.name, signal_values(dev))
         if self.mirror:
             pos = round(dev.act / c.pulses_per_mm(dev) * 100)
             values = [pos, 1 if dev.motion else dev.action, dev.alarm, dev.error, dev.step_no]
@@ -226,6 +246,20 @@ class XC100Model(DeviceModel):
             reply = handle_pdu(dev, self.link.station, unit, pdu)
             if reply is not None:
                 port.answer(ex, me, framer.encode(reply, unit, 0), self.link.reply_us)
+
+
+def signal_values(dev: c.Xc100) -> dict[str, int]:
+    """The model's signals (sim/signals.py KINDS["xc100"]) from its state."""
+    mm = c.pulses_per_mm(dev)
+    m = dev.motion
+    limit = min(m.torque, 1000) if m is not None else (dev.push_current if dev.torque_reached else 0)
+    return {
+        "pos": round(dev.act / mm * 100), "cmd": round(dev.cmd / mm * 100),
+        "speed": round(dev.vel / mm * 100), "action": 1 if m is not None else dev.action,
+        "alarm": dev.alarm, "error": dev.error, "step": dev.step_no, "torque": dev.current,
+        "limit": limit if dev.servo else 0, "servo": int(dev.servo), "homed": int(dev.homed),
+        "inp": int(c.output_signals(dev)["INP"]), "pushing": int(dev.torque_reached),
+    }
 
 
 class Link(NamedTuple):

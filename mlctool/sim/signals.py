@@ -1,0 +1,68 @@
+"""Model-owned signals: what a device model shows by name, `XC1.pos`, `XC1.alarm`, for
+stimulus expectations, `--watch`, JSON and the VCD (docs/stimulus.md "Model signals").
+
+A model line names its model (`model xc100 name=XC1 ...`, default XC1); every step the model
+publishes its signals into Machine.signals, and a DeviceView of kind SIGNAL + NAME reads
+them. They are the device's state as the device knows it (not PLC memory): the program
+cannot see them, the stimulus cannot set them. The signal names of each model kind are
+listed here, so the scan side never imports the device models.
+"""
+
+from __future__ import annotations
+
+import re
+
+SIGNAL = "@"  # DeviceView kind prefix: "@XC1" with number = index into NAMES
+
+# model kind -> signal -> (view, meaning); views as DeviceView's: bit, w (16-bit), d (32-bit)
+KINDS: dict[str, dict[str, tuple[str, str]]] = {
+    "xc100": {
+        "pos": ("d", "actual position (encoder), 0.01 mm from the origin (1008H/100AH in mm)"),
+        "cmd": ("d", "command position, 0.01 mm"),
+        "speed": ("d", "actual speed, 0.01 mm/s (signed)"),
+        "action": ("w", "ActionStatus 1000H: 0 stopped, 1 moving, 2 abnormal stop"),
+        "alarm": ("w", "AlarmStatus 1005H (10.2); 0 = none"),
+        "error": ("w", "ErrorStatus 100DH (10.3); 0 = none"),
+        "step": ("w", "StepNo 100EH: the running (or last) point, -1 none"),
+        "torque": ("w", "motor torque (current) in 0.1 % of rated, as MonCurrent 1007H: "
+                        "during a push the pushing torque"),
+        "limit": ("w", "torque limit in force, 0.1 %: the point's (9014H), the homing one "
+                       "(OrgTrqLimit 0907H) or the push torques (0400H/0401H); 0 at rest"),
+        "servo": ("bit", "servo ON (100CH)"),
+        "homed": ("bit", "origin return complete"),
+        "inp": ("bit", "in position (1001H)"),
+        "pushing": ("bit", "torque limit reached (1004H TrqLmtStatus, TRQ_LMT)"),
+    },
+}
+DEFAULT_PREFIX = {"xc100": "XC"}  # an unnamed model is XC1, XC2 ... in stimulus order
+NAMES: tuple[str, ...] = tuple(sorted({s for table in KINDS.values() for s in table}))
+VIEWS: dict[str, str] = {s: v for table in KINDS.values() for s, (v, _) in table.items()}
+_NAME = re.compile(r"(?P<model>[A-Z][A-Z0-9_]*)\.(?P<signal>[A-Z_]+)")
+MODEL_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+
+
+def looks_like(text: str) -> bool:
+    return _NAME.fullmatch(text.strip().upper()) is not None
+
+
+def parse(text: str):
+    """`XC1.pos` -> DeviceView (raises NameError_ for an unknown signal)."""
+    from mlctool.sim.state import DeviceView, NameError_
+
+    m = _NAME.fullmatch(text.strip().upper())
+    signal = m["signal"].lower()
+    if signal not in VIEWS:
+        raise NameError_(f"{text!r}: no model signal {signal!r}; signals: {', '.join(NAMES)}")
+    return DeviceView(SIGNAL + m["model"], NAMES.index(signal), VIEWS[signal])
+
+
+def name_of(kind: str, number: int) -> str:
+    return f"{kind[len(SIGNAL):]}.{NAMES[number]}"
+
+
+def model_of(kind: str) -> str:
+    return kind[len(SIGNAL):]
+
+
+def signal_of(number: int) -> str:
+    return NAMES[number]
