@@ -433,7 +433,7 @@ class Server:
 
         try:
             port = serial.Serial(self.serial, self.baudrate, bytesize=8, parity="N", stopbits=1,
-                                 timeout=0)
+                                 timeout=0, write_timeout=WRITE_TIMEOUT_S)
         except (serial.SerialException, ValueError) as e:
             raise OSError(str(e)) from None
         receiver = RECEIVERS[self.framing]()
@@ -447,7 +447,10 @@ class Server:
             if data:
                 for f in receiver.feed(data, loop.time()):
                     if (reply := self.answer(f)) is not None:
-                        port.write(receiver.encode(f, reply))
+                        try:
+                            port.write(receiver.encode(f, reply))
+                        except (serial.SerialException, OSError):
+                            pass  # nobody reads the line: the reply is lost, as on a bus
 
         loop.add_reader(port.fileno(), readable)
         self._port = port
