@@ -143,10 +143,10 @@ def test_server_under_load_and_faults_keeps_answering():
     slow, goods, last, seconds = asyncio.run(scenario())
     assert slow[:2] == b"\x03\x02"
     assert goods == [REQUESTS_EACH] * CLIENTS and last == REQUESTS_EACH
-    assert server.accepted >= CLIENTS + 80
+    assert server.accepted >= CLIENTS + 60  # the goods and the held connections at least
     assert seconds < 20
-    # the last writer to each station's 2014H wins; the models are separate
-    assert devices[1] is not devices[2]
+    assert server.line.requests >= 2 * CLIENTS * REQUESTS_EACH  # every good request was read
+    assert devices[1].regs[0x2014] and devices[2].regs[0x2014]  # both stations were written
 
 
 def test_rtu_line_keeps_answering_after_junk_and_a_cut_frame():
