@@ -227,6 +227,22 @@ PIPELINE = ("01 03 10 00 00 01", "01 06 20 14 00 64", "01 03 20 14 00 01")
 PIPELINE_REPLIES = ("01 03 02 00 00", "01 06 20 14 00 64", "01 03 02 00 64")
 
 
+def test_modbus_tcp_unit_ff_addresses_a_single_device():
+    """Modbus TCP implementation guide: a server addressed by IP takes unit id 0xFF; with one
+    station served it is that station (the reply keeps 0xFF); with two it is no device (0BH)."""
+    for devices, want in (({3: c.new_xc100()}, "FF 03 02 00 00"),
+                          ({1: c.new_xc100(), 2: c.new_xc100()}, "FF 83 0B")):
+        port = free_port()
+        frame = _mbap(5, "FF 03 10 00 00 01")
+
+        async def client(frame=frame, want=want, port=port):
+            loop = asyncio.get_running_loop()
+            return await loop.run_in_executor(None, _exchange, port, frame, len(_mbap(5, want)))
+
+        got = asyncio.run(_with_server(devices, "tcp", client, tcp=("127.0.0.1", port)))
+        assert got == _mbap(5, want)
+
+
 @pytest.mark.parametrize("framing", ["rtu", "ascii", "tcp"])
 def test_every_frame_of_one_segment_is_answered_in_order(framing):
     """Issue 21 #2: three requests in one TCP segment, a write among them, get three replies

@@ -143,6 +143,8 @@ WRITE_TIMEOUT_S = 5.0  # a client that reads no replies for this long is disconn
 READ_CHUNK = 4096
 FRAMINGS = ("ascii", "rtu", "tcp")
 GATEWAY_NO_RESPONSE = 0x0B  # Modbus TCP: the unit behind the gateway did not answer
+UNIT_ANY = 0xFF  # Modbus TCP: "the MODBUS Unit Identifier is useless. The value 0xFF has to be
+# used" for a server addressed by IP (Modbus Messaging on TCP/IP Implementation Guide 4.4.2)
 
 
 def quiet_pymodbus() -> None:
@@ -388,7 +390,10 @@ class Server:
             self._port = None
 
     def answer(self, frame: Frame) -> bytes | None:
-        reply = self.line.answer(frame.unit, frame.pdu)
+        unit = frame.unit
+        if self.framing == "tcp" and unit == UNIT_ANY and len(self.line.devices) == 1:
+            unit = next(iter(self.line.devices))  # a device addressed by its IP alone
+        reply = self.line.answer(unit, frame.pdu)
         if reply is None and self.framing == "tcp" and frame.unit and frame.unit not in self.line.devices:
             # Modbus TCP clients wait for every reply: as a gateway, say nobody is there
             reply = bytes([frame.pdu[0] | 0x80, GATEWAY_NO_RESPONSE])
