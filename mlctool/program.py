@@ -77,3 +77,58 @@ class Image:
     def labels(self) -> dict[int, int]:
         """P number -> instruction index."""
         return {ins.operands[0].number: k for k, ins in enumerate(self.instrs) if ins.spec.cls == "label"}
+
+
+# Instruction classes after which a load opens a new rung (2.2): the rung's result has been
+# used by an output, or a row of its own (label, END/FEND/..., interrupt pointer, STL) stands
+# between. The checker, the ladder builder and the simulator all take rung boundaries from
+# rung_starts(), so the three never disagree on where a rung begins.
+RUNG_END_CLASSES = frozenset({"output", "free", "label", "interrupt", "bus"})
+_BLOCK_SCAN_STOP = frozenset({"free", "label", "interrupt", "bus", "mps", "mrd", "mpp"})
+
+
+def _block_is_combined(instrs: list[Instr], k: int) -> bool:
+    """Whether the block opened by the load at `k` is combined with the result before it
+    (by ANB/ORB, or as a further input of a multi-input output) before the next output."""
+    level = 0  # blocks opened from k on that are still waiting
+    for ins in instrs[k:]:
+        cls = ins.spec.cls
+        if cls == "load":
+            level += 1
+        elif cls in ("anb", "orb"):
+            level -= 1
+            if level == 0:
+                return True
+        elif cls == "output":
+            return len(ins.spec.inputs) - 1 >= level
+        elif cls in _BLOCK_SCAN_STOP:
+            return False
+    return False
+
+
+def rung_starts(instrs: list[Instr]) -> list[bool]:
+    """For each instruction, whether it is a load that starts a new rung.
+
+    A load starts a rung after an output or a row (RUNG_END_CLASSES); anywhere else it opens
+    a block of the current rung. One exception, the form GX Works2 and WPLSoft emit for a
+    block after a coil inside an MPS branch (`MPS / AND X1 / OUT Y0 / LD X2 / OR X3 / ANB /
+    OUT Y1 / MPP ...`): a load right after an output while an MPS is open opens a block of
+    the same rung, when that block is combined with ANB/ORB before the next output. Without
+    the ANB/ORB the load starts a rung as usual (and the open MPS is the error: E308)."""
+    out = [False] * len(instrs)
+    prev = "free"
+    mps = 0
+    for k, ins in enumerate(instrs):
+        cls = ins.spec.cls
+        if cls == "load" and prev in RUNG_END_CLASSES:
+            if not (prev == "output" and mps and _block_is_combined(instrs, k)):
+                out[k] = True
+                mps = 0
+        elif cls == "mps":
+            mps += 1
+        elif cls == "mpp":
+            mps = max(mps - 1, 0)
+        elif cls in RUNG_END_CLASSES and cls != "output":
+            mps = 0
+        prev = cls
+    return out

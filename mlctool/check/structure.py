@@ -5,7 +5,7 @@ from __future__ import annotations
 from bisect import bisect_right
 
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.program import Instr, Module
+from mlctool.program import Instr, Module, rung_starts
 from mlctool.targets.model import Target
 
 JUMPS = ("cj", "call")
@@ -27,6 +27,7 @@ def check_rungs(module: Module, target: Target, broken: frozenset[int] = frozens
     depth_limit = target.settings["mps_depth"]
     acc = False  # a current result exists
     driven = False  # the current rung has driven at least one output
+    after_out = False  # the current result is an output's (no load since): OR cannot reach back
     blocks = 0  # blocks waiting for ANB/ORB
     mps = 0
     last = None
@@ -36,7 +37,7 @@ def check_rungs(module: Module, target: Target, broken: frozenset[int] = frozens
             out.append(d)
 
     def close(ins: Instr | None) -> None:
-        nonlocal acc, driven, blocks, mps, tainted
+        nonlocal acc, driven, after_out, blocks, mps, tainted
         where = ins or last
         if where is not None and acc and not driven:
             emit(_at(where, "E313", "rung ends without an output"))
@@ -44,25 +45,27 @@ def check_rungs(module: Module, target: Target, broken: frozenset[int] = frozens
             emit(_at(where, "E313", f"{blocks} block(s) never combined with ANB/ORB"))
         if where is not None and mps:
             emit(_at(where, "E308", f"{mps} MPS without MPP at the end of the rung"))
-        acc = driven = False
+        acc = driven = after_out = False
         blocks = mps = 0
         tainted = hit  # a broken line just before `ins` may belong to the next rung too
 
     prev_line = 0
-    for ins in module.instrs:
-        k = bisect_right(gaps, prev_line)
-        hit = k < len(gaps) and gaps[k] < ins.line
+    starts = rung_starts(module.instrs)
+    for n, ins in enumerate(module.instrs):
+        g = bisect_right(gaps, prev_line)
+        hit = g < len(gaps) and gaps[g] < ins.line
         tainted = tainted or hit
         prev_line = ins.line
         cls = ins.spec.cls
         if cls == "load":
-            if driven:
+            if starts[n] and driven:
                 close(ins)
             if acc:
                 blocks += 1
             acc = True
+            after_out = False
         elif cls in ("and", "or", "inv"):
-            if not acc or driven and cls == "or":
+            if not acc or after_out and cls == "or":
                 emit(_at(ins, "E311", f"{ins.mnemonic} needs a preceding load (LD, LDI, LDP, LD=, ...)"))
             acc = True
         elif cls in ("anb", "orb"):
@@ -95,13 +98,13 @@ def check_rungs(module: Module, target: Target, broken: frozenset[int] = frozens
                 blocks = 0
             else:
                 blocks = 0
-            driven = True
+            driven = after_out = True
             acc = True
         elif cls in ("free", "label", "interrupt"):
             close(ins)
         elif cls == "bus":  # STL: a new rail whose result exists; a load after it starts a rung
             close(ins)
-            acc = driven = True
+            acc = driven = after_out = True
         last = ins
     hit = bool(gaps) and gaps[-1] > prev_line
     tainted = tainted or hit

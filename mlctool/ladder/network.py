@@ -1,6 +1,7 @@
 """IL rungs <-> ladder networks (series/parallel elements and a tree of output branches).
 
-A rung is what the MLC evaluates between two loads that follow an output (2.2): contacts
+A rung is what the MLC evaluates between two loads that follow an output (2.2; the exact
+rule, with its MPS exception, is program.rung_starts): contacts
 combine into a result by LD/AND/OR, blocks by ANB/ORB, and MPS/MRD/MPP fork the output side.
 Here the instruction sequence is evaluated *symbolically*: the accumulator holds a list of
 series elements instead of a bit, so the same stack machine that the simulator runs yields
@@ -20,7 +21,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 
-from mlctool.program import Instr
+from mlctool.program import Instr, rung_starts
 from mlctool.targets.model import InstrSpec, Target
 
 CONTACT_CLASSES = ("load", "and", "or")  # a contact's class picks its LD/AND/OR form
@@ -271,11 +272,11 @@ def _normalize(node: Node) -> None:
 
 
 def split_rungs(instrs: list[Instr]) -> list[tuple[int, int] | int]:
-    """Rung boundaries as the simulator and `mlc check` see them: (start, stop) for a rung,
-    an index for a row of its own. A load after an output starts a new rung."""
+    """Rung boundaries as the simulator and `mlc check` see them (program.rung_starts):
+    (start, stop) for a rung, an index for a row of its own."""
     out: list[tuple[int, int] | int] = []
     start: int | None = None
-    driven = False
+    starts = rung_starts(instrs)
     for k, ins in enumerate(instrs):
         cls = ins.spec.cls
         if cls in ROW_CLASSES or (start is None and cls == "nop"):
@@ -284,13 +285,12 @@ def split_rungs(instrs: list[Instr]) -> list[tuple[int, int] | int]:
                 start = None
             out.append(k)
             continue
-        if cls == "load" and (start is None or driven):
+        if cls == "load" and (start is None or starts[k]):
             if start is not None:
                 out.append((start, k))
-            start, driven = k, False
+            start = k
         elif start is None:
             raise LadderError(f"{ins.mnemonic} needs a preceding load", ins)
-        driven = driven or cls == "output"
     if start is not None:
         out.append((start, len(instrs)))
     return out

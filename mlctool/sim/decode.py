@@ -8,7 +8,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.program import Image, Instr
+from mlctool.program import Image, Instr, rung_starts
 from mlctool.sim import semantics
 from mlctool.sim.extension import actions
 from mlctool.sim.operands import Ref, decode_operand
@@ -101,7 +101,7 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
     """`flow`: the program-flow routines of scan.py (CJ, CALL, SRET, FEND, END, FOR, NEXT).
     `probe`: a coverage recorder (mlctool/sim/coverage.py) whose wrappers every step runs through."""
     steps: list[Step] = []
-    prev_cls = "free"
+    starts = rung_starts(image.instrs)
     routines = actions(target)  # generic ops and the target's own (sim/extension.py)
     for k, ins in enumerate(image.instrs):
         spec = ins.spec
@@ -115,7 +115,7 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
                 continue
             ops.append(decode_operand(op, spec.width, target, text, as_bits))
         step = Step(ins, k, tuple(ops), spec.width, ins.steps, ins.table,
-                    new_rung=spec.cls == "load" and prev_cls in ("output", "free", "label", "interrupt", "bus"))
+                    new_rung=starts[k])
         op = spec.op
         if op in semantics.CONTACTS:
             contact = semantics.CONTACTS[op]
@@ -131,7 +131,6 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
         if probe:
             step.run = probe.step(step.run, spec.cls)
         steps.append(step)
-        prev_cls = spec.cls
     labels = {s.ins.operands[0].number: s.index for s in steps if s.ins.spec.cls == "label"}
     end = next((s.index for s in steps if s.ins.spec.op == "end"), None)
     for p in target.end_labels if end is not None else ():  # CJ P63: to END (VS 2-10)
