@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from mlctool.ladder.network import Coil, Group, Leaf, Line, Node, Parallel, Rung, Tap
+from mlctool.ladder.network import Coil, Group, Leaf, Line, Node, Parallel, Pin, Rung, Tap
 from mlctool.program import Instr
 
 # contact glyphs by `op` (instructions.toml): what the symbol between the bars shows
@@ -37,7 +37,7 @@ class Cell:
     x: int
     y: int
     w: int
-    kind: str  # contact | compare | inv | nop | tap
+    kind: str  # contact | compare | inv | nop | tap | step (STL's state box)
     ins: Instr | None
     index: int  # instruction index (-1: tap)
     glyph: str = ""  # contact glyph, relation of a comparison, or the tap's step address
@@ -57,7 +57,7 @@ class Output:
 
     x: int
     y: int
-    kind: str  # coil | box
+    kind: str  # coil | box | pin (a further input of the multi-input box `ins`, named `letter`)
     ins: Instr
     index: int
     letter: str = ""
@@ -125,6 +125,8 @@ def _leaf_cell(leaf: Leaf, x: int, y: int) -> Cell:
         return Cell(x, y, 2, "compare", leaf.ins, leaf.index, COMPARE_REL[spec.op])
     if spec.cls in CLASS_WIDTH:
         return Cell(x, y, 1, spec.cls, leaf.ins, leaf.index)
+    if spec.cls == "bus":
+        return Cell(x, y, 1, "step", leaf.ins, leaf.index)
     return Cell(x, y, 1, "contact", leaf.ins, leaf.index, CONTACT_GLYPH.get(spec.op, ""))
 
 
@@ -186,6 +188,9 @@ def _place_line(line: Line, x: int, y: int, g: Grid) -> int:
         letter = COIL_LETTER.get(ins.spec.op)
         kind = "coil" if letter is not None and _bit_operand(ins) else "box"
         g.outputs.append(Output(end, y, kind, ins, line.to.index, letter or ""))
+    elif isinstance(line.to, Pin):
+        g.reach(end)
+        g.outputs.append(Output(end, y, "pin", line.to.coil.ins, line.to.coil.index, line.to.name))
     elif isinstance(line.to, Node):
         h = max(h, _place_node(line.to, end, y, g))
     else:

@@ -73,12 +73,22 @@ class Coil:
 
 
 @dataclass(eq=False, slots=True)
+class Pin:
+    """A further input of a multi-input instruction (FBs FUN140 EN/PAU/ABT: one block each,
+    the first drives the Coil): the line ends at the box's input `name`."""
+
+    coil: Coil
+    name: str
+
+
+@dataclass(eq=False, slots=True)
 class Line:
-    """Series elements from a branch point (or the rail) to a coil, a further branch point,
-    or nothing (`to=None`: a trailing INV/NOP/contact the rung never uses)."""
+    """Series elements from a branch point (or the rail) to a coil, an input pin of a
+    multi-input box, a further branch point, or nothing (`to=None`: a trailing
+    INV/NOP/contact the rung never uses)."""
 
     elems: list
-    to: Coil | Node | None
+    to: Coil | Pin | Node | None
     from_rail: bool = False  # fed from the rail, not from the branch point it hangs on
 
 
@@ -90,14 +100,26 @@ class Node:
 
 @dataclass(eq=False, slots=True)
 class Rung:
+    """A rung, or a whole step of a step ladder: STL's state box on the rail, and every rung
+    of the step hanging on the step's own bus right of the box (VS 4-6-1: "內STL母線"), up
+    to the next STL, RET or row."""
+
     root: Node  # the left rail: its lines start at the rail
     start: int  # index of the rung's first instruction in the module
     stop: int  # one past its last instruction
     has_tap: bool = False
+    step: bool = False  # a step ladder step (starts with STL)
+    pins: bool = False  # holds a multi-input instruction
 
     @property
     def addr(self) -> int:
         return self.root.addr
+
+    @property
+    def own_il(self) -> bool:
+        """Converting back gives the rung's own instructions: forms with no editor IL of
+        their own (a Tap, a step, a multi-input box)."""
+        return self.has_tap or self.step or self.pins
 
 
 @dataclass(eq=False, slots=True)
@@ -156,9 +178,10 @@ class _Builder:
         self.blocks: list[_Value] = []
         self.stack: list[Node] = []
         self.has_tap = False
+        self.has_pins = False
 
-    def attach(self, to: Coil | Node | None) -> None:
-        v = self.acc
+    def attach(self, to: Coil | Pin | Node | None, v: _Value | None = None) -> None:
+        v = v or self.acc
         home = v.origin or self.scope
         self.has_tap = self.has_tap or any(isinstance(e, Tap) for e in _walk(v.elems))
         home.lines.append(Line(v.elems, to, from_rail=v.origin is None and home is not self.rail))
@@ -219,6 +242,10 @@ class _Builder:
 
     def output(self, leaf: Leaf) -> None:
         acc = self.need_acc(leaf.ins)
+        inputs = leaf.ins.spec.inputs
+        if len(inputs) > 1:  # one block per input, the first (EN) pushed first
+            self.multi_input(leaf, inputs)
+            return
         if acc.elems or acc.origin is None:
             # the point after the condition: later outputs and ANDs of this rung hang on it
             node = Node(addr=leaf.ins.addr)
@@ -226,6 +253,19 @@ class _Builder:
             self.scope = node
             self.acc = acc = _Value(node, [])
         acc.origin.lines.append(Line([], Coil(leaf.ins, leaf.index)))
+
+    def multi_input(self, leaf: Leaf, inputs: tuple[str, ...]) -> None:
+        extra = len(inputs) - 1
+        if len(self.blocks) < extra:
+            raise LadderError(f"{leaf.ins.mnemonic} takes {len(inputs)} inputs, one block each", leaf.ins)
+        values = self.blocks[len(self.blocks) - extra:] + [self.acc]
+        del self.blocks[len(self.blocks) - extra:]
+        coil = Coil(leaf.ins, leaf.index)
+        self.attach(coil, values[0])
+        for v, name in zip(values[1:], inputs[1:], strict=True):
+            self.attach(Pin(coil, name), v)
+        self.has_pins = True
+        self.acc = _Value(None, [])
 
     def finish(self, last: Instr) -> None:
         if self.blocks:
@@ -271,21 +311,30 @@ def _normalize(node: Node) -> None:
     node.lines = out
 
 
-def split_rungs(instrs: list[Instr]) -> list[tuple[int, int] | int]:
+def split_rungs(instrs: list[Instr], starts: list[bool] | None = None) -> list[tuple[int, int] | int]:
     """Rung boundaries as the simulator and `mlc check` see them (program.rung_starts):
-    (start, stop) for a rung, an index for a row of its own."""
+    (start, stop) for a rung, an index for a row of its own. A step (STL) is one item from
+    its STL to the next STL, RET or row: its rungs hang on the step's bus."""
     out: list[tuple[int, int] | int] = []
     start: int | None = None
-    starts = rung_starts(instrs)
+    in_step = False
+    starts = starts if starts is not None else rung_starts(instrs)
     for k, ins in enumerate(instrs):
         cls = ins.spec.cls
         if cls in ROW_CLASSES or (start is None and cls == "nop"):
             if start is not None:
                 out.append((start, k))
                 start = None
+            in_step = False
             out.append(k)
             continue
-        if cls == "load" and (start is None or starts[k]):
+        if cls == "bus":
+            if start is not None and not (in_step and instrs[k - 1].spec.cls == "bus"):
+                out.append((start, k))
+                start = None
+            if start is None:
+                start, in_step = k, True
+        elif cls == "load" and (start is None or starts[k] and not in_step):
             if start is not None:
                 out.append((start, k))
             start = k
@@ -296,30 +345,49 @@ def split_rungs(instrs: list[Instr]) -> list[tuple[int, int] | int]:
     return out
 
 
-def build_rung(instrs: list[Instr], start: int, stop: int) -> Rung:
+def build_rung(instrs: list[Instr], start: int, stop: int, starts: list[bool] | None = None) -> Rung:
     rail = Node(addr=instrs[start].addr)
     b = _Builder(rail)
-    for k in range(start, stop):
+    k = start
+    step = instrs[start].spec.cls == "bus"
+    if step:
+        # the state box(es) on the rail (several STL in a row: steps joining, drawn in series);
+        # the step's bus right of them carries the power of the step
+        boxes = []
+        while k < stop and instrs[k].spec.cls == "bus":
+            boxes.append(Leaf(instrs[k], k))
+            k += 1
+        inner = Node(addr=instrs[start].addr)
+        rail.lines.append(Line(boxes, inner))
+        starts = starts if starts is not None else rung_starts(instrs)
+        b.rail = b.scope = inner
+        b.acc = _Value(None, [])  # coils may hang on the step's bus directly (4-6-1 (1))
+    for k in range(k, stop):
         ins = instrs[k]
-        step = _STEP.get(ins.spec.cls)
-        if step is None:  # pragma: no cover - split_rungs keeps rows out of rungs
+        if step and starts[k]:  # the next rung of the step, fed from the step's bus
+            b.finish(instrs[k - 1])
+            b.scope, b.acc = b.rail, None
+        fn = _STEP.get(ins.spec.cls)
+        if fn is None:  # pragma: no cover - split_rungs keeps rows out of rungs
             raise LadderError(f"{ins.mnemonic} cannot be part of a rung", ins)
-        step(b, Leaf(ins, k))
+        fn(b, Leaf(ins, k))
     b.finish(instrs[stop - 1])
     _normalize(rail)
-    if len(rail.lines) != 1 or rail.lines[0].from_rail:  # pragma: no cover - by construction
+    # one line leaves the rail (the inputs of a multi-input box: one each)
+    if not rail.lines or rail.lines[0].from_rail or len(rail.lines) > 1 and not b.has_pins:  # pragma: no cover
         raise LadderError("rung does not start at the rail", instrs[start])
-    return Rung(rail, start, stop, b.has_tap)
+    return Rung(rail, start, stop, b.has_tap, step=step, pins=b.has_pins)
 
 
 def build_items(instrs: list[Instr]) -> list[Item]:
     """A module's instructions -> rungs and rows, in program order."""
     items: list[Item] = []
-    for part in split_rungs(instrs):
+    starts = rung_starts(instrs)
+    for part in split_rungs(instrs, starts):
         if isinstance(part, int):
             items.append(Row(instrs[part], part))
         else:
-            items.append(build_rung(instrs, *part))
+            items.append(build_rung(instrs, *part, starts))
     return items
 
 
@@ -403,8 +471,9 @@ class _Emitter:
 
 def rung_to_il(rung: Rung, instrs: list[Instr], forms: dict) -> list[Instr]:
     """An equivalent instruction sequence for the rung (LD/AND/OR forms, ANB/ORB, MPS/MRD/MPP
-    chosen as a ladder editor would). Tap rungs give back their own instructions."""
-    if rung.has_tap:
+    chosen as a ladder editor would). Rungs with no editor form (Rung.own_il) give back their
+    own instructions."""
+    if rung.own_il:
         return list(instrs[rung.start:rung.stop])
     em = _Emitter(instrs, forms)
     em.line(rung.root.lines[0], True)

@@ -47,10 +47,18 @@ class PowerProbe:
         return observed
 
     def step(self, run: Callable, cls: str) -> Callable:
-        """An output conducts when its driving result is On."""
+        """An output conducts when its driving result is On; a step's state box (STL) when
+        the step is active (its bus On)."""
+        mark = self.mark
+        if cls == "bus":
+            def active(m, s):
+                r = run(m, s)
+                if m.bus:
+                    mark(m.now_us, s.index)
+                return r
+            return active
         if cls != "output":
             return run
-        mark = self.mark
 
         def driven(m, s):
             if m.acc:

@@ -30,6 +30,7 @@ STYLE = """
 .lad .rail{stroke:#222;stroke-width:3}
 .lad .sym{stroke:#222;stroke-width:2;fill:none}
 .lad .box{stroke:#222;stroke-width:1.5;fill:#fff}
+.lad .box.step{stroke-width:2.5}
 .lad .frame{stroke:#777;stroke-width:1;stroke-dasharray:4 3;fill:none}
 .lad .dot{fill:#222}
 .lad text.small{font-size:10px;fill:#555}
@@ -149,6 +150,10 @@ def _cell(sheet: Sheet, c: Cell) -> str:
                   _text(mid, y - 18, "INV", "small")]
     elif c.kind == "nop":
         parts += [_line(x0, y, x1, y), _text(mid, y - 8, "NOP", "small")]
+    elif c.kind == "step":  # the state box of a step ladder step (VS 4-6-2 (b))
+        parts += [_line(x0, y, x0 + 8, y), _line(x1 - 8, y, x1, y),
+                  f'<rect class="box step" x="{x0 + 8}" y="{y - 14}" width="{x1 - x0 - 16}" height="28"/>',
+                  _text(mid, y + 4, operand_texts(c.ins)[0][0]), _text(mid, y - 18, "STL", "small")]
     else:  # tap: the power at the branch point made at step c.glyph
         parts += [_line(x0, y, mid - 12, y), _line(mid + 12, y, x1, y),
                   f'<rect class="box" x="{mid - 12:g}" y="{y - 10}" width="24" height="20"/>',
@@ -161,6 +166,8 @@ def _cell(sheet: Sheet, c: Cell) -> str:
 def _output(sheet: Sheet, geo: Geometry, o: Output, index: int, y: int) -> list[str]:
     ox = geo.out_x
     parts = []
+    if o.kind == "pin":  # a further input of the box drawn on an earlier row
+        return [_line(ox, y, ox + 10, y), _text(ox + 14, y + 4, o.letter, "small", "start")]
     if o.kind == "coil":
         cx = ox + 30
         g = [_line(ox, y, cx - 12, y),

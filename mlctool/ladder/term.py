@@ -21,7 +21,7 @@ BOX = {L | R: "─", U | D: "│", R | D: "┌", L | D: "┐", R | U: "└", L |
        L | R | U: "┴", U | D | R: "├", U | D | L: "┤", L | R | U | D: "┼", L: "─", R: "─", U: "│",
        D: "│"}
 CONTACT = {"": "┤ ├", "/": "┤/├", "↑": "┤↑├", "↓": "┤↓├"}
-STYLES = {"coil": "bold cyan", "box": "bold cyan", "label": "bold red", "addr": "dim",
+STYLES = {"step": "bold magenta", "coil": "bold cyan", "box": "bold cyan", "label": "bold red", "addr": "dim",
           "comment": "green", "note": "green italic", "symbol": "dim"}
 
 
@@ -88,12 +88,18 @@ def _cell(cv: Canvas, c: Cell) -> None:
     elif c.kind in ("inv", "nop"):
         cv.center(x0, x1, y, "╱" if c.kind == "inv" else "")
         cv.center(x0, x1, y - 1, c.kind.upper(), "symbol")
+    elif c.kind == "step":  # the state box of a step ladder step (VS 4-6-2 (b))
+        cv.center(x0, x1, y, f"[{operand_texts(c.ins)[0][0]}]", STYLES["step"])
+        cv.center(x0, x1, y - 1, "STL", "symbol")
     else:
         cv.center(x0, x1, y, "┤⇤├")
         cv.center(x0, x1, y - 1, f"@{c.glyph}", "symbol")
 
 
 def _output(cv: Canvas, sheet: Sheet, ox: int, y: int, o: Output) -> None:
+    if o.kind == "pin":  # a further input of the box drawn on an earlier row
+        cv.put(ox, y, f"▷{o.letter}", STYLES["box"])
+        return
     if o.kind == "coil":
         s = f"({o.letter or ' '})"
         cv.put(ox, y, s, STYLES["coil"])

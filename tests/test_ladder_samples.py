@@ -1,0 +1,94 @@
+"""Every bundled sample of every target draws (issue 21 #5): `mlc ladder` as SVG, HTML and on
+the terminal, and `mlc sim --report` where the sample has a stimulus. Step ladders (STL/RET)
+draw each step as a state box on the rail with its rungs on the step's bus, and multi-input
+instructions (FBs FUN140) with one input line per block."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+from conftest import SAMPLES, run_mlc
+
+TARGET_DIRS = ("nc5", "vs", "fbs")
+ALL = [(t, p) for t in TARGET_DIRS for p in sorted((SAMPLES / t).glob("*.il"))]
+PROJECT = [("nc5", p) for p in sorted((SAMPLES / "project" / "src").glob("*.il"))]
+STEP_LADDERS = ("container_fill", "fountain", "fountain_modes", "traffic_light")
+
+
+def _extra(il: Path) -> list[str]:
+    """Options a sample's header names for `mlc sim` (the FBs tables: `--table R5000=...`)."""
+    text = il.read_text("utf-8")
+    return [a for m in re.finditer(r"--table (R\d+)=samples/(\S+)", text)
+            for a in ("--table", f"{m[1]}={SAMPLES / m[2]}")]
+
+
+def _id(case) -> str:
+    return f"{case[0]}/{case[1].name}"
+
+
+def test_every_target_has_samples_here():
+    assert {t for t, _ in ALL} == set(TARGET_DIRS)
+    assert {p.stem for _, p in ALL} >= {*STEP_LADDERS, "home_and_run"}
+
+
+@pytest.mark.parametrize("case", ALL, ids=_id)
+def test_sample_draws_every_way(case, tmp_path):
+    target, il = case
+    for out in ("l.svg", "l.html"):
+        r = run_mlc("ladder", "--target", target, str(il), "-o", str(tmp_path / out))
+        assert r.code == 0, r.err
+        assert (tmp_path / out).stat().st_size > 0
+    r = run_mlc("ladder", "--target", target, "--term", str(il))
+    assert r.code == 0, r.err
+    assert "END" in r.out
+    stim = il.with_suffix(".stim")
+    if stim.exists():
+        page = tmp_path / "r.html"
+        r = run_mlc("sim", "--target", target, str(il), "--stimulus", str(stim), *_extra(il),
+                    "--report", str(page))
+        assert r.code in (0, 1), r.err  # 1: an expectation failed (the page is still written)
+        assert page.stat().st_size > 0
+
+
+def test_project_sources_draw_together(tmp_path):
+    r = run_mlc("ladder", "--target", "nc5", *(str(p) for _, p in PROJECT), "-o", str(tmp_path / "l.svg"))
+    assert r.code == 0, r.err
+
+
+@pytest.mark.parametrize("name", STEP_LADDERS)
+def test_step_ladder_draws_each_step_as_a_state_box(name, tmp_path):
+    il = SAMPLES / "vs" / f"{name}.il"
+    steps = re.findall(r"^\s*STL\s+(S\d+)", il.read_text("utf-8"), re.M)
+    assert steps
+    r = run_mlc("ladder", "--target", "vs", "--term", str(il))
+    assert r.code == 0, r.err
+    for s in steps:
+        assert f"[{s}]" in r.out, s
+    r = run_mlc("ladder", "--target", "vs", str(il), "-o", str(tmp_path / "l.svg"))
+    svg = (tmp_path / "l.svg").read_text("utf-8")
+    assert svg.count('class="box step"') == len(steps)
+    # one drawn rung per step: the step's own rungs hang on its bus
+    assert svg.count('class="rung"') >= len(set(steps))
+
+
+def test_step_report_lights_the_active_step(tmp_path):
+    il = SAMPLES / "vs" / "traffic_light.il"
+    page = tmp_path / "r.html"
+    r = run_mlc("sim", "--target", "vs", str(il), "--stimulus", str(il.with_suffix(".stim")),
+                "--report", str(page))
+    assert r.code == 0, r.err
+    html = page.read_text("utf-8")
+    stl = [m.start() for m in re.finditer(r'class="el" data-i="(\d+)"><line[^>]*/><line[^>]*/><rect class="box step"',
+                                          html)]
+    assert stl  # the step boxes are elements the page can light
+
+
+def test_multi_input_box_gets_one_line_per_input():
+    """FUN140 takes EN, PAU and ABT, one block each (FBs): EN drives the box, the others end
+    at its input pins."""
+    r = run_mlc("ladder", "--target", "fbs", "--term", str(SAMPLES / "fbs" / "home_and_run.il"))
+    assert r.code == 0, r.err
+    assert r.out.count("▷PAU") == 2 and r.out.count("▷ABT") == 2
