@@ -348,21 +348,21 @@ def split_rungs(instrs: list[Instr], starts: list[bool] | None = None) -> list[t
 def build_rung(instrs: list[Instr], start: int, stop: int, starts: list[bool] | None = None) -> Rung:
     rail = Node(addr=instrs[start].addr)
     b = _Builder(rail)
-    k = start
+    first = start  # the first instruction the stack machine runs
     step = instrs[start].spec.cls == "bus"
     if step:
         # the state box(es) on the rail (several STL in a row: steps joining, drawn in series);
         # the step's bus right of them carries the power of the step
         boxes = []
-        while k < stop and instrs[k].spec.cls == "bus":
-            boxes.append(Leaf(instrs[k], k))
-            k += 1
+        while first < stop and instrs[first].spec.cls == "bus":
+            boxes.append(Leaf(instrs[first], first))
+            first += 1
         inner = Node(addr=instrs[start].addr)
         rail.lines.append(Line(boxes, inner))
         starts = starts if starts is not None else rung_starts(instrs)
         b.rail = b.scope = inner
         b.acc = _Value(None, [])  # coils may hang on the step's bus directly (4-6-1 (1))
-    for k in range(k, stop):
+    for k in range(first, stop):
         ins = instrs[k]
         if step and starts[k]:  # the next rung of the step, fed from the step's bus
             b.finish(instrs[k - 1])
