@@ -119,8 +119,8 @@ class Outputs:
             for tmp, path in self._staged:
                 try:
                     os.replace(tmp, path)
-                except OSError as e:
-                    raise _cannot_write(path, e.strerror or e) from e
+                except (OSError, ValueError) as e:  # ValueError: a name the OS cannot take (NUL)
+                    raise _cannot_write(path, getattr(e, "strerror", None) or e) from e
             self._staged.clear()
         finally:
             self.discard()

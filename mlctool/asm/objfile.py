@@ -9,11 +9,15 @@ values), strings are indices into the STRS section. Nothing depends on time, hos
 from __future__ import annotations
 
 import hashlib
+import math
+import re
 import struct
 from dataclasses import dataclass, field
 
+from mlctool.check.resolve import OperandRules
 from mlctool.program import Instr
-from mlctool.syntax.operands import Operand
+from mlctool.syntax.operands import CONSTANT_KINDS, FLOAT_KINDS, MAX_STRING, Operand
+from mlctool.syntax.source import MAX_LINES
 from mlctool.targets.model import Target, choose_variant, load_target
 
 MAGIC = b"\x7fMLCOBJ\n"
@@ -23,6 +27,13 @@ HEADER = struct.Struct("<8sHBBI")  # magic, version, kind, reserved, total lengt
 TRAILER = 32  # SHA-256
 SECTIONS = (b"TRGT", b"STRS", b"UNIT", b"CODE", b"SYMS", b"RELO", b"LINE")
 FLAG_INSERTED = 1  # instruction inserted by the linker (the FEND before library code)
+# Bounds of what a decoded object may hold (docs/object-format.md "Validation"): line
+# numbers as a source can have them (syntax/source.py), columns up to MAX_COL (DECISION: a
+# statement starts in the first 65,535 characters of its line), at most MAX_DECIMALS digits
+# after the point of a float constant as written.
+MAX_COL = 65_535
+MAX_DECIMALS = 64
+_CONTROL = re.compile(r"[\x00-\x08\x0a-\x1f\x7f]")  # every control character but TAB
 
 
 @dataclass(frozen=True, slots=True)
@@ -363,14 +374,83 @@ def _validate(k: int, spec, operands, texts, table, steps) -> None:
                           "the target's tables give it")
 
 
+def _bad(what: str) -> ObjectError:
+    return ObjectError("E502", what)
+
+
+def _plain(text: str, what: str) -> None:
+    if _CONTROL.search(text):
+        raise _bad(f"{what} {text!r} holds a control character")
+
+
+def _position(line: int, col: int, what: str) -> None:
+    if not (0 <= line <= MAX_LINES and 0 <= col <= MAX_COL):
+        raise _bad(f"{what} at line {line}, column {col}: outside lines 0-{MAX_LINES}, columns 0-{MAX_COL}")
+
+
+def _operand_shape(op: Operand, where: str) -> None:
+    """What the encoder can have written for an operand, before any rule reads it."""
+    if op.kind in ("K", "H") and type(op.value) is not int \
+            or op.kind in FLOAT_KINDS and (type(op.value) is not float or not math.isfinite(op.value)) \
+            or op.kind == "$" and (type(op.value) is not str or len(op.value) > MAX_STRING) \
+            or op.kind not in CONSTANT_KINDS and op.value != 0:
+        raise _bad(f"{where}: a {op.kind!r} operand with value {op.value!r:.40}")
+    if op.decimals > MAX_DECIMALS or op.digits > 8 or op.bit > 15:
+        raise _bad(f"{where}: operand digits {op.digits}, decimals {op.decimals}, bit {op.bit} out of range")
+    for text in (op.kind, op.unit, *(op.index[:1] if op.index else ()), *([op.value] if op.kind == "$" else [])):
+        _plain(text, f"{where}: operand text")
+
+
+def validate(obj: ObjectFile, target: Target) -> None:
+    """Everything decode() rebuilt, against `target`: operands as `mlc check` takes them
+    (kinds, device numbers, index registers, constants), labels and exports in the pointer
+    range, positions within the bounds of a source, names without control characters. An
+    object whose seal is valid but whose contents are not (crafted, or written by another
+    tool) stops here with E502, before the simulator or objdump read it."""
+    rules = OperandRules(target)
+    for u in obj.units:
+        if not u.path:
+            raise _bad("a unit without a name")
+        _plain(u.path, "module name")
+        for d in u.directives:
+            _position(d.line, d.col, f"directive of {u.path!r}")
+            _plain(d.text, "directive")
+        for name, value in u.symbols.items():
+            _plain(name, "symbol name")
+            _plain(value, "symbol value")
+    labels = next((s for s in target.instructions.values() if s.cls == "label"), None)
+    for k, ins in enumerate(obj.instrs):
+        where = f"instruction {k} ({ins.mnemonic})"
+        _position(ins.line, ins.col, where)
+        for text in ins.texts:
+            _plain(text, f"{where}: operand as written")
+        for op in ins.operands:
+            _operand_shape(op, where)
+        problems = rules.errors(ins.spec, ins.operands)
+        if problems:
+            raise _bad(f"{where}: {problems[0]}")
+        if ins.table:
+            lo, hi = target.krange(ins.spec.width)
+            if not all(lo <= v <= hi for v in ins.table):
+                raise _bad(f"{where}: a table entry outside K{lo}..K{hi}")
+    if labels is not None:
+        for u in obj.units:
+            for p in u.exports:
+                problems = rules.errors(labels, (Operand("P", number=p),))
+                if problems:
+                    raise _bad(f"export of {u.path!r}: {problems[0]}")
+
+
 def decode(data: bytes, target: Target) -> ObjectFile:
     """Bytes -> ObjectFile, Instr objects rebuilt against `target`. Raises ObjectError."""
     kind, sections = check_envelope(data)
     try:
-        return _decode(kind, sections, target)
+        obj = _decode(kind, sections, target)
+        validate(obj, target)
+        return obj
     except ObjectError:
         raise
-    except (ValueError, IndexError, KeyError, OverflowError, struct.error) as e:
+    except (ValueError, IndexError, KeyError, OverflowError, TypeError, struct.error) as e:
         raise ObjectError("E502", f"malformed contents ({type(e).__name__})") from e
 
 

@@ -537,6 +537,35 @@ def _pulse_hint(t: Target, name: str) -> tuple[str, ...]:
             + f"; to run it once per rising edge, drive it with {offer}",)
 
 
+class OperandRules:
+    """The checker's operand rules (kinds, device ranges, index registers, constant ranges,
+    cross-operand constraints) for operands that arrive resolved: an object file read back
+    (asm/objfile.py) must hold nothing `mlc check` would refuse."""
+
+    def __init__(self, target: Target):
+        self._r = _Resolver(ParsedFile("<object>", [], [], []), target)
+        self._seen: dict = {}  # (form, operands) -> errors: programs repeat a lot
+
+    def errors(self, spec: InstrSpec, operands: tuple[Operand, ...]) -> list[str]:
+        """The E-level problems of `operands` as operands of `spec` (W-level ones are kept)."""
+        key = (id(spec), operands)
+        hit = self._seen.get(key)
+        if hit is None:
+            hit = self._seen[key] = self._errors(spec, operands)
+        return hit
+
+    def _errors(self, spec: InstrSpec, operands: tuple[Operand, ...]) -> list[str]:
+        r = self._r
+        r._problems = []
+        ops = list(operands)
+        args = [_Arg(k, str(op)) for k, op in enumerate(ops)]
+        ok = all([r.check_operand(spec, o, op, a, ops)
+                  for o, op, a in zip(spec.operands, ops, args, strict=True)])
+        if ok:
+            r.check_constraints(spec, ops, args)
+        return [msg for _idx, code, msg, _notes in r._problems if code.startswith("E")]
+
+
 def _spelling_hint(t: Target, name: str) -> tuple[str, ...]:
     """DLD>= on a target that writes the 32-bit form LDD>= (FX family): name the right one."""
     if not name.startswith("D"):
