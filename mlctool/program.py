@@ -31,7 +31,7 @@ class Instr:
     @property
     def label(self) -> int | None:
         """The P number this instruction defines (P label) or None."""
-        return self.operands[0].number if self.spec.cls == "label" else None
+        return self.operands[0].number if self.spec.cls == "label" and self.operands else None
 
 
 @dataclass(slots=True)
@@ -50,10 +50,11 @@ class Module:
         return sum(i.steps for i in self.instrs)
 
     def labels(self) -> dict[int, int]:
-        """P number -> instruction index (first definition)."""
+        """P number -> instruction index (first definition). A label with operand errors
+        (`P256` on NC5: E205, kept without operands to end its rung) defines nothing."""
         out: dict[int, int] = {}
         for k, ins in enumerate(self.instrs):
-            if ins.spec.cls == "label":
+            if ins.spec.cls == "label" and ins.operands:
                 out.setdefault(ins.operands[0].number, k)
         return out
 
@@ -76,7 +77,8 @@ class Image:
 
     def labels(self) -> dict[int, int]:
         """P number -> instruction index."""
-        return {ins.operands[0].number: k for k, ins in enumerate(self.instrs) if ins.spec.cls == "label"}
+        return {ins.operands[0].number: k for k, ins in enumerate(self.instrs)
+                if ins.spec.cls == "label" and ins.operands}
 
 
 # Instruction classes after which a load opens a new rung (2.2): the rung's result has been
