@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.fbs.model import BLANK, NEXT, Cond, Dialect, Motion, PosProgram, Step, Val, tables
+from mlctool.limits import long_number, too_long_message
 
 # characters NFKC leaves alone but the manual uses as minus signs
 _MINUS = {"\u2212": "-", "\u2010": "-", "\u2011": "-", "\u2012": "-", "\u2013": "-", "\uFE63": "-"}
@@ -102,6 +103,10 @@ class _Parser:
         return self.steps
 
     def parse_line(self, line: str) -> None:
+        long = long_number(line)
+        if long:  # bounded before any int() (mlctool/limits.py)
+            self.err("F034", too_long_message("the line", len(long[0])), long.start() + 1, long.end() + 1)
+            return
         pos = 0
         m = _LABEL.match(line)
         if m:

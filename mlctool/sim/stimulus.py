@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.limits import clip, long_number, too_long_message
 from mlctool.sim.signals import SIGNAL
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name, to_f32
 from mlctool.syntax.source import read_source
@@ -34,9 +35,12 @@ class StimError(ValueError):
 
 def parse_time(text: str) -> int:
     """'1.5s' -> 1500000 (microseconds). Raises StimError."""
+    long = long_number(text)
+    if long:  # --until, --duration and stimulus times (mlctool/limits.py)
+        raise StimError(too_long_message(f"time {clip(text)!r}", len(long[0])))
     m = _TIME.fullmatch(text.strip())
     if not m:
-        raise StimError(f"{text!r} is not a time (e.g. 150ms, 1.5s, 500us, 2min)")
+        raise StimError(f"{clip(text)!r} is not a time (e.g. 150ms, 1.5s, 500us, 2min)")
     us = Fraction(m["num"]) * _UNITS[m["unit"].lower()]  # exact: 4.07s is 4070000 us
     if us.denominator != 1:
         raise StimError(f"{text!r} is not a whole number of microseconds")
@@ -189,6 +193,11 @@ class _Parser:
             body = _strip_comment(raw)
             toks = [(m.group(), m.start() + 1) for m in _TOKEN.finditer(body)]
             if not toks:
+                continue
+            long = long_number(body)
+            if long:  # bounded before any conversion (mlctool/limits.py): times, devices, values
+                self.err(no, long.start() + 1, len(long[0]), "E601",
+                         too_long_message(f"line {no}", len(long[0])))
                 continue
             try:
                 self.line(no, toks)

@@ -13,7 +13,8 @@ from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
 
-from mlctool.diagnostics import Diagnostic, Span
+from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.limits import clip, long_number, too_long_message
 from mlctool.syntax.source import SourceText
 
 GRAMMAR = Path(__file__).resolve().parents[2] / "grammars" / "il.lark"
@@ -126,4 +127,22 @@ def parse(src: SourceText, fast: bool = True) -> ParsedFile:
             ops_at = m.start("ops") + 1
             words = [Word(o.group(), ops_at + o.start()) for o in operands(m["ops"])]
         statements.append(Statement(number, kind, Word(m["name"], m.start("name") + 1), words, step))
+    if long_number(src.text):  # rare: only then look at each word
+        statements = _bounded(src.path, statements, diagnostics)
     return ParsedFile(src.path, lines, statements, diagnostics, _noqa(lines))
+
+
+def _bounded(path: str, statements: list[Statement], diagnostics: list[Diagnostic]) -> list[Statement]:
+    """Drop each statement with a number past limits.MAX_DIGITS (a step number, a label, an
+    operand, a directive's argument), with a syntax error (E103) at that word."""
+    out = []
+    for st in statements:
+        words = ([st.step] if st.step else []) + [st.name] + st.operands
+        bad = next(((w, m) for w in words if (m := long_number(w.text))), None)
+        if bad is None:
+            out.append(st)
+            continue
+        w, m = bad
+        diagnostics.append(diag(path, Span(st.line, w.col, st.line, w.end_col), "E103",
+                                too_long_message(repr(clip(w.text)), len(m[0]))))
+    return out
