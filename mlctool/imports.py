@@ -62,8 +62,26 @@ def decode_export(path: str, data: bytes) -> tuple[str | None, list[Diagnostic]]
     return None, [diag(path, Span.at(1), "E102", "input is neither UTF-8 nor Shift-JIS")]
 
 
+class _BadRow(Exception):
+    """A row the csv module refuses (a field past its 131,072-character limit): E907."""
+
+    def __init__(self, line: int, message: str):
+        super().__init__(message)
+        self.line = line
+        self.message = message
+
+
 def _rows(text: str, delimiter: str) -> list[list[str]]:
-    return [[c.strip() for c in row] for row in csv.reader(io.StringIO(text), delimiter=delimiter)]
+    reader = csv.reader(io.StringIO(text), delimiter=delimiter)
+    out = []
+    try:
+        for row in reader:
+            out.append([c.strip() for c in row])
+    except csv.Error as e:
+        limit = csv.field_size_limit()
+        why = f"a field longer than {limit:,} characters" if "field limit" in str(e) else str(e)
+        raise _BadRow(reader.line_num, f"line {reader.line_num}: {why}; no export has such a row") from None
+    return out
 
 
 def detect(text: str) -> str:
@@ -242,10 +260,13 @@ def import_text(path: str, text: str, target: Target, fmt: str | None = None
     if fmt == "il":
         return (text if text.endswith("\n") else text + "\n"), fmt, []
     w = _Writer(path, target)
-    if fmt in ("gxworks2", "gxdeveloper"):
-        _gx(w, text, "\t" if fmt == "gxworks2" or "\t" in text.split("\n", 3)[-1] else ",")
-    else:
-        _wplsoft(w, text)
+    try:
+        if fmt in ("gxworks2", "gxdeveloper"):
+            _gx(w, text, "\t" if fmt == "gxworks2" or "\t" in text.split("\n", 3)[-1] else ",")
+        else:
+            _wplsoft(w, text)
+    except _BadRow as e:
+        return None, fmt, [diag(path, Span.at(e.line), "E907", e.message)]
     w.finish()
     diags = _once_per_kind(w.diags, w.kinds)
     if any(d.severity == "error" for d in diags):

@@ -97,3 +97,14 @@ def test_twenty_digits_still_read(tmp_path):
     (tmp_path / "t.il").write_text(f"LD X{'9' * MAX_DIGITS}\nOUT Y0\nEND\n", "utf-8")
     r = run_mlc("check", "t.il", cwd=tmp_path)
     assert r.code == 1 and "E103" not in r.err and ("E205" in r.err or "E203" in r.err), r.err
+
+
+@pytest.mark.parametrize("name,text", [
+    ("image.csv", f"register,value\nR0,{HUGE}\n"),
+    ("image.json", '{"format": "mlc-fbs-image", "words": [' + HUGE + "]}"),
+])
+def test_register_image_number_too_long(name, text, tmp_path):
+    """FBs register images (objdump, --table) are read with json/int: bounded first."""
+    (tmp_path / name).write_text(text, "utf-8")
+    r = run_mlc("objdump", name, cwd=tmp_path)
+    assert r.code == 2 and LIMIT in r.err and "internal error" not in r.err, r.err[-800:]

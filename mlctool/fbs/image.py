@@ -14,6 +14,7 @@ import re
 from dataclasses import dataclass
 
 from mlctool.fbs.model import tables
+from mlctool.limits import long_number, too_long_message
 
 FORMAT = "mlctool-fbs-table"
 VERSION = 1
@@ -78,6 +79,10 @@ def _words_checked(values: list, where: str) -> list[int]:
 def read_image(text: str) -> tuple[list[int], str]:
     """JSON or CSV image text -> (words, SR name). Raises ImageError."""
     stripped = text.lstrip()
+    long = long_number(text)
+    if long:  # bounded before json/int convert it (mlctool/limits.py)
+        line = text.count("\n", 0, long.start()) + 1
+        raise ImageError(f"line {line}: " + too_long_message("the image", len(long[0])))
     if stripped.startswith("{"):
         try:
             doc = json.loads(text)
@@ -86,7 +91,11 @@ def read_image(text: str) -> tuple[list[int], str]:
         if not isinstance(doc, dict) or doc.get("format") != FORMAT or not isinstance(doc.get("words"), list):
             raise ImageError(f"JSON is not an {FORMAT} image (needs format and words)")
         return _words_checked(doc["words"], "words"), str(doc.get("sr", "R0"))
-    rows = [r for r in csv.reader(io.StringIO(text)) if r and any(c.strip() for c in r)]
+    reader = csv.reader(io.StringIO(text))
+    try:
+        rows = [r for r in reader if r and any(c.strip() for c in r)]
+    except csv.Error as e:  # a field past the csv module's limit (131,072 characters)
+        raise ImageError(f"CSV line {reader.line_num}: {e}") from None
     if rows and rows[0][0].strip().lower() == "register":
         rows = rows[1:]
     if not rows:
