@@ -64,6 +64,11 @@ def double_coils(instrs: list[Instr], code: str = "W401") -> list[Diagnostic]:
     return out
 
 
+def _span(first: int, words: int) -> str:
+    """Registers as the manual writes a pair: (D1, D0); D0-D3 for longer spans."""
+    return f"(D{first + 1}, D{first})" if words == 2 else f"D{first}-D{first + words - 1}"
+
+
 def lint_module(module: Module, target: Target, referenced: set[int]) -> list[Diagnostic]:
     instrs = module.instrs
     out = double_coils(instrs)
@@ -73,25 +78,37 @@ def lint_module(module: Module, target: Target, referenced: set[int]) -> list[Di
 
     out += [_at(i, None, "W402", f"{i.texts[0]} is also driven at {_where(f)}") for i, f in _first_seen(instrs, timer_key)]
 
-    # 32-bit pairs overlapping other uses of their registers
+    # multi-word D operands (32-bit pairs, the 32-bit product of a 16-bit MUL, the quotient and
+    # remainder of DIV: OperandSpec.words) overlapping other uses of their registers
     words16: dict[int, Instr] = {}
-    pairs32: dict[int, Instr] = {}
+    spans: dict[int, tuple[Instr, int]] = {}  # first register -> (instruction, words)
+    widest = 1
     for ins in instrs:
         if ins.spec.api is None:
             continue
-        for o in ins.operands:
+        for spec_o, o in zip(ins.spec.operands, ins.operands, strict=False):
             if o.kind != "D" or o.index:
                 continue
-            if ins.spec.width == 32:
-                for other in (o.number - 1, o.number + 1):
-                    if other in pairs32 and pairs32[other] is not ins:
-                        out.append(_at(ins, None, "W403", f"D{o.number} pair overlaps the pair D{other} used at {_where(pairs32[other])}"))
-                if o.number + 1 in words16:
-                    out.append(_at(ins, None, "W403", f"(D{o.number + 1}, D{o.number}) overlaps D{o.number + 1} used as a 16-bit word at {_where(words16[o.number + 1])}"))
-                pairs32.setdefault(o.number, ins)
+            n = spec_o.words[1] if ins.spec.width == 32 else spec_o.words[0]
+            if n > 1:
+                for other in range(o.number - widest + 1, o.number + n):
+                    hit = spans.get(other)
+                    if other != o.number and hit is not None and hit[0] is not ins \
+                            and other + hit[1] > o.number:
+                        out.append(_at(ins, None, "W403", f"{_span(o.number, n)} overlaps "
+                                       f"{_span(other, hit[1])} used at {_where(hit[0])}"))
+                for high in range(o.number + 1, o.number + n):
+                    if high in words16:
+                        out.append(_at(ins, None, "W403", f"{_span(o.number, n)} overlaps D{high} used as a "
+                                       f"16-bit word at {_where(words16[high])}"))
+                spans.setdefault(o.number, (ins, n))
+                widest = max(widest, n)
             else:
-                if o.number - 1 in pairs32:
-                    out.append(_at(ins, None, "W403", f"D{o.number} is the high word of the 32-bit pair D{o.number - 1} used at {_where(pairs32[o.number - 1])}"))
+                for first in range(o.number - widest + 1, o.number):
+                    hit = spans.get(first)
+                    if hit is not None and first + hit[1] > o.number:
+                        out.append(_at(ins, None, "W403", f"D{o.number} is a high word of "
+                                       f"{_span(first, hit[1])} used at {_where(hit[0])}"))
                 words16.setdefault(o.number, ins)
 
     # labels nobody jumps to
@@ -99,7 +116,8 @@ def lint_module(module: Module, target: Target, referenced: set[int]) -> list[Di
         if ins.spec.cls == "label":
             p = ins.operands[0].number
             if p not in referenced and p not in module.exports:
-                out.append(_at(ins, None, "W404", f"P{p} is never the target of CJ or CALL"))
+                name = ins.texts[0] if ins.texts else f"P{p}"  # a named label as written
+                out.append(_at(ins, None, "W404", f"{name} is never the target of CJ or CALL"))
 
     # unreachable: after FEND, SRET or IRET, until the next label or interrupt pointer
     dead = False
