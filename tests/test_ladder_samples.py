@@ -5,6 +5,7 @@ instructions (FBs FUN140) with one input line per block."""
 
 from __future__ import annotations
 
+import json
 import re
 from pathlib import Path
 
@@ -75,15 +76,36 @@ def test_step_ladder_draws_each_step_as_a_state_box(name, tmp_path):
 
 
 def test_step_report_lights_the_active_step(tmp_path):
+    """--report: a step's state box is an element the page lights, in the scans its step is
+    active (the STL steps of the traffic light each turn on during the run)."""
     il = SAMPLES / "vs" / "traffic_light.il"
     page = tmp_path / "r.html"
     r = run_mlc("sim", "--target", "vs", str(il), "--stimulus", str(il.with_suffix(".stim")),
                 "--report", str(page))
     assert r.code == 0, r.err
     html = page.read_text("utf-8")
-    stl = [m.start() for m in re.finditer(r'class="el" data-i="(\d+)"><line[^>]*/><line[^>]*/><rect class="box step"',
-                                          html)]
-    assert stl  # the step boxes are elements the page can light
+    boxes = {int(i) for i in re.findall(r'class="el" data-i="(\d+)"><line[^>]*/><line[^>]*/><rect class="box step"', html)}
+    power = json.loads(re.search(r'<script type="application/json" id="power">(.*?)</script>', html, re.S)[1])
+    lit = {i for scan in power["deltas"] for i in scan}
+    assert boxes and boxes <= lit, sorted(boxes - lit)
+
+
+def test_joined_steps_are_boxes_in_series():
+    """Consecutive STLs (steps joining before a transfer) draw their boxes in series on one line."""
+    from mlctool.check import check_texts
+    from mlctool.ladder.network import Leaf, Rung, build_items
+    from mlctool.syntax.source import SourceText
+    from mlctool.targets import load_target
+
+    text = ("LD M9002\nSET S20\nSET S21\nSTL S20\nOUT Y0\n"
+            "STL S21\nSTL S23\nLD X0\nSET S22\nSTL S22\nOUT Y2\nRET\nEND\n")
+    r = check_texts([SourceText("t.il", text)], load_target("vs"))
+    assert not r.errors, r.diagnostics
+    rungs = [i for i in build_items(r.modules[0].instrs) if isinstance(i, Rung)]
+    steps = [i for i in rungs if i.step]
+    first = [[e.ins.texts[0] for e in s.root.lines[0].elems if isinstance(e, Leaf) and e.ins.spec.cls == "bus"]
+             for s in steps]
+    assert first == [["S20"], ["S21", "S23"], ["S22"]]
 
 
 def test_multi_input_box_gets_one_line_per_input():
