@@ -211,3 +211,74 @@ def open_input(path: str, mode: str = "rb", encoding: str | None = None) -> IO:
 def write_atomic(path: str, data: bytes | str) -> None:
     """Write all of `data` to `path` or nothing; an existing file is replaced only on success."""
     Outputs().write({path: data})
+
+
+def rewrite(path: str, data: bytes) -> None:
+    """New content for an existing file that stays the same file (`mlc fmt`): a symbolic link
+    is written through (the link stays a link, its target gets the text), the permission bits
+    are kept (0600 stays 0600), and a file with several hard links is rewritten in place so
+    every name still shows the new text (docs/reliability.md).
+
+    A file with one name is replaced atomically (temporary file beside it, renamed over it).
+    A hard-linked file cannot be: a rename would give it a new inode and split the names. It
+    is overwritten in place instead, after the new text is ready and a copy of the old bytes
+    is saved beside it; if the write fails, the old bytes are put back (and if even that
+    fails, the message names the saved copy)."""
+    real = os.path.realpath(path)
+    try:
+        st = os.stat(real)
+    except OSError as e:
+        raise _cannot_write(path, e.strerror or e) from e
+    if st.st_nlink > 1:
+        _overwrite_in_place(real, data, path)
+        return
+    plan = Outputs(make_dirs=False)
+    try:
+        tmp, fd = plan._temp(real)
+        _fill(fd, data, path)
+        _settle(tmp, path)
+        try:
+            os.chmod(tmp, stat.S_IMODE(st.st_mode))
+            if hasattr(os, "chown") and (st.st_uid, st.st_gid) != (os.getuid(), os.getgid()):
+                try:  # the group can be kept by its member; the owner only by root
+                    os.chown(tmp, -1 if os.getuid() else st.st_uid, st.st_gid)
+                except OSError:
+                    pass
+            os.replace(tmp, real)
+        except OSError as e:
+            raise _cannot_write(path, e.strerror or e) from e
+        plan._staged.clear()
+    finally:
+        plan.discard()
+
+
+def _overwrite_in_place(real: str, data: bytes, path: str) -> None:
+    try:
+        with open(real, "rb") as f:
+            old = f.read()
+    except OSError as e:
+        raise _cannot_write(path, e.strerror or e) from e
+    plan = Outputs(make_dirs=False)
+    tmp, fd = plan._temp(real)  # the saved copy of the old bytes
+    _fill(fd, old, path)
+    try:
+        with open(real, "r+b") as f:
+            try:
+                f.write(data)
+                f.truncate()
+                f.flush()
+                os.fsync(f.fileno())
+            except OSError as e:
+                try:
+                    f.seek(0)
+                    f.write(old)
+                    f.truncate()
+                    f.flush()
+                except OSError:
+                    plan._staged.clear()  # keep the copy: it is the only whole old text
+                    raise _cannot_write(path, f"{e.strerror or e}; the old text is saved in {tmp}") from e
+                raise _cannot_write(path, f"{e.strerror or e} (the file is unchanged)") from e
+    except OSError as e:
+        raise _cannot_write(path, e.strerror or e) from e
+    finally:
+        plan.discard()

@@ -27,8 +27,8 @@ import io
 import re
 
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.fileio import open_input
 from mlctool.syntax.operands import OperandSyntaxError, format_operand, parse_operand
+from mlctool.syntax.source import decode, read_source
 from mlctool.targets.model import Target
 
 FORMATS = ("gxworks2", "gxdeveloper", "wplsoft", "il")
@@ -43,23 +43,12 @@ _STEP6 = re.compile(r"\s*[0-9]{6}\s*[,\t]")
 _LABEL = re.compile(r"[PI][0-9]+", re.IGNORECASE)
 
 
-def decode_export(path: str, data: bytes) -> tuple[str | None, list[Diagnostic]]:
-    """Bytes -> text: BOM-marked UTF-16/UTF-8 as GX Works2 writes, UTF-8, else Shift-JIS (GX
-    Developer on Japanese Windows)."""
-    for bom, enc in ((b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"), (b"\xef\xbb\xbf", "utf-8-sig")):
-        if data.startswith(bom):
-            try:
-                return data.decode(enc), []
-            except UnicodeDecodeError as e:
-                return None, [diag(path, Span.at(1), "E102", f"invalid {enc} ({e.reason})")]
-    if b"\0" in data:
-        return None, [diag(path, Span.at(1), "E101", "input is binary, not text")]
-    for enc in ("utf-8", "cp932"):
-        try:
-            return data.decode(enc), []
-        except UnicodeDecodeError:
-            continue
-    return None, [diag(path, Span.at(1), "E102", "input is neither UTF-8 nor Shift-JIS")]
+def decode_export(path: str, data: bytes, encoding: str | None = None) -> tuple[str | None, list[Diagnostic]]:
+    """Bytes -> text, line ends normalised, as sources are read (mlctool/syntax/source.py): a BOM
+    (GX Works2 writes UTF-16), else `encoding`, else UTF-8, else a guess with a note (N108;
+    GX Developer on Japanese Windows writes Shift-JIS, Taiwanese tools Big5)."""
+    src, diags = decode(path, data, encoding)
+    return (src.text if src is not None else None), diags
 
 
 class _BadRow(Exception):
@@ -327,16 +316,7 @@ def import_file(path: str, target: Target, fmt: str | None = None) -> tuple[str 
     return import_text(path, text, target, fmt)
 
 
-def read_export(path: str) -> tuple[str | None, list[Diagnostic]]:
-    """The text of an export file, line ends normalised, or None and the reason."""
-    try:
-        with open_input(path) as f:
-            data = f.read(64 * 1024 * 1024 + 1)
-    except OSError as e:
-        return None, [diag(path, Span.at(1), "E100", f"cannot read: {e.strerror or e}")]
-    if len(data) > 64 * 1024 * 1024:
-        return None, [diag(path, Span.at(1), "E104", "input too large (64 MiB)")]
-    text, diags = decode_export(path, data)
-    if text is None:
-        return None, diags
-    return text.replace("\r\n", "\n").replace("\r", "\n"), []
+def read_export(path: str, encoding: str | None = None) -> tuple[str | None, list[Diagnostic]]:
+    """The text of an export file, line ends normalised, or None; and the diagnostics."""
+    src, diags = read_source(path, encoding)
+    return (src.text if src is not None else None), diags

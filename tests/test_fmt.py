@@ -112,3 +112,105 @@ def test_cli_check_and_syntax_errors(mlc, tmp_path):
     bad.write_text("LD X0 @\nEND\n")
     r = mlc("fmt", str(bad))
     assert r.code == 1 and "E103" in r.err and bad.read_text() == "LD X0 @\nEND\n"
+
+
+# ------------------------------------------------------------------ the file stays the same file
+
+UGLY = "ld x0 ; 啟動\nout   y0\nend\n"
+PRETTY = _fmt(UGLY)
+
+
+@pytest.mark.parametrize("encoding, bom, newline", [
+    ("utf-8", b"", "\r\n"),
+    ("utf-8", b"\xef\xbb\xbf", "\r\n"),
+    ("utf-16-le", b"\xff\xfe", "\r\n"),
+    ("utf-16-be", b"\xfe\xff", "\n"),
+    ("cp950", b"", "\r\n"),  # Big5 as Delta's and Vigor's editors write it
+    ("utf-8", b"", "\r"),
+])
+def test_fmt_keeps_encoding_bom_and_line_endings(mlc, tmp_path, encoding, bom, newline):
+    p = tmp_path / "p.il"
+    p.write_bytes(bom + UGLY.replace("\n", newline).encode(encoding))
+    args = ["--encoding", encoding] if encoding == "cp950" else []
+    r = mlc("fmt", *args, str(p))
+    assert r.code == 0, r.err
+    assert p.read_bytes() == bom + PRETTY.replace("\n", newline).encode(encoding)
+    assert mlc("fmt", "--check", *args, str(p)).code == 0
+
+
+def test_fmt_writes_through_a_symlink_and_keeps_the_mode(mlc, tmp_path):
+    real = tmp_path / "real.il"
+    real.write_text(UGLY, "utf-8")
+    real.chmod(0o600)
+    link = tmp_path / "link.il"
+    link.symlink_to("real.il")
+    assert mlc("fmt", str(link)).code == 0
+    assert link.is_symlink() and link.readlink() == Path("real.il")
+    assert real.read_text("utf-8") == PRETTY
+    assert real.stat().st_mode & 0o777 == 0o600
+
+
+def test_fmt_keeps_hard_links(mlc, tmp_path):
+    a = tmp_path / "a.il"
+    a.write_text(UGLY, "utf-8")
+    a.chmod(0o640)
+    b = tmp_path / "b.il"
+    b.hardlink_to(a)
+    inode = a.stat().st_ino
+    assert mlc("fmt", str(a)).code == 0
+    assert a.stat().st_ino == b.stat().st_ino == inode and a.stat().st_nlink == 2
+    assert b.read_text("utf-8") == PRETTY and a.stat().st_mode & 0o777 == 0o640
+    assert [x.name for x in tmp_path.iterdir() if x.name.startswith(".mlc-")] == []
+
+
+def test_fmt_of_a_single_file_is_atomic_and_keeps_the_mode(mlc, tmp_path):
+    p = tmp_path / "p.il"
+    p.write_text(UGLY, "utf-8")
+    p.chmod(0o600)
+    assert mlc("fmt", str(p)).code == 0
+    assert p.read_text("utf-8") == PRETTY and p.stat().st_mode & 0o777 == 0o600
+    assert [x.name for x in tmp_path.iterdir()] == ["p.il"]
+
+
+def test_failed_in_place_write_restores_the_old_text(tmp_path, monkeypatch):
+    """A hard-linked file is overwritten in place: when that write fails, the old bytes return."""
+    import builtins
+
+    from mlctool.diagnostics import MlcError
+    from mlctool.fileio import rewrite
+
+    a = tmp_path / "a.il"
+    a.write_bytes(b"OLD TEXT\n")
+    (tmp_path / "b.il").hardlink_to(a)
+    real_open = builtins.open
+
+    class Failing:
+        def __init__(self, f):
+            self.f, self.writes = f, 0
+
+        def write(self, data):
+            self.writes += 1
+            if self.writes == 1:
+                self.f.write(data[:3])
+                raise OSError(28, "No space left on device")
+            return self.f.write(data)
+
+        def __getattr__(self, name):
+            return getattr(self.f, name)
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            return self.f.__exit__(*exc)
+
+    def fake_open(path, mode="r", *args, **kw):
+        f = real_open(path, mode, *args, **kw)
+        return Failing(f) if mode == "r+b" else f
+
+    monkeypatch.setattr(builtins, "open", fake_open)
+    with pytest.raises(MlcError, match="unchanged"):
+        rewrite(str(a), b"NEW, LONGER TEXT\n")
+    monkeypatch.undo()
+    assert (tmp_path / "b.il").read_bytes() == b"OLD TEXT\n"
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["a.il", "b.il"]

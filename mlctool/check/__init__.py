@@ -21,7 +21,7 @@ from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Module
 from mlctool.syntax.operands import SYMBOL, OperandSyntaxError, parse_operand
 from mlctool.syntax.parser import parse
-from mlctool.syntax.source import SourceText, decode, read_source
+from mlctool.syntax.source import SourceText, decode, read_source, source_encoding
 from mlctool.targets import Target
 
 
@@ -152,13 +152,15 @@ def _finish(diags, config: Config, ignore, noqa) -> list[Diagnostic]:
 def check_files(paths: list[str], target: Target, config: Config | None = None,
                 ignore: frozenset[str] = frozenset()) -> CheckResult:
     sources: list[SourceText] = []
-    initial: list[Diagnostic] = []
+    encoding, initial = source_encoding(config)
+    if initial:  # an unknown encoding name: nothing can be read
+        return check_texts([], target, config, ignore, initial)
     for p in paths:
         wrong = not_a_source_by_name(p)  # a .stim or an object given as a source
         if wrong is not None:
             initial.append(wrong)
             continue
-        src, found = read_source(p)
+        src, found = read_source(p, encoding)
         initial += found
         if src is not None:
             wrong = not_a_source_by_content(src)  # a GX Works2 export

@@ -28,6 +28,7 @@ from mlctool.asm.project import project_build
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     config_option,
+    encoding_option,
     examples,
     get_config,
     get_target,
@@ -101,6 +102,7 @@ def _write_program(plan: Outputs, program: ObjectFile, target, out: str, listing
     "mlc build -c src/main.il src/lib.il -o objs/   # one object module per source",
 ))
 @target_option
+@encoding_option
 @config_option
 @click.option("-o", "--output", default=None, metavar="FILE|DIR",
               help="program.mlx (link), module.mlo, or a folder with -c")

@@ -11,6 +11,7 @@ from mlctool.check.misuse import likely_targets, wrong_target_note
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     config_option,
+    encoding_option,
     examples,
     expand_sources,
     get_config,
@@ -30,6 +31,7 @@ from mlctool.targets import available_targets, load_target
     "mlc check --format sarif src > mlc.sarif",
 ))
 @target_option
+@encoding_option
 @config_option
 @click.option("--format", "fmt", type=click.Choice(["text", "json", "sarif"]), default="text", show_default=True)
 @click.option("--werror", is_flag=True, help="treat warnings as errors (exit 1)")

@@ -61,7 +61,40 @@ def examples(*lines: str) -> str:
 
 
 def get_config(explicit: str | None = None) -> Config:
-    return load_config(explicit=explicit)
+    return with_cli_encoding(load_config(explicit=explicit))
+
+
+def with_cli_encoding(config: Config) -> Config:
+    """`--encoding` stands in for mlc.toml `encoding` (read by mlctool/syntax/source.py)."""
+    ctx = click.get_current_context(silent=True)
+    name = ctx.meta.get(_ENCODING_KEY) if ctx else None
+    if name:
+        config.data = {**config.data, "encoding": name}
+    from mlctool.syntax.source import source_encoding
+
+    _, problems = source_encoding(config)  # an unknown name in mlc.toml: E110 at its line, exit 2
+    if problems:
+        raise MlcError(problems[0], 2)
+    return config
+
+
+_ENCODING_KEY = "mlc.encoding"
+
+
+def _remember_encoding(ctx: click.Context, _param, value: str | None) -> None:
+    if value:
+        from mlctool.syntax.source import known_encoding
+
+        if known_encoding(value) is None:
+            raise click.BadParameter(f"unknown encoding {value!r} (e.g. cp950, big5, gb18030, cp932, utf-8)")
+        ctx.meta[_ENCODING_KEY] = value
+
+
+def encoding_option(fn):
+    """`--encoding NAME` for commands that read IL sources (read by get_config)."""
+    return click.option("--encoding", default=None, metavar="NAME", expose_value=False, callback=_remember_encoding,
+                        help="encoding of sources that are not UTF-8 (cp950, gb18030, cp932...; default: "
+                             "mlc.toml `encoding`, else UTF-8, with a guess for other bytes)")(fn)
 
 
 def output_plan(inputs, config: Config | None = None) -> Outputs:

@@ -8,11 +8,19 @@ import sys
 import click
 
 from mlctool.cli import main_group
-from mlctool.cli.common import config_option, examples, get_config, get_target, show, target_option
+from mlctool.cli.common import (
+    config_option,
+    encoding_option,
+    examples,
+    get_config,
+    get_target,
+    show,
+    target_option,
+)
 from mlctool.diagnostics import unreadable
-from mlctool.fileio import Outputs, write_atomic
+from mlctool.fileio import Outputs, rewrite
 from mlctool.syntax.layout import FormatOptions, format_source
-from mlctool.syntax.source import read_source
+from mlctool.syntax.source import GUESSED, read_source, source_encoding
 
 
 @main_group.command("fmt", epilog=examples(
@@ -21,6 +29,7 @@ from mlctool.syntax.source import read_source
     "mlc fmt --steps renumber src/main.il  # leading step numbers, recomputed",
 ))
 @target_option
+@encoding_option
 @config_option
 @click.option("--check", "check_only", is_flag=True, help="change nothing; exit 1 and show a diff if a file would change")
 @click.option("--steps", type=click.Choice(["drop", "keep", "renumber"]), default="drop", show_default=True,
@@ -32,14 +41,17 @@ def fmt_cmd(target_name, config_path, check_only, steps, files):
     Exit 0: nothing to change (or rewritten); 1: --check found changes or a file has syntax
     errors; 2: unreadable input.
     """
-    target = get_target(target_name, get_config(config_path))
+    config = get_config(config_path)
+    target = get_target(target_name, config)
+    encoding, _ = source_encoding(config)
     if not check_only:  # each file is rewritten in place: two names for one file are refused (E606)
         plan = Outputs()
         for path in files:
             plan.add(path, "the file")
     worst = 0
     for path in files:
-        src, diags = read_source(path)
+        src, diags = read_source(path, encoding)
+        show([d for d in diags if d.code == GUESSED], {})
         if src is None:
             show(diags, {})
             worst = max(worst, 2 if unreadable(diags) else 1)
@@ -58,6 +70,7 @@ def fmt_cmd(target_name, config_path, check_only, steps, files):
             sys.stdout.writelines(diff)
             worst = max(worst, 1)
         else:
-            write_atomic(path, new)
+            # the file's own encoding, BOM and line ending; through a symlink; mode and hard links kept
+            rewrite(path, src.encode(new))
             click.echo(f"formatted {path}", err=True)
     sys.exit(worst)

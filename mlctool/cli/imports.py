@@ -9,6 +9,7 @@ import click
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     config_option,
+    encoding_option,
     examples,
     get_config,
     get_target,
@@ -18,6 +19,7 @@ from mlctool.cli.common import (
 )
 from mlctool.diagnostics import unreadable
 from mlctool.imports import DIALECT_TARGET, FORMATS, detect, import_text, read_export
+from mlctool.syntax.source import source_encoding
 
 
 @main_group.command("import", epilog=examples(
@@ -25,6 +27,7 @@ from mlctool.imports import DIALECT_TARGET, FORMATS, detect, import_text, read_e
     "mlc import --target vs --from gxworks2 export.csv -o prog.il",
 ))
 @target_option
+@encoding_option
 @config_option
 @click.option("--from", "fmt", type=click.Choice(FORMATS), default=None,
               help="the export's format (default: recognised from its content)")
@@ -44,13 +47,14 @@ def import_cmd(target_name, config_path, fmt, output, file):
     if output:
         plan.add(output, "-o")
         plan.validate()
-    text, diags = read_export(file)
+    text, diags = read_export(file, source_encoding(config)[0])
     found_fmt = fmt or (detect(text) if text is not None else "")
     # an FX-dialect export is a VS program unless the command line says otherwise
     dialect = DIALECT_TARGET.get(found_fmt) if not target_name else None
     target = get_target(target_name or dialect, config)
     if text is not None:
-        text, found_fmt, diags = import_text(file, text, target, fmt)
+        text, found_fmt, converted = import_text(file, text, target, fmt)
+        diags = diags + converted
     show(diags, {})
     if text is None:
         sys.exit(2 if unreadable(diags) or any(d.code == "E909" for d in diags) else 1)

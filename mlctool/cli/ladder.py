@@ -9,6 +9,7 @@ import click
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     config_option,
+    encoding_option,
     examples,
     get_config,
     get_target,
@@ -29,6 +30,7 @@ WRITERS = {".svg": "svg", ".html": "html", ".htm": "html"}
     "mlc ladder prog.il -o prog.svg",
 ))
 @target_option
+@encoding_option
 @config_option
 @click.option("-o", "--output", "out_path", default=None, type=click.Path(dir_okay=False),
               help="write OUT.svg (rungs stacked) or OUT.html (self-contained page)")

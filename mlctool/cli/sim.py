@@ -16,6 +16,7 @@ from mlctool.asm import program_from_paths
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     config_option,
+    encoding_option,
     examples,
     get_config,
     get_target,
@@ -62,6 +63,7 @@ def _errors(diags: list[Diagnostic]) -> bool:
     "mlc sim src/main.il src/lib.il --stimulus 'tests/*.stim' -j 2 --junit junit.xml",
 ))
 @target_option
+@encoding_option
 @config_option
 @click.option("--stimulus", "stim_path", default=None, type=click.Path(dir_okay=False),
               help="stimulus file (docs/stimulus.md)")

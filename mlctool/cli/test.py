@@ -10,7 +10,15 @@ import click
 
 from mlctool.asm import program_from_paths
 from mlctool.cli import main_group
-from mlctool.cli.common import examples, get_target, output_plan, show, target_option
+from mlctool.cli.common import (
+    encoding_option,
+    examples,
+    get_target,
+    output_plan,
+    show,
+    target_option,
+    with_cli_encoding,
+)
 from mlctool.config import load_config
 from mlctool.diagnostics import MlcError, Span, diag
 from mlctool.sim import coverage as cov
@@ -35,7 +43,7 @@ def _enter_project(path: str | None):
         raise MlcError(diag(str(folder / "mlc.toml"), Span.at(1), "E100",
                             f"no mlc.toml {where} (mlc test runs a project's tests)"))
     os.chdir(folder)
-    return load_config(explicit="mlc.toml")
+    return with_cli_encoding(load_config(explicit="mlc.toml"))
 
 
 @main_group.command("test", epilog=examples(
@@ -44,6 +52,7 @@ def _enter_project(path: str | None):
     "mlc test samples/project",
 ))
 @target_option
+@encoding_option
 @click.option("--jobs", "-j", type=click.IntRange(1, 64), default=1, show_default=True,
               help="run scenarios in N worker processes")
 @click.option("--junit", "junit_path", default=None, metavar="FILE", help="write JUnit XML (path relative to the project)")

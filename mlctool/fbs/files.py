@@ -17,7 +17,7 @@ from mlctool.fbs.lang import parse_program
 from mlctool.fbs.model import PosProgram, tables
 from mlctool.fbs.table import TableError, decode, encode, program_text
 from mlctool.fileio import open_input
-from mlctool.syntax.source import read_source
+from mlctool.syntax.source import read_source, source_encoding
 
 IMAGE_SUFFIXES = (".json", ".csv")
 
@@ -40,8 +40,11 @@ class Checked:
 def check_positioning(paths: list[str], config: Config | None = None,
                       ignore: frozenset[str] = frozenset()) -> Checked:
     out = Checked()
+    encoding, out.diagnostics = source_encoding(config)
+    if out.diagnostics:
+        return out
     for path in paths:
-        src, problems = read_source(path)
+        src, problems = read_source(path, encoding)
         out.diagnostics += problems
         if src is None:
             continue
