@@ -132,3 +132,27 @@ def test_operand_errors_are_helpful():
 def test_format_round_trip(text):
     op = parse_operand(text)
     assert parse_operand(format_operand(op)) == op
+
+
+# -- the operand shortcut == every form in order -----------------------------------------
+OPERAND_PIECES = st.sampled_from(list("KHFEUGDMXYTCVZSPRNIW0123456789.+-\"") + ["EC1D", "U1", "K4", "D0", "10"])
+
+
+@settings(max_examples=600, deadline=None)
+@given(st.lists(OPERAND_PIECES, min_size=1, max_size=6).map("".join), st.booleans())
+def test_operand_shortcut_matches_the_full_parse(text, lower):
+    from mlctool.syntax.operands import full_parse_operand
+    from mlctool.targets import available_targets, load_target
+
+    text = text.lower() if lower else text
+    for name in available_targets():
+        syntax = load_target(name).operand_syntax
+        try:
+            want = full_parse_operand(text, syntax)
+        except OperandSyntaxError as e:
+            want = str(e)
+        try:
+            got = parse_operand.__wrapped__(text, syntax)
+        except OperandSyntaxError as e:
+            got = str(e)
+        assert got == want, (name, text)

@@ -52,6 +52,7 @@ class _Resolver:
         self.syntax = target.operand_syntax
         self.names = names or {}  # named labels of this file -> P number (check/labels.py)
         self.named_labels = bool(target.settings.get("named_labels"))
+        self.short_operand = target.settings.get("short_operand", {})
 
     # -- reporting
     def err(self, line: int, w: Word, code: str, msg: str, *notes: str) -> None:
@@ -148,8 +149,8 @@ class _Resolver:
         # Resolution depends only on the mnemonic and the operand texts (after symbol
         # substitution), so identical lines are resolved once: large programs repeat a lot.
         symbols = self.module.symbols
-        texts = tuple(symbols.get(w.text.upper(), w.text) for w in st.operands) if symbols \
-            else tuple(w.text for w in st.operands)
+        written = tuple([w.text for w in st.operands])
+        texts = tuple([symbols.get(t.upper(), t) for t in written]) if symbols else written
         key = (st.name.text.upper(), texts)
         res = self.cache.get(key)
         if res is None:
@@ -164,7 +165,7 @@ class _Resolver:
             return
         if ok:
             n = len(spec.operands)
-            self.emit(st, spec, operands, tuple(w.text for w in st.operands[:n]), table)
+            self.emit(st, spec, operands, written if len(written) == n else written[:n], table)
         else:
             self.emit_invalid(st, spec)
 
@@ -239,7 +240,7 @@ class _Resolver:
             else:
                 self._problems.extend(hit[1])
             ok = hit[0] and ok
-        lo, hi = self.t.krange(spec.width)
+        lo, hi = self.t.krange(spec.width) if len(operands) > n else (0, 0)
         for o, a in zip(operands[n:], args[n:], strict=True):
             if o.kind != "K" or o.index:
                 self.report(a, "E204", f"{spec.mnemonic} table entries are K constants")
@@ -488,7 +489,8 @@ class _Resolver:
     def emit(self, st: Statement, spec: InstrSpec, ops, texts, table=()) -> None:
         steps = spec.steps
         if spec.short_steps and ops:
-            steps = 1 if self.t.short_operand(ops[0].kind, ops[0].number) else 2
+            rng = self.short_operand.get(ops[0].kind)  # as Target.short_operand
+            steps = 1 if rng is not None and rng[0] <= ops[0].number <= rng[1] else 2
         if st.step is not None and int(st.step.text) != self.addr:
             self.err(st.line, st.step, "W107", f"step number {st.step.text} but the computed address is {self.addr}")
         col = st.name.col

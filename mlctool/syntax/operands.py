@@ -101,6 +101,7 @@ _DEV = re.compile(r"(?P<dev>[A-Z])(?P<num>[0-9]+)" + _INDEX)
 _BIT_OF_WORD = re.compile(r"(?P<dev>[A-Z])(?P<num>[0-9]+)\.(?P<bit>[0-9A-F])")
 _UNIT_WORD = re.compile(r"(?P<u>[A-Z])(?P<un>[0-9]+)(?P<dev>[A-Z])(?P<num>[0-9]+)" + _INDEX)
 _STRING = re.compile(r'"(?P<val>[^"]*)"')
+_HEX_DIGITS = re.compile(r"H[0-9A-F]+")
 MAX_STRING = 32  # longest string constant any target takes (VS $+: 32 characters)
 
 
@@ -131,7 +132,28 @@ def _alias(t: str, syntax: OperandSyntax, text: str) -> Operand | None:
 
 @lru_cache(maxsize=65536)
 def parse_operand(text: str, syntax: OperandSyntax = DEFAULT_SYNTAX) -> Operand:
-    """Parse one operand as written (case-insensitive). Raises OperandSyntaxError."""
+    """Parse one operand as written (case-insensitive). Raises OperandSyntaxError.
+
+    A plain device (`M1005`, `D5V0`) whose first letter no other form of the target claims
+    is read at once; everything else goes through every form in order (full_parse_operand;
+    tests/test_parser.py checks that both agree)."""
+    t = text.upper()
+    if len(t) <= 40 and t[:1] not in _claimed_initials(syntax) and (m := _DEV.fullmatch(t)):
+        number, radix = _number(m["num"], m["dev"], syntax, text)
+        return Operand(m["dev"], number=number, index=_index(m), radix=radix)
+    return full_parse_operand(text, syntax)
+
+
+@lru_cache(maxsize=64)
+def _claimed_initials(syntax: OperandSyntax) -> frozenset[str]:
+    """First letters with which a text matching _DEV may be something else than that device:
+    K constants and groups, H constants, float constants, aliases (EC1D6), unit words (U1G3)."""
+    return frozenset({"K", "H", syntax.float_prefix} | {p[0] for p, *_ in syntax.aliases}
+                     | {u for u, _ in syntax.unit_words})
+
+
+def full_parse_operand(text: str, syntax: OperandSyntax = DEFAULT_SYNTAX) -> Operand:
+    """parse_operand without its shortcut: every operand form, in order."""
     if syntax.strings and (m := _STRING.fullmatch(text)):
         if len(m["val"]) > MAX_STRING:
             raise OperandSyntaxError(f"string constant longer than {MAX_STRING} characters")
@@ -167,7 +189,7 @@ def parse_operand(text: str, syntax: OperandSyntax = DEFAULT_SYNTAX) -> Operand:
             d = d.scaleb(exp)
         # decimals as written matter only where a target limits them (NC5 F: 3); the exponent form has none
         return Operand(prefix, value=float(d), decimals=0 if syntax.float_exponent else decimals)
-    if not syntax.hex_constants and re.fullmatch(r"H[0-9A-F]+", t):  # H10 is no device either
+    if not syntax.hex_constants and _HEX_DIGITS.fullmatch(t):  # H10 is no device either
         raise OperandSyntaxError(f"{text!r}: this target has no hexadecimal H constants; write K{int(t[1:], 16)}")
     if m := _DEV.fullmatch(t):
         number, radix = _number(m["num"], m["dev"], syntax, text)

@@ -124,8 +124,8 @@ def parse(src: SourceText, fast: bool = True) -> ParsedFile:
         if kind == "label":
             words = []
         else:
-            ops_at = m.start("ops") + 1
-            words = [Word(o.group(), ops_at + o.start()) for o in operands(m["ops"])]
+            start, end = m.span("ops")
+            words = [Word(o.group(), o.start() + 1) for o in operands(text, start, end)] if end > start else []
         statements.append(Statement(number, kind, Word(m["name"], m.start("name") + 1), words, step))
     if long_number(src.text):  # rare: only then look at each word
         statements = _bounded(src.path, statements, diagnostics)
