@@ -126,3 +126,60 @@ def test_ci_workflows_parse_and_their_sarif_validates(mlc, project):
     hooks = yaml.safe_load((ROOT / ".pre-commit-hooks.yaml").read_text())
     assert {h["id"] for h in hooks} == {"mlc-check", "mlc-fmt", "mlc-fmt-check"}
     assert all(h["entry"].split()[1] in all_commands() for h in hooks)
+
+
+# ------------------------------------------------------------------ -k, --json, failure files
+
+def _break_pick_cycle(project):
+    stim = project / "tests" / "pick_cycle.stim"
+    stim.write_text(stim.read_text().replace("expect Y2=1 Y3=1 D10=2", "expect Y2=1 Y3=1 D10=7"))
+
+
+def test_k_selects_scenarios_by_substring_or_glob(mlc, project):
+    r = mlc("test", "--json", "-k", "pick", str(project))
+    assert r.code == 0 and list(json.loads(r.out)["scenarios"]) == ["tests/pick_cycle.stim"]
+    r = mlc("test", "--json", "-k", "tests/b*", "-k", "stop_*.stim", str(project))
+    assert list(json.loads(r.out)["scenarios"]) == ["tests/bad_step.stim", "tests/batch_full.stim",
+                                                    "tests/stop_and_guard.stim"]
+    r = mlc("test", "-k", "nothing-like-it", str(project))
+    assert r.code == 2 and "no scenario matches -k nothing-like-it" in r.err and "tests/pick_cycle.stim" in r.err
+
+
+def test_json_holds_each_scenario_as_mlc_sim_json_does(mlc, project):
+    _break_pick_cycle(project)
+    r = mlc("test", "--json", str(project))
+    assert r.code == 1
+    doc = json.loads(r.out)  # stdout is the JSON alone: no table
+    assert (doc["passed"], doc["failed"]) == (3, 1)
+    one = mlc("sim", "src/conveyor.il", "src/pickplace.il", "--stimulus", "tests/pick_cycle.stim", "--json",
+              cwd=project)
+    assert doc["scenarios"]["tests/pick_cycle.stim"] == json.loads(one.out)
+    assert doc["artifacts"] == {"tests/pick_cycle.stim": ["mlc-test-out/tests-pick_cycle.vcd",
+                                                          "mlc-test-out/tests-pick_cycle.html"]}
+
+
+def test_a_failing_scenario_writes_its_waveform_and_report_beside_the_junit(mlc, project):
+    _break_pick_cycle(project)
+    r = mlc("test", "--junit", "ci/junit.xml", str(project))
+    assert r.code == 1
+    vcd, html = project / "ci" / "tests-pick_cycle.vcd", project / "ci" / "tests-pick_cycle.html"
+    assert "tests/pick_cycle.stim: failed; waveform ci/tests-pick_cycle.vcd, report ci/tests-pick_cycle.html" in r.err
+    assert "$timescale" in vcd.read_text() and "D10" in vcd.read_text()
+    assert "<html" in html.read_text("utf-8").lower() and (project / "ci" / "tests-pick_cycle.gtkw").is_file()
+    assert sorted(p.name for p in (project / "ci").iterdir()) == [
+        "junit.xml", "tests-pick_cycle.gtkw", "tests-pick_cycle.html", "tests-pick_cycle.vcd"]  # passing: none
+    root = _validate_junit(project / "ci" / "junit.xml")
+    suite = next(s for s in root.findall("testsuite") if s.get("name") == "tests/pick_cycle.stim")
+    out = suite.find("system-out").text
+    assert "waveform: ci/tests-pick_cycle.vcd" in out and "report: ci/tests-pick_cycle.html" in out
+    assert not (project / "mlc-test-out").exists()
+    # without --junit: the default folder, or --out
+    assert mlc("test", "--out", "fails", str(project)).code == 1
+    assert (project / "fails" / "tests-pick_cycle.vcd").is_file()
+    assert mlc("test", str(project)).code == 1 and (project / "mlc-test-out" / "tests-pick_cycle.html").is_file()
+
+
+def test_a_passing_run_writes_no_failure_files(mlc, project):
+    assert mlc("test", "--junit", "ci/junit.xml", str(project)).code == 0
+    assert sorted(p.name for p in (project / "ci").iterdir()) == ["junit.xml"]
+    assert not (project / "mlc-test-out").exists()

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import fnmatch
+import json
 import os
 import sys
 from pathlib import Path
@@ -23,8 +25,16 @@ from mlctool.config import load_config
 from mlctool.diagnostics import MlcError, Span, diag
 from mlctool.sim import coverage as cov
 from mlctool.sim.junit import to_junit
-from mlctool.sim.output import ms
-from mlctool.sim.suite import discover, merged_probe, run_all
+from mlctool.sim.output import ms, to_json
+from mlctool.sim.suite import (
+    ARTIFACT_DIR,
+    artifact_paths,
+    discover,
+    failure_artifacts,
+    merged_probe,
+    run_all,
+)
+from mlctool.sim.vcd import gtkw_path
 
 COVERAGE_FILES = ("coverage.txt", "coverage.json", "coverage.xml")
 
@@ -59,8 +69,15 @@ def _enter_project(path: str | None):
 @click.option("--coverage", "with_coverage", is_flag=True,
               help="record coverage; writes coverage.txt, coverage.json and coverage.xml (Cobertura)")
 @click.option("--coverage-dir", default=".", show_default=True, metavar="DIR", help="folder for the coverage reports")
+@click.option("-k", "keywords", multiple=True, metavar="PATTERN",
+              help="run only the scenarios whose path contains PATTERN, or matches it as a glob "
+                   "(tests/pick*); repeatable: any of them")
+@click.option("--json", "as_json", is_flag=True, help="print the results as JSON on stdout")
+@click.option("--out", "out_dir", default=None, metavar="DIR",
+              help=f"folder for a failing scenario's waveform and report page "
+                   f"(default: beside --junit, else {ARTIFACT_DIR})")
 @click.argument("path", required=False, type=click.Path(), metavar="[DIR]")
-def test_cmd(target_name, jobs, junit_path, with_coverage, coverage_dir, path):
+def test_cmd(target_name, jobs, junit_path, with_coverage, coverage_dir, keywords, as_json, out_dir, path):
     """Run the stimulus files of the project in DIR (default: the nearest mlc.toml at or above
     the current folder).
 
@@ -73,9 +90,15 @@ def test_cmd(target_name, jobs, junit_path, with_coverage, coverage_dir, path):
     if problems:
         show(problems, {})
         sys.exit(2)
+    stims = _selected(stims, keywords)
     plan = output_plan([*sources, *stims], config)
     if junit_path:
         plan.add(junit_path, "--junit")
+    out_dir = out_dir or (os.path.dirname(junit_path) or "." if junit_path else ARTIFACT_DIR)
+    for stim in stims:  # a failure's files: planned for every scenario, written for failures
+        vcd, html = artifact_paths(stim, out_dir)
+        for p in (vcd, gtkw_path(vcd), html):
+            plan.add(p, "a failure's file")
     if with_coverage:
         for name in COVERAGE_FILES:
             plan.add(os.path.join(coverage_dir, name), "--coverage")
@@ -90,8 +113,16 @@ def test_cmd(target_name, jobs, junit_path, with_coverage, coverage_dir, path):
     for sc in scenarios:
         all_lines[sc.stim] = sc.stim_lines
         show(sc.diagnostics, all_lines)
-    _table(scenarios)
     files = {}
+    for sc in scenarios:
+        if sc.result is not None and not sc.ok:
+            found = failure_artifacts(image, target, sc, lines, out_dir)
+            files.update(found)
+            sc.artifacts = tuple(p for p in found if not p.endswith(".gtkw"))
+    if as_json:
+        sys.stdout.write(_json(scenarios))
+    else:
+        _table(scenarios)
     if junit_path:
         files[junit_path] = to_junit(scenarios, config.data.get("name", "mlc test"))
     if with_coverage:
@@ -99,9 +130,40 @@ def test_cmd(target_name, jobs, junit_path, with_coverage, coverage_dir, path):
         for name, render in zip(COVERAGE_FILES, (cov.to_text, cov.to_json, cov.to_cobertura), strict=True):
             files[os.path.join(coverage_dir, name)] = render(rep)
     plan.write(files)
-    if with_coverage:
+    for sc in scenarios:
+        if sc.artifacts:
+            click.echo(f"{sc.stim}: failed; waveform {sc.artifacts[0]}, report {sc.artifacts[1]}", err=True)
+    if with_coverage and not as_json:
         click.echo(cov.to_text(rep), nl=False)
     sys.exit(0 if all(sc.ok for sc in scenarios) else 1)
+
+
+def _selected(stims: list[str], keywords: tuple[str, ...]) -> list[str]:
+    """-k: the scenarios whose path contains a PATTERN (as pytest -k matches names) or matches
+    it as a glob (a PATTERN with * ? or [), either against the whole path or the file name."""
+    if not keywords:
+        return stims
+
+    def hit(stim: str, k: str) -> bool:
+        if any(c in k for c in "*?["):
+            return fnmatch.fnmatchcase(stim, k) or fnmatch.fnmatchcase(os.path.basename(stim), k)
+        return k in stim
+
+    chosen = [s for s in stims if any(hit(s, k) for k in keywords)]
+    if not chosen:
+        raise click.UsageError(f"no scenario matches -k {' -k '.join(keywords)}; the scenarios: "
+                               + ", ".join(stims))
+    return chosen
+
+
+def _json(scenarios) -> str:
+    """{"scenarios": {path: the `mlc sim --json` document, or null when the stimulus could not
+    be read}, "passed", "failed", "artifacts": {path: [waveform, report]}}."""
+    docs = {sc.stim: json.loads(to_json(sc.result)) if sc.result is not None else None for sc in scenarios}
+    passed = sum(sc.ok for sc in scenarios)
+    return json.dumps({"scenarios": docs, "passed": passed, "failed": len(scenarios) - passed,
+                       "artifacts": {sc.stim: list(sc.artifacts) for sc in scenarios if sc.artifacts}},
+                      indent=2, ensure_ascii=False) + "\n"
 
 
 def _table(scenarios) -> None:

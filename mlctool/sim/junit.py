@@ -22,6 +22,8 @@ import xml.etree.ElementTree as ET
 from mlctool.sim.output import failure_message, ms
 from mlctool.sim.suite import Scenario
 
+_KIND = {".vcd": "waveform", ".html": "report"}
+
 
 def classname(path: str) -> str:
     name = path.replace(os.sep, "/")
@@ -59,6 +61,8 @@ def to_junit(scenarios: list[Scenario], suite_name: str) -> str:
             ET.SubElement(tc, "error", message=d.message, type=d.code).text = \
                 f"{d.file}:{d.span.line}:{d.span.col}: {d.message}"
         if r is not None:
-            ET.SubElement(ts, "system-out").text = (f"{r.scans} scans, {ms(r.time_us)} ms virtual time")
+            out = f"{r.scans} scans, {ms(r.time_us)} ms virtual time"
+            out += "".join(f"\n{_KIND[os.path.splitext(a)[1]]}: {a}" for a in sc.artifacts)  # a failure's files
+            ET.SubElement(ts, "system-out").text = out
     ET.indent(root)
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"

@@ -37,6 +37,7 @@ class Scenario:
     # wall time of loading and running the scenario (JUnit `time`); scenarios run together as
     # lanes share the group's time evenly. Not part of a result's identity (it is not deterministic).
     seconds: float = field(default=0.0, compare=False)
+    artifacts: tuple[str, ...] = field(default=(), compare=False)  # a failure's VCD and report page
 
     @property
     def ok(self) -> bool:
@@ -123,3 +124,35 @@ def merged_probe(n_steps: int, scenarios: list[Scenario]) -> Probe:
         if sc.probe is not None:
             probe.merge(sc.probe)
     return probe
+
+
+ARTIFACT_DIR = "mlc-test-out"  # where `mlc test` puts failure artefacts when there is no --junit
+
+
+def artifact_paths(stim: str, folder: str) -> tuple[str, str]:
+    """(waveform, report page) of a failing scenario, flat in `folder` (beside the JUnit file,
+    not among the sources): the stimulus path with its folders joined by `-` and .vcd / .html
+    for .stim (`tests/pick_cycle.stim` -> `FOLDER/tests-pick_cycle.vcd`)."""
+    rel = os.path.normpath(stim)
+    if os.path.isabs(rel) or rel.startswith(".."):  # a scenario outside the project: its name only
+        rel = os.path.basename(rel)
+    stem = os.path.splitext(rel)[0].replace(os.sep, "-").replace("/", "-")
+    return os.path.join(folder, stem + ".vcd"), os.path.join(folder, stem + ".html")
+
+
+def failure_artifacts(image: Image, target: Target, sc: Scenario, lines: dict[str, list[str]],
+                      folder: str) -> dict[str, str]:
+    """A failing scenario run again with its trace kept: {path: text} of its VCD, the GTKWave
+    save file beside it and the HTML report page (the ladder lit by scan, waveforms)."""
+    from mlctool.ladder.report import PowerProbe, report_html
+    from mlctool.sim.vcd import gtkw_path, to_gtkw, to_vcd
+
+    st, _ = load_stimulus(sc.stim, target)
+    models, _ = build_models(st, target)
+    period = st.scan_us or DEFAULT_SCAN_US
+    power = PowerProbe(period)
+    sim = Simulation(image, target, st, models, period, [], trace=True, probe=power)
+    result = sim.run(plan_scans(st, period, None, None))
+    vcd, html = artifact_paths(sc.stim, folder)
+    return {vcd: to_vcd(result, image, target), gtkw_path(vcd): to_gtkw(vcd, result.views),
+            html: report_html(sim, result, power, {**lines, sc.stim: st.lines}, [], sc.stim)}

@@ -104,8 +104,10 @@ def decode(path: str, data: bytes, encoding: str | None = None) -> tuple[SourceT
 
 def _guess(data: bytes) -> tuple[str, str] | None:
     """(encoding, text) of the most plausible of GUESSES, or None."""
-    from charset_normalizer import from_bytes
-
+    try:
+        from charset_normalizer import from_bytes
+    except ImportError:  # a broken install: no guess, the file is E102 as without detection
+        return None
     best = from_bytes(data, cp_isolation=list(GUESSES)).best()
     if best is None:
         return None
