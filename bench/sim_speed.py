@@ -38,7 +38,7 @@ from mlctool.sim.compile import compile_program  # noqa: E402
 from mlctool.sim.engine import Scanner  # noqa: E402
 from mlctool.sim.scan import load_program  # noqa: E402
 from mlctool.sim.state import Machine  # noqa: E402
-from mlctool.targets import load_target  # noqa: E402
+from mlctool.targetapi import load_target  # noqa: E402
 
 NC5 = load_target("nc5")
 SEED = 1

@@ -76,7 +76,7 @@ def render_cost_in_process(path: str) -> tuple[int, float]:
     """(diagnostics, best microseconds per diagnostic) of render_text into /dev/null"""
     from mlctool.check import check_files
     from mlctool.report import render_text
-    from mlctool.targets import load_target
+    from mlctool.targetapi import load_target
 
     result = check_files([path], load_target("nc5"))
     best = float("inf")

@@ -195,7 +195,7 @@ def validate(path: str, text: str, table: dict, prefix: tuple[str, ...] = ()) ->
                                 "can be turned off or down (docs/check.md)"))
     target = table.get("target")
     if isinstance(target, str):
-        from mlctool.targets import available_targets
+        from mlctool.targetapi import available_targets
 
         names = available_targets()
         if target not in names:

@@ -29,7 +29,7 @@ import re
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.syntax.operands import OperandSyntaxError, format_operand, parse_operand
 from mlctool.syntax.source import decode, read_source
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
 
 FORMATS = ("gxworks2", "gxdeveloper", "wplsoft", "il")
 _HEADER = {  # column -> the header texts naming it (English and Japanese GX)
@@ -289,7 +289,7 @@ def looks_like_il(path: str, text: str) -> bool:
     some target (a README or a data table parses as `WORD WORD ...` too)."""
     from mlctool.syntax.parser import parse
     from mlctool.syntax.source import SourceText
-    from mlctool.targets import available_targets, load_target
+    from mlctool.targetapi import available_targets, load_target
 
     parsed = parse(SourceText(path, text if text.endswith("\n") else text + "\n"))
     if parsed.diagnostics:

@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from mlctool.syntax.operands import Operand
-from mlctool.targets.model import InstrSpec
+from mlctool.targetapi.model import InstrSpec
 
 
 @dataclass(slots=True)

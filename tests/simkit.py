@@ -11,7 +11,7 @@ from mlctool.sim.run import RunResult, Simulation, build_models, plan_scans
 from mlctool.sim.scan import load_program
 from mlctool.sim.state import Machine, parse_device_name
 from mlctool.sim.stimulus import parse_stimulus_text
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 NC5 = load_target("nc5")
 

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from conftest import SAMPLES, run_mlc
 from mlctool.asm import program_from_paths
 from mlctool.asm.objfile import MAGIC, ObjectError, decode
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 PROJECT = SAMPLES / "project"
 T = load_target("nc5")

@@ -19,7 +19,7 @@ from mlctool.asm.listing import unit_il
 from mlctool.asm.objfile import decode, encode
 from mlctool.check import check_texts
 from mlctool.syntax.source import SourceText
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 PROJECT = SAMPLES / "project"
 T = load_target("nc5")

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from conftest import SAMPLES, run_mlc
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 BAD = sorted((SAMPLES / "nc5" / "bad").glob("*.il"))
 OUTPUTS = (["-o", "x.mlo"], ["-o", "x.mlx"], ["-c", "-o", "objs"])

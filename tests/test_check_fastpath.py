@@ -8,7 +8,7 @@ import pytest
 from mlctool.check.resolve import _Arg, _Resolver
 from mlctool.syntax.operands import Operand
 from mlctool.syntax.parser import ParsedFile
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 
 def _numbers(dev) -> set[int]:

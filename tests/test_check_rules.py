@@ -12,7 +12,7 @@ import pytest
 from mlctool.check import check_texts
 from mlctool.config import Config
 from mlctool.syntax.source import decode
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 T = load_target("nc5")
 LINT = {"W401", "W402", "W403", "W404", "W405", "W406"}
@@ -567,7 +567,7 @@ def test_unknown_instruction_says_what_was_meant():
 
 def test_unknown_instruction_hint_on_vs():
     from mlctool.check.resolve import unknown_instruction_hint
-    from mlctool.targets import load_target
+    from mlctool.targetapi import load_target
 
     vs = load_target("vs")
     assert unknown_instruction_hint(vs, "OTU") == ("; did you mean OUT?", ())

@@ -11,7 +11,7 @@ from mlctool.check import broken_lines, check_texts
 from mlctool.diagnostics import Span, diag
 from mlctool.program import Module
 from mlctool.syntax.source import decode
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 # lines that each give one or more errors or warnings of different checks
 BAD = ["FOO X0", "OUT Y99999", "LD", "MOV K1", "P1:", "LD X0 X1", "@@", "MPS", "ANB", "OUT M0",

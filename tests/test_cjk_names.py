@@ -20,7 +20,7 @@ from mlctool.syntax.layout import format_source
 from mlctool.syntax.operands import CJK_RANGES, name_width
 from mlctool.syntax.parser import grammar_text, parse
 from mlctool.syntax.source import decode, display_width
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 VS = load_target("vs")
 NC5 = load_target("nc5")

@@ -29,7 +29,7 @@ OUT Y1
 END
 """
 
-HEAVY = ("numpy", "pymodbus", "serial", "mlctool.sim", "mlctool.devices", "mlctool.asm", "mlctool.ladder", "mlctool.fbs",
+HEAVY = ("numpy", "pymodbus", "serial", "mlctool.sim", "mlctool.devices", "mlctool.asm", "mlctool.ladder", "mlctool.targets.fbs",
          "rich", "lark")
 
 

@@ -10,7 +10,7 @@ from mlctool.check import check_texts
 from mlctool.config import Config, key_positions, load_config
 from mlctool.diagnostics import MlcError
 from mlctool.syntax.source import SourceText
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 PROGRAM = "LD X0\nOUT Y0\nEND\n"
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from mlctool.fbs.axis import Axis, Params
-from mlctool.fbs.lang import parse_program
-from mlctool.fbs.model import tables
+from mlctool.targets.fbs.axis import Axis, Params
+from mlctool.targets.fbs.lang import parse_program
+from mlctool.targets.fbs.model import tables
 
 SAMPLES = Path(__file__).resolve().parents[1] / "samples" / "fbs"
 HSPSO = tables().dialects["hspso"]

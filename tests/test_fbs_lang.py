@@ -8,10 +8,10 @@ from pathlib import Path
 import pytest
 
 from mlctool.codes import CODES
-from mlctool.fbs.image import ImageError, parse_sr, read_image, to_csv, to_json
-from mlctool.fbs.lang import normalize, parse_program
-from mlctool.fbs.model import BLANK, NEXT, Cond, Motion, Val, tables
-from mlctool.fbs.table import TableError, decode, encode, program_text
+from mlctool.targets.fbs.image import ImageError, parse_sr, read_image, to_csv, to_json
+from mlctool.targets.fbs.lang import normalize, parse_program
+from mlctool.targets.fbs.model import BLANK, NEXT, Cond, Motion, Val, tables
+from mlctool.targets.fbs.table import TableError, decode, encode, program_text
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "samples" / "fbs"

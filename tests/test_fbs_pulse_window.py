@@ -13,10 +13,10 @@ from test_fbs_cli import mlc
 from test_fbs_sim import AXIS, FBS, SAMPLES
 
 from mlctool.asm import program_from_paths
-from mlctool.fbs.files import table_preload
 from mlctool.sim.run import Simulation
 from mlctool.sim.stimulus import parse_stimulus_text
 from mlctool.sim.vcd import to_vcd
+from mlctool.targets.fbs.files import table_preload
 
 
 def rising(tv, lo_ns: int, hi_ns: int) -> int:

@@ -10,11 +10,11 @@ from pathlib import Path
 from test_fbs_cli import mlc
 
 from mlctool.asm import program_from_paths
-from mlctool.fbs.files import table_preload
 from mlctool.sim.run import Simulation, plan_scans
 from mlctool.sim.state import parse_device_name
 from mlctool.sim.stimulus import parse_stimulus_text
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
+from mlctool.targets.fbs.files import table_preload
 
 FBS = load_target("fbs")
 SAMPLES = Path(__file__).resolve().parents[1] / "samples" / "fbs"

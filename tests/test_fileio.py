@@ -169,7 +169,7 @@ def test_streamed_vcd_equals_the_vcd_of_the_kept_trace(project):
     from mlctool.sim.run import Simulation, build_models
     from mlctool.sim.stimulus import load_stimulus
     from mlctool.sim.vcd import to_vcd
-    from mlctool.targets import load_target
+    from mlctool.targetapi import load_target
 
     r = run_mlc("sim", "c.il", "--stimulus", "c.stim", "--vcd", "s.vcd", cwd=project)
     assert r.code == 0
@@ -197,7 +197,7 @@ def _vcd_peak(tmp_path, scans: int, stream: bool) -> int:
     from mlctool.sim.run import Simulation
     from mlctool.sim.stimulus import Stimulus
     from mlctool.sim.vcd import VcdStream
-    from mlctool.targets import load_target
+    from mlctool.targetapi import load_target
 
     (tmp_path / "t.il").write_text(_toggler(64))
     target = load_target("nc5")

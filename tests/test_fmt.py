@@ -12,7 +12,7 @@ from mlctool.check.resolve import resolve
 from mlctool.syntax.layout import FormatOptions, format_source
 from mlctool.syntax.parser import parse
 from mlctool.syntax.source import decode
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 from tests.conftest import SAMPLES
 
 NC5 = load_target("nc5")

@@ -26,7 +26,7 @@ from mlctool.program import Image
 from mlctool.sim.scan import load_program, run_scan
 from mlctool.sim.state import Machine
 from mlctool.syntax.source import SourceText
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 NC5 = load_target("nc5")
 

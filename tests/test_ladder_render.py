@@ -14,7 +14,7 @@ from mlctool.ladder import sheets_from_files
 from mlctool.ladder.html import sheets_html
 from mlctool.ladder.svg import CW, LM, RH, WIRE_Y, sheets_svg
 from mlctool.ladder.term import sheets_text
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 NC5 = load_target("nc5")
 SAMPLES = sorted(glob.glob("samples/nc5/*.il"))

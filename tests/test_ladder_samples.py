@@ -95,7 +95,7 @@ def test_joined_steps_are_boxes_in_series():
     from mlctool.check import check_texts
     from mlctool.ladder.network import Leaf, Rung, build_items
     from mlctool.syntax.source import SourceText
-    from mlctool.targets import load_target
+    from mlctool.targetapi import load_target
 
     text = ("LD M9002\nSET S20\nSET S21\nSTL S20\nOUT Y0\n"
             "STL S21\nSTL S23\nLD X0\nSET S22\nSTL S22\nOUT Y2\nRET\nEND\n")

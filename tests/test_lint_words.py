@@ -8,7 +8,7 @@ import pytest
 
 from mlctool.check import check_texts
 from mlctool.syntax.source import SourceText
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 
 def _warnings(text: str, target: str, code: str) -> list[tuple[int, str]]:

@@ -12,7 +12,7 @@ import pytest
 
 from conftest import run_mlc
 from mlctool.asm.objfile import TRAILER, ObjectError, decode, encode
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 NC5 = load_target("nc5")
 SOURCE = """LD X0

@@ -142,7 +142,7 @@ OPERAND_PIECES = st.sampled_from(list("KHFEUGDMXYTCVZSPRNIW0123456789.+-\"") + [
 @given(st.lists(OPERAND_PIECES, min_size=1, max_size=6).map("".join), st.booleans())
 def test_operand_shortcut_matches_the_full_parse(text, lower):
     from mlctool.syntax.operands import full_parse_operand
-    from mlctool.targets import available_targets, load_target
+    from mlctool.targetapi import available_targets, load_target
 
     text = text.lower() if lower else text
     for name in available_targets():

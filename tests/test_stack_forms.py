@@ -21,7 +21,7 @@ from mlctool.sim.engine import ENGINES, scanner
 from mlctool.sim.scan import load_program
 from mlctool.sim.state import Machine, parse_device_name
 from mlctool.syntax.source import SourceText
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 TARGETS = {name: load_target(name) for name in ("nc5", "vs")}
 

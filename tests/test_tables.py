@@ -18,7 +18,7 @@ import pytest
 
 from mlctool.check import check_texts
 from mlctool.syntax.source import decode
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 MANUAL = Path(__file__).resolve().parents[2] / "shared" / "manuals" / "000_a33d4a328dc57a96.txt"
 

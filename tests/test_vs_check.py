@@ -8,7 +8,7 @@ import pytest
 from mlctool.check import check_texts
 from mlctool.syntax.operands import device_number
 from mlctool.syntax.source import decode
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 VS = load_target("vs")
 

@@ -9,7 +9,7 @@ import pytest
 
 from conftest import run_mlc
 from mlctool.imports import detect, import_file, import_text
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 DATA = Path(__file__).resolve().parent / "data" / "vs_imports"
 VS = load_target("vs")

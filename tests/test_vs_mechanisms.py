@@ -13,7 +13,7 @@ from mlctool.syntax.operands import (
     format_operand,
     parse_operand,
 )
-from mlctool.targets.model import _instructions, choose_variant
+from mlctool.targetapi.model import _instructions, choose_variant
 
 FX = OperandSyntax(octal=frozenset("XY"), hex_constants=True, float_prefix="E", float_exponent=True,
                    strings=True, bit_of_word=frozenset("DR"))

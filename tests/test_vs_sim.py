@@ -15,7 +15,7 @@ from mlctool.asm import program_from_paths
 from mlctool.check import check_texts
 from mlctool.sim.decode import simulated_ops, unsimulated
 from mlctool.syntax.source import decode
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 ROOT = Path(__file__).resolve().parents[1]
 VS = load_target("vs")
@@ -285,7 +285,7 @@ def test_unsimulated_instruction_is_refused_up_front(monkeypatch):
         path = os.path.join(tmp, "t.il")
         Path(path).write_text("LD X0\nCPUL Q0 D0 K1\nEND\n", encoding="utf-8")
         image, _, _ = program_from_paths([path], VS)
-    found = unsimulated(image)
+    found = unsimulated(image, VS)
     assert [(d.code, d.span.line) for d in found] == [("E905", 2)] and "CPUL" in found[0].message
 
 
@@ -294,7 +294,7 @@ def test_coverage_table_matches_the_tests():
     another tests/test_vs_sim*.py."""
     text = (ROOT / "docs" / "vs.md").read_text("utf-8")
     listed = set(re.findall(r"^\| `([^`]+)` \| simulated", text, re.M))
-    ops = simulated_ops()
+    ops = simulated_ops(VS)
     simulated = {s.mnemonic for s in VS.instructions.values() if s.op in ops and not s.pulse
                  and not (s.width == 32 and s.mnemonic[1:] in VS.instructions)}
     assert listed == simulated

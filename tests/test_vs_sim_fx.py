@@ -1,4 +1,4 @@
-"""Vigor VS simulation of the FX-family data instructions (mlctool/sim/fx/): each case is
+"""Vigor VS simulation of the FX-family data instructions (mlctool/targets/vs/): each case is
 the example printed on the instruction's page (manual ch. 6), with its figures' values."""
 
 from __future__ import annotations

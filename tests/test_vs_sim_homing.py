@@ -1,5 +1,5 @@
 """ZRN's DOG front-edge home mode, the automatic DOG search with limit switches and the travel
-limits LSF/LSR (8-1-2, 8-3 FNC 300; mlctool/sim/fx/homing.py, positioning.py). Limit and DOG
+limits LSF/LSR (8-1-2, 8-3 FNC 300; mlctool/targets/vs/positioning/homing.py, positioning.py). Limit and DOG
 inputs come from the stimulus as plain X inputs; numbers worked out by hand from the
 trapezoid (docs/vs.md "Positioning")."""
 

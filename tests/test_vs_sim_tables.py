@@ -1,10 +1,10 @@
-"""Vigor VS simulation of the data-set instructions of 6-8, 6-10 ... 6-21 (sim/fx/tables.py,
+"""Vigor VS simulation of the data-set instructions of 6-8, 6-10 ... 6-21 (targets/vs/tables.py,
 ascii_codes.py, scale.py, timing.py): each case is the example printed on the instruction's
 page, with its figures' values."""
 
 from __future__ import annotations
 
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 from vskit import run
 
 VS = load_target("vs")

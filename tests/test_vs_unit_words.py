@@ -13,7 +13,7 @@ from mlctool.asm.objfile import decode, encode
 from mlctool.check import check_texts
 from mlctool.syntax.operands import OperandSyntaxError, parse_operand
 from mlctool.syntax.source import SourceText
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 
 def errors(text: str, model: str = "VS3") -> list[str]:

@@ -18,7 +18,7 @@ from mlctool.sim import seriallink
 from mlctool.sim.run import Simulation, build_models, plan_scans
 from mlctool.sim.stimulus import parse_stimulus_text
 from mlctool.syntax.source import decode
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 ROOT = Path(__file__).resolve().parents[1]
 VS = load_target("vs")

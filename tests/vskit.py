@@ -10,7 +10,7 @@ from mlctool.asm import program_from_paths
 from mlctool.program import Image
 from mlctool.sim.run import RunResult, Simulation, plan_scans
 from mlctool.sim.stimulus import parse_stimulus_text
-from mlctool.targets import load_target
+from mlctool.targetapi import load_target
 
 VS = load_target("vs")
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from mlctool.config import Config
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image
-from mlctool.targets import Target
+from mlctool.targetapi import Target
 
 
 def program_from_paths(paths: list[str], target: Target, config: Config | None = None

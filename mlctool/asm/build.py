@@ -17,7 +17,7 @@ from mlctool.config import Config
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.fileio import open_input
 from mlctool.program import Module
-from mlctool.targets import Target
+from mlctool.targetapi import Target
 
 OBJECT_SUFFIXES = (".mlo", ".mlx")
 

@@ -15,7 +15,7 @@ from collections import defaultdict
 from mlctool.asm.objfile import ObjectFile, Unit
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr
-from mlctool.targets import Target
+from mlctool.targetapi import Target
 
 
 def _at(ins: Instr, code: str, msg: str, *notes: str) -> Diagnostic:

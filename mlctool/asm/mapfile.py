@@ -13,7 +13,7 @@ from collections import defaultdict
 from mlctool.asm.objfile import ObjectFile
 from mlctool.program import Instr
 from mlctool.syntax.operands import Operand, format_operand
-from mlctool.targets.model import OperandSpec, Target
+from mlctool.targetapi.model import OperandSpec, Target
 
 
 def _cells(ins: Instr, o: OperandSpec, op: Operand, target: Target) -> list[str]:

@@ -18,7 +18,7 @@ from mlctool.check.resolve import OperandRules
 from mlctool.program import Instr
 from mlctool.syntax.operands import CONSTANT_KINDS, FLOAT_KINDS, MAX_STRING, Operand
 from mlctool.syntax.source import MAX_LINES
-from mlctool.targets.model import Target, choose_variant, load_target
+from mlctool.targetapi.model import Target, choose_variant, load_target
 
 MAGIC = b"\x7fMLCOBJ\n"
 VERSION = 1

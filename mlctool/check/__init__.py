@@ -23,7 +23,7 @@ from mlctool.program import Module
 from mlctool.syntax.operands import SYMBOL, OperandSyntaxError, parse_operand
 from mlctool.syntax.parser import parse
 from mlctool.syntax.source import SourceText, decode, read_source, source_encoding
-from mlctool.targets import Target
+from mlctool.targetapi import Target
 
 
 @dataclass

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
 
 # where a program part ends: open MC levels and step blocks must be closed before these
 _PART_ENDS = ("fend", "end", "sret", "iret")

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
 
 
 @dataclass(frozen=True)

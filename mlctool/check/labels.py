@@ -29,7 +29,7 @@ from mlctool.syntax.operands import (
     parse_operand,
 )
 from mlctool.syntax.parser import ParsedFile
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
 
 _P = re.compile(r"P([0-9]+)", re.IGNORECASE)
 NAME = re.compile(f"[A-Za-z_{CJK_RANGES}][A-Za-z0-9_{CJK_RANGES}]*")

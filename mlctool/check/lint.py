@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
 
 
 def _at(ins: Instr, _k: int | None, code: str, msg: str, *notes: str) -> Diagnostic:

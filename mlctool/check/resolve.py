@@ -23,7 +23,7 @@ from mlctool.syntax.operands import (
     parse_operand,
 )
 from mlctool.syntax.parser import ParsedFile, Statement, Word
-from mlctool.targets.model import GROUP_KINDS, InstrSpec, OperandSpec, Target, choose_variant
+from mlctool.targetapi.model import GROUP_KINDS, InstrSpec, OperandSpec, Target, choose_variant
 
 _LABEL = re.compile(r"P([0-9]+)", re.IGNORECASE)
 

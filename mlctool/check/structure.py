@@ -6,7 +6,7 @@ from bisect import bisect_right
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module, rung_starts
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
 
 JUMPS = ("cj", "call")
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from mlctool.syntax.operands import Operand, OperandSyntaxError, parse_operand
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
 
 
 @dataclass(frozen=True)

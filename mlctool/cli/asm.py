@@ -37,7 +37,10 @@ from mlctool.cli.common import (
     target_option,
 )
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag, unreadable
-from mlctool.fbs.files import (
+from mlctool.fileio import Outputs
+from mlctool.report import summary_line
+from mlctool.targetapi import load_target
+from mlctool.targets.fbs.files import (
     build_image,
     check_positioning,
     dump_json,
@@ -45,11 +48,8 @@ from mlctool.fbs.files import (
     is_image,
     load_image,
 )
-from mlctool.fbs.image import ImageError
-from mlctool.fbs.model import is_positioning_source
-from mlctool.fileio import Outputs
-from mlctool.report import summary_line
-from mlctool.targets import load_target
+from mlctool.targets.fbs.image import ImageError
+from mlctool.targets.fbs.model import is_positioning_source
 
 OBJECT_CODES = frozenset({"E501", "E502", "E503"})
 
@@ -185,7 +185,7 @@ def _check_request(sources, output, compile_only, listing_path, map_path) -> Non
 
 
 def _build_positioning(sources, output, sr, config) -> None:
-    """One FBs positioning source -> its SR register image (mlctool/fbs)."""
+    """One FBs positioning source -> its SR register image (mlctool/targets/fbs)."""
     if len(sources) != 1:
         raise _usage("build one positioning program (.pos/.mpos) at a time")
     if output is None or not is_image(output):

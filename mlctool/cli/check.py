@@ -7,7 +7,7 @@ import sys
 import click
 
 from mlctool.check import check_files
-from mlctool.check.misuse import likely_targets, wrong_target_note
+from mlctool.check.other_target import likely_targets, wrong_target_note
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     config_option,
@@ -22,7 +22,7 @@ from mlctool.codes import CODES
 from mlctool.config import rules_dropped
 from mlctool.diagnostics import Diagnostic, unreadable
 from mlctool.report import SHOW_PER_CODE, render_text, summary_line, to_json
-from mlctool.targets import available_targets, load_target
+from mlctool.targetapi import available_targets, load_target
 
 
 @main_group.command("check", epilog=examples(
@@ -55,13 +55,13 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
     files = expand_sources(files) if files else _project_sources(config)
     target = get_target(target_name, config)
     ignored = rules_dropped(ignore, select, no_lint)
-    # FBs positioning programs (.pos/.mpos) have their own language: mlctool/fbs
+    # FBs positioning programs (.pos/.mpos) have their own language: mlctool/targets/fbs
     positioning = [f for f in files if _positioning_source(f)]
     il_files = [f for f in files if f not in positioning]
     result = check_files(il_files, target, config, ignored)
     diags, lines = result.diagnostics, result.lines
     if positioning:
-        from mlctool.fbs.files import check_positioning
+        from mlctool.targets.fbs.files import check_positioning
 
         pos = check_positioning(positioning, config, ignored)
         diags = sorted(diags + pos.diagnostics, key=Diagnostic.sort_key)
@@ -129,7 +129,7 @@ def _positioning_source(path: str) -> bool:
     loading the FBs tables (about 5 ms of a linter's start-up)."""
     if path.lower().endswith(".il"):
         return False
-    from mlctool.fbs.model import is_positioning_source
+    from mlctool.targets.fbs.model import is_positioning_source
 
     return is_positioning_source(path)
 

@@ -13,8 +13,8 @@ from mlctool.config import Config, load_config
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
 from mlctool.fileio import Outputs
 from mlctool.report import render_text
-from mlctool.targets import Target, available_targets, load_target
-from mlctool.targets.model import UnknownModel
+from mlctool.targetapi import Target, available_targets, load_target
+from mlctool.targetapi.model import UnknownModel
 
 
 def run_guarded(group: click.Group, argv: list[str] | None) -> int:

@@ -30,13 +30,13 @@ from mlctool.fileio import Outputs
 from mlctool.sim.batch import Options
 from mlctool.sim.decode import unsimulated
 from mlctool.sim.engine import ENGINE_ENV, ENGINES
-from mlctool.sim.extension import extension
 from mlctool.sim.output import json_value, run_diagnostics, summary, to_json
 from mlctool.sim.pin_window import EDGE_LIMIT, parse_window
 from mlctool.sim.run import DEFAULT_SCAN_US, RunResult, Simulation, build_models, plan_scans
 from mlctool.sim.scan import DEFAULT_WATCHDOG
 from mlctool.sim.state import NameError_, parse_device_name
 from mlctool.sim.stimulus import StimError, Stimulus, load_stimulus, parse_time
+from mlctool.targetapi.registry import simulation_of
 
 PROGRESS_MIN_SCANS = 5000
 
@@ -139,7 +139,7 @@ def _simulate(plan: Outputs, keep_gtkw, target_name, config, stim_path, scan_us,
         sys.exit(2)
 
     preload = _tables(tables, target)
-    if window is not None and not hasattr(extension(target), "pulse_pins"):
+    if window is not None and simulation_of(target).pulse_pins is None:
         raise click.UsageError(f"--pulse-window: target {target.name} has no pulse outputs")
     if is_batch(stim_path):  # many scenarios: mlctool/cli/sim_batch.py
         if vcd_path or report_path:
@@ -256,10 +256,10 @@ def _window_option(text: str | None, vcd_path: str | None, stim_path: str | None
 
 
 def _tables(specs: tuple[str, ...], target) -> list:
-    """--table: register tables the target's extension can load (mlctool/sim/extension.py)."""
+    """--table: register tables the target's extension can load (its Simulation, mlctool/targetapi/simulation.py)."""
     if not specs:
         return []
-    load = getattr(extension(target), "load_table", None)
+    load = simulation_of(target).load_table
     if load is None:
         raise click.BadParameter(f"target {target.name} has no register tables", param_hint="--table")
     out = []

@@ -10,7 +10,7 @@ from __future__ import annotations
 from mlctool.sim.signals import NAMES, SIGNAL
 from mlctool.sim.state import DeviceView, Machine, NameError_, parse_device_name
 from mlctool.sim.stimulus import StimError, parse_time
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
 
 
 class ModelIO:

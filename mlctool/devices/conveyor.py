@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from mlctool.devices.base import DeviceModel, ModelIO, ParamError
 from mlctool.sim.state import DeviceView
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
 
 
 class Conveyor(DeviceModel):

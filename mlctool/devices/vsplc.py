@@ -3,7 +3,7 @@
 
     model vsplc link=CP1 station=2 [baud=19200] [reply=10ms]
 
-No program runs in it: its devices are memory (sim/peers.py) that the stimulus sets and
+No program runs in it: its devices are memory (targets/vs/serial/peers.py) that the stimulus sets and
 checks as `CP1#2.D10`, `CP1#2.M5`. Line settings 8N1 at `baud` (7-3-3: 8 bits, no parity,
 1 stop bit); a port set otherwise (the stimulus `port` line) does not reach it. `reply`: how
 long after a LINK request arrives the answer starts (DECISION: 10 ms, one scan of the peer,
@@ -15,7 +15,7 @@ from __future__ import annotations
 from mlctool.devices.base import DeviceModel, ModelIO, ParamError
 from mlctool.sim.serial_stim import BAUDS
 from mlctool.sim.seriallink import PORT_NAMES, LineSettings
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
 
 
 class VsPlc(DeviceModel):

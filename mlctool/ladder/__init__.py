@@ -7,7 +7,7 @@ from mlctool.check import check_files
 from mlctool.config import Config
 from mlctool.diagnostics import Diagnostic
 from mlctool.ladder.document import Sheet, build_sheet
-from mlctool.targets import Target
+from mlctool.targetapi import Target
 
 
 def sheets_from_files(paths: list[str], target: Target, config: Config | None = None

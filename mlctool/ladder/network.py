@@ -22,7 +22,7 @@ import dataclasses
 from dataclasses import dataclass, field
 
 from mlctool.program import Instr, rung_starts
-from mlctool.targets.model import InstrSpec, Target
+from mlctool.targetapi.model import InstrSpec, Target
 
 CONTACT_CLASSES = ("load", "and", "or")  # a contact's class picks its LD/AND/OR form
 ROW_CLASSES = ("label", "interrupt", "free")  # drawn as rows of their own; they end a rung

@@ -32,7 +32,6 @@ import numpy as np
 
 from mlctool.program import Image
 from mlctool.sim.decode import Program, program_devices
-from mlctool.sim.extension import extension
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, WordRef
 from mlctool.sim.output import run_diagnostics
 from mlctool.sim.run import (
@@ -47,7 +46,8 @@ from mlctool.sim.scan import DEFAULT_WATCHDOG, load_program
 from mlctool.sim.state import DeviceView, Machine
 from mlctool.sim.stimulus import Stimulus, load_stimulus
 from mlctool.sim.suite import Scenario
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
+from mlctool.targetapi.registry import simulation_of
 
 LANE_KINDS = ("X", "Y", "M", "A")
 
@@ -564,9 +564,9 @@ def semantics_action(op: str, s):
 
 def _lanes_target(target: Target) -> bool:
     """Targets whose scans the lanes model: no system relays, no simulation extension."""
-    ext = extension(target)
+    own = simulation_of(target)
     return (not target.settings.get("system_relays")
-            and not hasattr(ext, "before_scan") and not hasattr(ext, "views"))
+            and own.before_scan is None and own.views is None)
 
 
 def _word_lane_ready(st: Stimulus, opts: Options, n_scans: int, m: Machine) -> bool:

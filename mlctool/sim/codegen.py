@@ -9,7 +9,6 @@ import sys
 
 from mlctool.sim.operands import BitRef, WordRef
 
-FLOW_OPS = frozenset({"cj", "call", "sret", "fend", "end", "for", "next"})
 RUNG_CLASSES = frozenset({"load", "and", "or", "anb", "orb", "mps", "mrd", "mpp", "inv"})
 BIT_KINDS = ("X", "Y", "M", "A", "T", "C")
 WORD_KINDS = ("D", "V", "Z", "T")

@@ -43,7 +43,6 @@ from mlctool.sim.codegen import (
     _GATHER,
     _LITTLE,
     BIT_KINDS,
-    FLOW_OPS,
     RUNG_CLASSES,
     Unsupported,
     _bit_simple,
@@ -53,7 +52,7 @@ from mlctool.sim.codegen import (
     _word,
 )
 from mlctool.sim.compile_ops import OpsCode
-from mlctool.sim.decode import Program, Step
+from mlctool.sim.decode import FLOW_OPS, Program, Step
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, GroupRef
 from mlctool.sim.state import s16, s32
 
@@ -671,7 +670,9 @@ class _Gen(OpsCode):
         if op in ("nop", "label"):
             return
         # a target's own routine for this op, or one that sets the target's status flags
-        if s.run is not semantics.ACTIONS.get(op) or self.flags and op in semantics.FLAG_OPS:
+        generic = semantics.ACTIONS.get(op)
+        if s.run is not generic and getattr(s.run, "generic", None) is not generic \
+                or self.flags and op in semantics.FLAG_OPS:
             self.settle(i)
             self.reference(s)
             return

@@ -10,10 +10,10 @@ from dataclasses import dataclass, field
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image, Instr, rung_starts
 from mlctool.sim import semantics
-from mlctool.sim.extension import actions
 from mlctool.sim.operands import Ref, decode_operand
 from mlctool.sim.state import DeviceView
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
+from mlctool.targetapi.registry import simulation_of
 
 
 @dataclass(slots=True, eq=False)
@@ -68,16 +68,25 @@ class NotSimulated(Exception):
         self.ins = ins
 
 
-def simulated_ops(target: Target | None = None) -> frozenset[str]:
-    from mlctool.sim.scan import FLOW_OPS  # scan.py builds on this module
+# the program-flow ops: scan.py's flow_routines (CJ, CALL, SRET, FEND, END, FOR, NEXT)
+FLOW_OPS = frozenset({"cj", "call", "sret", "fend", "end", "for", "next"})
 
+
+def actions(target: Target | None) -> dict:
+    """op -> routine: the engine's generic routines and over them the target's own
+    (its Simulation, mlctool/targetapi/simulation.py)."""
+    own = simulation_of(target).actions if target is not None else None
+    return {**semantics.ACTIONS, **own} if own else semantics.ACTIONS
+
+
+def simulated_ops(target: Target | None = None) -> frozenset[str]:
     return frozenset(semantics.CONTACTS) | frozenset(actions(target)) | FLOW_OPS
 
 
 def unsimulated(image: Image, target: Target | None = None) -> list[Diagnostic]:
     """E905 for every instruction of the image whose op has no routine: `mlc sim` refuses
     the program up front instead of skipping them. `target`: its own instructions count
-    (mlctool/sim/extension.py)."""
+    (its Simulation's actions)."""
     known = simulated_ops(target)
     return [diag(ins.file, Span(ins.line, ins.col, ins.line, ins.col + len(ins.mnemonic)), "E905",
                  f"{ins.mnemonic} (line {ins.line}) is not simulated ({ins.spec.section})",
@@ -102,7 +111,7 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
     `probe`: a coverage recorder (mlctool/sim/coverage.py) whose wrappers every step runs through."""
     steps: list[Step] = []
     starts = rung_starts(image.instrs)
-    routines = actions(target)  # generic ops and the target's own (sim/extension.py)
+    routines = actions(target)
     for k, ins in enumerate(image.instrs):
         spec = ins.spec
         contact_like = spec.cls in ("load", "and", "or") and spec.api is None

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from mlctool.sim.state import Machine, SimFault, bits_f32, f32_bits, s16, s32
 from mlctool.syntax.operands import Operand
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
 
 
 class Ref:

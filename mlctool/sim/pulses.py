@@ -4,7 +4,7 @@ virtual time and counted analytically: a train is never stepped pulse by pulse.
 A train of frequency f starting at t0 has its rising edges at t0 + k/f (k = 0, 1, ...)
 before its end, and is On for the first half of each period (50 % duty). A later train on
 the same input ends the earlier one where it starts. Scans see the input's level at their
-start time; high-speed counters (sim/fx/hsc.py) and SPD count the edges between two times.
+start time; high-speed counters (targets/vs/hsc.py) and SPD count the edges between two times.
 """
 
 from __future__ import annotations

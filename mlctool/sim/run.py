@@ -18,15 +18,14 @@ from mlctool.program import Image
 from mlctool.sim import seriallink, signals
 from mlctool.sim.decode import Program, program_devices
 from mlctool.sim.engine import scanner
-from mlctool.sim.extension import extension
-from mlctool.sim.fx.interrupts import Interrupts
 from mlctool.sim.pin_window import PinWindow
 from mlctool.sim.pulses import Quadrature, Train, add_quadrature, add_train, drive_inputs
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, load_program
 from mlctool.sim.signals import SIGNAL
 from mlctool.sim.state import DeviceView, Machine
 from mlctool.sim.stimulus import Check, Event, Stimulus
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
+from mlctool.targetapi.registry import simulation_of
 
 DEFAULT_SCAN_US = 10_000
 
@@ -203,11 +202,11 @@ class Simulation:
         # reference interpreter
         self.scan = scanner(self.prog, self.m, "interp" if probe is not None else engine)
         names = program_devices(self.prog) | st.devices() | set(watch)
-        # the target's own hardware (sim/extension.py): runs between scans, adds its registers
-        ext = extension(target)
-        self.before_scan = getattr(ext, "before_scan", None)
-        if hasattr(ext, "views"):
-            names.update(ext.views(target, self.prog))
+        # the target's own hardware (its Simulation): runs between scans, adds its registers
+        own = simulation_of(target)
+        self.before_scan = own.before_scan
+        if own.views is not None:
+            names.update(own.views(target, self.prog))
         for model in models:
             names.update(model.devices())
         self.views = sorted(names, key=DeviceView.sort_key)
@@ -222,7 +221,8 @@ class Simulation:
         self.alarm_names = {e.alarm for e in st.events if e.kind == "alarm"}
         # interrupt routines (VS 2-12): served between scans, interleaved with the stimulus
         has_pointers = any(s.ins.spec.cls == "interrupt" for s in self.prog.steps)
-        self.irq = self.m.interrupts = Interrupts(self.prog, target) if has_pointers else None
+        self.irq = self.m.interrupts = own.interrupts(self.prog, target) \
+            if has_pointers and own.interrupts is not None else None
         self.configure_ports()
 
     def configure_ports(self) -> None:
@@ -301,7 +301,7 @@ class Simulation:
         outcomes: list[ExpectOutcome] = []
         trace = TraceLog(self.trace_sink)
         last: list[int | float | None] = [None] * len(self.views)
-        # Y bits a routine's REF put out between scans (fx/interrupts.py): trace entries at
+        # Y bits a routine's REF put out between scans (targets/vs/interrupts.py): trace entries at
         # their own time; the scan after records each such view again
         y_views = {v.number: i for i, v in enumerate(self.views) if v.kind == "Y" and v.view == "bit"}
         moved: set[int] = set()

@@ -11,8 +11,8 @@ from collections.abc import Callable
 from mlctool.program import Image
 from mlctool.sim.decode import Program, Step, decode
 from mlctool.sim.semantics import advance_timer, alarm
-from mlctool.sim.semantics_fx import BEFORE_SCAN
 from mlctool.sim.state import Machine, SimFault
+from mlctool.targetapi.registry import simulation_of
 
 END_SCAN = -1
 CALL_ALARM = "CALL_NESTING"  # 4.1 API-01: a 6th level "該副程式不執行"
@@ -96,7 +96,6 @@ def flow_routines(prog_ref: list[Program]) -> dict:
             "for": for_, "next": next_}
 
 
-FLOW_OPS = frozenset({"cj", "call", "sret", "fend", "end", "for", "next"})  # flow_routines' keys
 
 
 def load_program(image: Image, target, probe=None) -> Program:
@@ -120,7 +119,7 @@ def run_scan(prog: Program, m: Machine, watchdog: int = DEFAULT_WATCHDOG) -> Non
 
 
 def system_relays(m: Machine) -> None:
-    """Special relays the system drives before each scan, and the FX-family hooks (see
+    """Special relays the system drives before each scan, and the target's scan hooks (see
     before_scan_routine)."""
     routine = before_scan_routine(m.target)
     if routine is not None:
@@ -132,13 +131,13 @@ _BEFORE_SCAN: dict[int, tuple] = {}  # id(target) -> (target, its routine or Non
 
 def before_scan_routine(target) -> Callable[[Machine], None] | None:
     """What the system does before each scan on this target, worked out once (None: nothing):
-    the FX-family hooks whose settings the target has (the virtual calendar's registers,
-    high-speed counters), then the special relays of target.toml [system_relays]: always
+    the target's scan hooks whose settings it has (its Simulation.scan_hooks: VS's virtual
+    calendar registers, high-speed counters), then the special relays of target.toml [system_relays]: always
     On/Off, On/Off in the first scan only, clocks with a period in ms (half On)."""
     known = _BEFORE_SCAN.get(id(target))
     if known is not None and known[0] is target:
         return known[1]
-    hooks = tuple(hook for hook, needs in BEFORE_SCAN if any(k in target.settings for k in needs))
+    hooks = tuple(hook for hook, needs in simulation_of(target).scan_hooks if any(k in target.settings for k in needs))
     table = target.settings.get("system_relays") or {}
     on, off = tuple(table.get("always_on", ())), tuple(table.get("always_off", ()))
     first_on, first_off = tuple(table.get("first_scan_on", ())), tuple(table.get("first_scan_off", ()))

@@ -35,7 +35,7 @@ def alarm(m: Machine, name: str, message: str) -> None:
 
 
 # the generic ops whose routines set the target's status flags (set_flags: here and in
-# semantics_fx.py); on a target with flags the compiled engine keeps their routines
+# targets/vs/routines.py); on a target with flags the compiled engine keeps their routines
 FLAG_OPS = frozenset({"add", "sub", "mul", "div", "fadd", "fsub", "fmul", "fdiv", "int", "sum"})
 
 
@@ -520,9 +520,3 @@ ACTIONS = {
     "frad": _fconv(math.pi / 180), "fdeg": _fconv(180 / math.pi),
     "wrtl": wrtl, "rdtl": rdtl,
 }
-
-# FX-family ops (Vigor VS): mlctool/sim/semantics_fx.py. ADD/SUB there set the flags of
-# target.toml [flags] and are the same as above on targets without flags.
-from mlctool.sim.semantics_fx import FX_ACTIONS  # noqa: E402
-
-ACTIONS.update(FX_ACTIONS)

@@ -14,8 +14,8 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from mlctool.sim.quantities import StimError, parse_time
 from mlctool.sim.seriallink import PORT_NAMES, LineSettings
-from mlctool.sim.stimulus import StimError, parse_time
 
 BAUDS = (300, 600, 1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200)  # 7-3-8
 

@@ -1,7 +1,7 @@
 """A serial line (RS-485, half duplex) between the PLC's port CPn and device models, on
 virtual time. Nothing here reads a clock or opens a device: frames are bytes with times.
 
-The master (the MBUS routine, sim/fx_mbus.py) puts a request frame on the line at time t;
+The master (the MBUS routine, targets/vs/serial/mbus.py) puts a request frame on the line at time t;
 it has arrived at every device at t + its transmission time. Device models, which step
 before each scan (docs/stimulus.md), take the requests that arrived by then, handle each
 at its arrival time and answer after their reply delay; the answer is complete at the
@@ -91,7 +91,7 @@ class Port:
     configured: bool = False  # set by the first device attached (its line settings)
     devices: dict[int, LineSettings] = field(default_factory=dict)  # device id -> its settings
     exchanges: list[Exchange] = field(default_factory=list)  # the line's log, in order
-    master: object = None  # the MBUS state using the port (sim/fx_mbus.py)
+    master: object = None  # the MBUS state using the port (targets/vs/serial/mbus.py)
     # Non Protocol settings of the PLC's port (7-3-8; the stimulus `port` line): RS start and
     # end characters (None: none), the PLC's own station number (CPU link, 7-3-7)
     start: int | None = None

@@ -5,7 +5,8 @@ A model line names its model (`model xc100 name=XC1 ...`, default XC1); every st
 publishes its signals into Machine.signals, and a DeviceView of kind SIGNAL + NAME reads
 them. They are the device's state as the device knows it (not PLC memory): the program
 cannot see them, the stimulus cannot set them. The signal names of each model kind are
-listed here, so the scan side never imports the device models.
+listed here, so the scan side never imports the device models; state.py's
+parse_signal_name reads a signal's name.
 """
 
 from __future__ import annotations
@@ -37,23 +38,12 @@ KINDS: dict[str, dict[str, tuple[str, str]]] = {
 DEFAULT_PREFIX = {"xc100": "XC"}  # an unnamed model is XC1, XC2 ... in stimulus order
 NAMES: tuple[str, ...] = tuple(sorted({s for table in KINDS.values() for s in table}))
 VIEWS: dict[str, str] = {s: v for table in KINDS.values() for s, (v, _) in table.items()}
-_NAME = re.compile(r"(?P<model>[A-Z][A-Z0-9_]*)\.(?P<signal>[A-Z_]+)")
+SIGNAL_NAME = re.compile(r"(?P<model>[A-Z][A-Z0-9_]*)\.(?P<signal>[A-Z_]+)")
 MODEL_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 
 
 def looks_like(text: str) -> bool:
-    return _NAME.fullmatch(text.strip().upper()) is not None
-
-
-def parse(text: str):
-    """`XC1.pos` -> DeviceView (raises NameError_ for an unknown signal)."""
-    from mlctool.sim.state import DeviceView, NameError_
-
-    m = _NAME.fullmatch(text.strip().upper())
-    signal = m["signal"].lower()
-    if signal not in VIEWS:
-        raise NameError_(f"{text!r}: no model signal {signal!r}; signals: {', '.join(NAMES)}")
-    return DeviceView(SIGNAL + m["model"], NAMES.index(signal), VIEWS[signal])
+    return SIGNAL_NAME.fullmatch(text.strip().upper()) is not None
 
 
 def name_of(kind: str, number: int) -> str:

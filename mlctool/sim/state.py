@@ -9,13 +9,14 @@ from __future__ import annotations
 
 import re
 import struct
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from mlctool.sim import signals
 from mlctool.sim.signals import SIGNAL
 from mlctool.sim.unit_words import UnitWords, unit_word_arrays
 from mlctool.syntax.operands import device_number
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
+from mlctool.targetapi.registry import simulation_of
 
 
 class SimFault(Exception):
@@ -108,17 +109,17 @@ class Machine:
         # hardware's, so a power cycle keeps them
         self.pulse_trains: dict[tuple[str, int], list] = {}
         self.quadrature: dict[tuple, list] = {}  # A/B pairs (pulses.Quadrature), likewise kept
-        self.hsc: dict = {}  # high-speed counters and their compare points (sim/fx/hsc.py)
-        self.ext: dict = {}  # state of the target's simulation extension (sim/extension.py)
-        self.interrupts = None  # sim/fx/interrupts.py Interrupts of a program with interrupt pointers
-        # special-module buffer memory (sim/fx/bfm.py): (slot, register) -> raw 16-bit word; the
+        self.hsc: dict = {}  # high-speed counters and their compare points (targets/vs/hsc.py)
+        self.ext: dict = {}  # state of the target's simulation extension (its Simulation, mlctool/targetapi/simulation.py)
+        self.interrupts = None  # the target's interrupt controller (targets/vs/interrupts.py) of a program with interrupt pointers
+        # special-module buffer memory (targets/vs/bfm.py): (slot, register) -> raw 16-bit word; the
         # modules' own memory, so a power cycle of the PLC keeps it (as inputs X keep theirs)
         self.bfm: dict[tuple[int, int], int] = {}
         self.words.update(unit_word_arrays(d, self.bfm))  # U1G3 operands: the same registers
-        # memory card data bank (sim/fx/databank.py, VS DBRD/DBWR): address -> raw 16-bit word;
+        # memory card data bank (targets/vs/databank.py, VS DBRD/DBWR): address -> raw 16-bit word;
         # flash memory that keeps its data without power (2-8), so a power cycle keeps it
         self.databank: dict[int, int] = {}
-        # peer stations on the serial ports (sim/peers.py, VS LINK/CPUL): (port, station) ->
+        # peer stations on the serial ports (targets/vs/serial/peers.py, VS LINK/CPUL): (port, station) ->
         # (kind, number) -> raw value; other PLCs, so a power cycle of this one keeps them
         self.peers: dict[tuple[int, int], dict[tuple[str, int], int]] = {}
         # model-owned signals (sim/signals.py, `XC1.pos`): (kind "@XC1", signal index) -> value,
@@ -210,12 +211,6 @@ class Machine:
 _NAME = re.compile(r"(?:K(?P<n>[0-9]+)(?P<gdev>[A-Z])(?P<gnum>[0-9]+)|(?P<dev>[A-Z])(?P<num>[0-9]+))"
                    r"(?::(?P<view>[A-Za-z]+))?")
 _KIND_ORDER = "XYMSATCDRVZK"
-BFM = "BFM"  # DeviceView kind of a special module's buffer register: number = slot x BFM_SLOT + register
-BFM_SLOT = 1 << 16
-_BFM_NAME = re.compile(r"BFM(?P<slot>[0-9]+)#(?P<reg>[0-9]+)(?::(?P<view>[A-Za-z]+))?")
-DATABANK = "DB"  # DeviceView kind of a memory card data bank word: number = address
-PEER = "CP"  # DeviceView kinds "CP1#2.D": a register of peer station 2 on port CP1 (sim/peers.py)
-_DB_NAME = re.compile(r"DB#(?P<addr>[0-9]+)(?::(?P<view>[A-Za-z]+))?")
 
 
 class NameError_(ValueError):
@@ -232,19 +227,16 @@ class DeviceView:
     digits: int = 0  # bit group size n (K1-K8)
     gdev: str = ""  # bit group device
     radix: int = 10  # how the number is written (8: octal X/Y of FX-family targets)
+    # a target's special device (targetapi SpecialDevice: VS BFM2#5, CP1#2.D10) that names,
+    # reads and writes this view; None for the devices of the target's device table
+    special: object = field(default=None, compare=False, repr=False)
 
     @property
     def name(self) -> str:
         if self.kind.startswith(SIGNAL):  # XC1.pos
             return signals.name_of(self.kind, self.number)
-        if self.kind == BFM:  # BFM2#5, BFM2#5:d
-            slot, reg = divmod(self.number, BFM_SLOT)
-            return f"BFM{slot}#{reg}" + ("" if self.view == "w" else f":{self.view}")
-        if self.kind.startswith(PEER):  # CP1#2.D10, CP1#2.M5
-            return f"{self.kind}{device_number(self.number, self.radix)}" + \
-                ("" if self.view in ("w", "bit") else f":{self.view}")
-        if self.kind == DATABANK:  # DB#100, DB#100:d
-            return f"DB#{self.number}" + ("" if self.view == "w" else f":{self.view}")
+        if self.special is not None:
+            return self.special.name(self)
         num = device_number(self.number, self.radix)
         if self.view == "group":
             return f"K{self.digits}{self.gdev}{num}"
@@ -274,16 +266,8 @@ class DeviceView:
         k, n, v = self.kind, self.number, self.view
         if k.startswith(SIGNAL):
             return m.signals.get((k, n), 0)
-        if k.startswith(PEER):
-            from mlctool.sim.peers import read_view
-            return read_view(m, self)
-        if k in (BFM, DATABANK):
-            memory, key = _memory(m, k, n)
-            raw = memory.get(key, 0)
-            if v in ("d", "f"):
-                raw |= memory.get(_next(key), 0) << 16
-                return s32(raw) if v == "d" else bits_f32(raw)
-            return raw if v == "h" else s16(raw)
+        if self.special is not None:
+            return self.special.read(m, self)
         if v == "bit":
             return m.bits[k][n]
         if v == "group":
@@ -305,16 +289,8 @@ class DeviceView:
         if k.startswith(SIGNAL):  # only models publish (the stimulus refuses to set them)
             m.signals[(k, n)] = int(value)
             return
-        if k.startswith(PEER):
-            from mlctool.sim.peers import write_view
-            write_view(m, self, value)
-            return
-        if k in (BFM, DATABANK):
-            memory, key = _memory(m, k, n)
-            raw = f32_bits(float(value)) if v == "f" else int(value) & 0xFFFFFFFF
-            memory[key] = raw & 0xFFFF
-            if v in ("d", "f"):
-                memory[_next(key)] = raw >> 16
+        if self.special is not None:
+            self.special.write(m, self, value)
             return
         if v == "bit":
             m.bits[k][n] = 1 if value else 0
@@ -331,16 +307,6 @@ class DeviceView:
         else:
             raw = f32_bits(float(value)) if v == "f" else int(value) & 0xFFFFFFFF
             _set_pair_raw(m, k, n, raw)
-
-
-def _memory(m: Machine, kind: str, n: int) -> tuple[dict, object]:
-    """The dict behind a buffer register ((slot, register) keys) or a data bank word."""
-    return (m.bfm, divmod(n, BFM_SLOT)) if kind == BFM else (m.databank, n)
-
-
-def _next(key):
-    """The key of the word after `key` (the high word of a :d / :f view)."""
-    return (key[0], key[1] + 1) if isinstance(key, tuple) else key + 1
 
 
 def _pair_raw(m: Machine, kind: str, n: int) -> int:
@@ -366,58 +332,23 @@ def _number(digits: str, dev, text: str) -> int:
     return int(digits, dev.radix)
 
 
-def _bfm_name(text: str, target: Target) -> DeviceView:
-    """`BFM2#5` (register 5 of the module in slot 2), views :h, :d, :f (VS 6-9 FROM/TO)."""
-    table = target.settings.get("buffer_memory")
-    if not table:
-        raise NameError_(f"{text!r}: target {target.name} has no special-module buffer memory")
-    m = _BFM_NAME.fullmatch(text.strip().upper())
-    if not m:
-        raise NameError_(f"{text!r} is not a buffer register (e.g. BFM1#0, BFM2#10:d)")
-    from mlctool.sim.fx.bfm import last_register, slots  # the slot count of the model
-    slot, reg, view = int(m["slot"]), int(m["reg"]), (m["view"] or "w").lower()
-    top = slots(target)
-    if not 1 <= slot <= top:
-        raise NameError_(f"{text!r}: module slots are 1-{top} on model {target.model}" if top else
-                         f"{text!r}: model {target.model} has no special modules")
-    last = last_register(target) - (1 if view in ("d", "f") else 0)
-    if not 0 <= reg <= last:
-        raise NameError_(f"{text!r}: buffer registers are #0-#{last_register(target)}")
-    if view not in ("w", "h", "d", "f"):
-        raise NameError_(f"{text!r}: buffer registers take the views :h, :d, :f")
-    return DeviceView(BFM, slot * BFM_SLOT + reg, view)
-
-
-def _bank_name(text: str, target: Target) -> DeviceView:
-    """`DB#100` (memory card data bank word 100), views :h, :d, :f (VS 6-11 DBRD/DBWR)."""
-    from mlctool.sim.fx.databank import size  # the bank's words on the target (0: none)
-    words = size(target)
-    if not words:
-        raise NameError_(f"{text!r}: target {target.name} has no memory card data bank")
-    m = _DB_NAME.fullmatch(text.strip().upper())
-    if not m:
-        raise NameError_(f"{text!r} is not a data bank word (e.g. DB#0, DB#100:d)")
-    addr, view = int(m["addr"]), (m["view"] or "w").lower()
-    if addr > words - 1:
-        raise NameError_(f"{text!r}: data bank addresses are #0-#{words - 1}")
-    if view in ("d", "f") and addr == words - 1:
-        raise NameError_(f"{text!r}: the pair needs #{words}, past the last address #{words - 1}")
-    if view not in ("w", "h", "d", "f"):
-        raise NameError_(f"{text!r}: data bank words take the views :h, :d, :f")
-    return DeviceView(DATABANK, addr, view)
+def parse_signal_name(text: str) -> DeviceView:
+    """`XC1.pos` -> DeviceView (raises NameError_ for an unknown signal)."""
+    m = signals.SIGNAL_NAME.fullmatch(text.strip().upper())
+    signal = m["signal"].lower()
+    if signal not in signals.VIEWS:
+        raise NameError_(f"{text!r}: no model signal {signal!r}; signals: {', '.join(signals.NAMES)}")
+    return DeviceView(signals.SIGNAL + m["model"], signals.NAMES.index(signal), signals.VIEWS[signal])
 
 
 def parse_device_name(text: str, target: Target) -> DeviceView:
     """`D0:f` -> DeviceView. Raises NameError_ with a message for E602."""
-    if text.strip().upper().startswith(BFM):
-        return _bfm_name(text, target)
-    if text.strip().upper().startswith(DATABANK + "#"):
-        return _bank_name(text, target)
-    if re.match(PEER + r"[0-9]+#", text.strip().upper()):
-        from mlctool.sim.peers import parse_name
-        return parse_name(text, target)
+    for special in simulation_of(target).special_devices:  # the target's own (VS BFM2#5)
+        view = special.parse(text, target)
+        if view is not None:
+            return view
     if signals.looks_like(text):
-        return signals.parse(text)
+        return parse_signal_name(text)
     m = _NAME.fullmatch(text.strip().upper())
     if not m:
         raise NameError_(f"{text!r} is not a device name (e.g. X0, T0:w, D0:d, K4M0)")

@@ -11,58 +11,16 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.limits import clip, long_number, too_long_message
+from mlctool.limits import long_number, too_long_message
+from mlctool.sim.quantities import StimError, parse_frequency, parse_time
 from mlctool.sim.signals import SIGNAL
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name, to_f32
 from mlctool.syntax.source import read_source
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
 
-_UNITS = {"us": 1, "ms": 1000, "s": 1_000_000, "min": 60_000_000}
-_TIME = re.compile(r"(?P<num>[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?P<unit>us|ms|s|min)", re.IGNORECASE)
 _TOKEN = re.compile(r"\S+")
 KEYWORDS = ("expect", "force", "release", "power-cycle")
 DIRECTIVES = ("scan", "run", "model", "port")  # the words that may start a line instead of a time
-MAX_TIME_US = 10**15  # about 31 years of virtual time; beyond is surely a typo
-
-
-class StimError(ValueError):
-    def __init__(self, message: str, col_offset: int = 0, code: str = "E601"):
-        super().__init__(message)
-        self.message = message
-        self.col_offset = col_offset
-        self.code = code
-
-
-def parse_time(text: str) -> int:
-    """'1.5s' -> 1500000 (microseconds). Raises StimError."""
-    long = long_number(text)
-    if long:  # --until, --duration and stimulus times (mlctool/limits.py)
-        raise StimError(too_long_message(f"time {clip(text)!r}", len(long[0])))
-    m = _TIME.fullmatch(text.strip())
-    if not m:
-        raise StimError(f"{clip(text)!r} is not a time (e.g. 150ms, 1.5s, 500us, 2min)")
-    us = Fraction(m["num"]) * _UNITS[m["unit"].lower()]  # exact: 4.07s is 4070000 us
-    if us.denominator != 1:
-        raise StimError(f"{text!r} is not a whole number of microseconds")
-    if us > MAX_TIME_US:
-        raise StimError(f"{text!r} is too far in the future")
-    return int(us)
-
-
-_FREQ = re.compile(r"(?P<num>[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?P<unit>hz|khz|mhz)", re.IGNORECASE)
-_HZ = {"hz": 1, "khz": 1000, "mhz": 1_000_000}
-MAX_HZ = 10_000_000
-
-
-def parse_frequency(text: str) -> Fraction:
-    """'1kHz' -> 1000 (Hz, exact). Raises StimError."""
-    m = _FREQ.fullmatch(text.strip())
-    if not m:
-        raise StimError(f"{text!r} is not a frequency (e.g. 500Hz, 1kHz, 2.5kHz, 0Hz)")
-    hz = Fraction(m["num"]) * _HZ[m["unit"].lower()]
-    if hz > MAX_HZ:
-        raise StimError(f"{text!r}: at most 10MHz")
-    return hz
 
 
 @dataclass(frozen=True, slots=True)

@@ -22,7 +22,7 @@ from mlctool.sim.coverage import Probe
 from mlctool.sim.output import run_diagnostics
 from mlctool.sim.run import DEFAULT_SCAN_US, RunResult, Simulation, build_models, plan_scans
 from mlctool.sim.stimulus import load_stimulus
-from mlctool.targets import Target, load_target
+from mlctool.targetapi import Target, load_target
 
 
 @dataclass

@@ -1,7 +1,7 @@
 """Unit words as word arrays: the VS UnG operand (U1G3 = BFM#3 of special module 1).
 
 The buffer memory of the modules lives in `Machine.bfm` ((unit, register) -> raw 16-bit word),
-which FROM/TO (sim/fx/bfm.py) and the stimulus (`BFM1#3=5`) use. An instruction with a U1G3
+which FROM/TO (targets/vs/bfm.py) and the stimulus (`BFM1#3=5`) use. An instruction with a U1G3
 operand reads and writes the same registers through `m.words["U1G"]`, an array view of unit 1,
 so every instruction that handles D registers handles UnG unchanged (slices included).
 """

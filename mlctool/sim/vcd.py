@@ -18,7 +18,7 @@ from mlctool.fileio import open_input
 from mlctool.program import Image
 from mlctool.sim.run import RunResult
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
-from mlctool.targets.model import Target
+from mlctool.targetapi.model import Target
 
 SCOPE = "mlc"
 

@@ -9,7 +9,7 @@ from functools import cache
 from lark import Lark, Transformer, UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
 from mlctool.diagnostics import Span, diag
-from mlctool.syntax.parser import Statement, Word, grammar_text
+from mlctool.syntax.statements import Statement, Word, grammar_text
 
 
 def _word(tok) -> Word:

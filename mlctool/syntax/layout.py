@@ -21,7 +21,7 @@ from mlctool.diagnostics import Diagnostic
 from mlctool.syntax.operands import OperandSyntaxError, parse_operand
 from mlctool.syntax.parser import Statement, parse
 from mlctool.syntax.source import SourceText, display_width, pad
-from mlctool.targets import Target
+from mlctool.targetapi import Target
 
 MNEMONIC_WIDTH = 8
 COMMENT_COLUMN = 40

@@ -11,41 +11,13 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 from functools import cache
-from pathlib import Path
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.limits import clip, long_number, too_long_message
 from mlctool.syntax.source import SourceText
+from mlctool.syntax.statements import Statement, Word, grammar_text
 
-GRAMMAR = Path(__file__).resolve().parents[2] / "grammars" / "il.lark"
-_PACKAGED_GRAMMAR = Path(__file__).resolve().parent / "il.lark"
-
-
-@dataclass(slots=True)
-class Word:
-    """A token as written, with its 1-based column."""
-
-    text: str
-    col: int
-
-    @property
-    def end_col(self) -> int:
-        return self.col + len(self.text)
-
-
-@dataclass(slots=True)
-class Statement:
-    line: int
-    kind: str  # "instr" | "label" | "directive"
-    name: Word  # mnemonic, label or directive as written
-    operands: list[Word]
-    step: Word | None = None
-
-    @property
-    def span(self) -> Span:
-        end = self.operands[-1].end_col if self.operands else self.name.end_col
-        return Span(self.line, self.name.col, self.line, end)
-
+__all__ = ["ParsedFile", "Statement", "Word", "grammar_text", "parse"]
 
 @dataclass(slots=True)
 class ParsedFile:
@@ -71,11 +43,6 @@ def _noqa(lines: list[str]) -> dict[int, frozenset[str] | None]:
 
 
 _TERMINAL = re.compile(r"^(?P<name>[A-Z_]+):\s*/(?P<re>(?:\\.|[^/\\\n])*)/", re.M)
-
-
-def grammar_text() -> str:
-    path = GRAMMAR if GRAMMAR.exists() else _PACKAGED_GRAMMAR
-    return path.read_text("utf-8")
 
 
 @cache
@@ -116,7 +83,7 @@ def parse(src: SourceText, fast: bool = True) -> ParsedFile:
                 m = directive(text)
         if m is None:
             if not blank(text):
-                from mlctool.syntax.lark_parser import parse_line
+                from mlctool.syntax.lark_parser import parse_line  # lark loads when first needed
 
                 parse_line(src.path, text, number, statements, diagnostics)
             continue

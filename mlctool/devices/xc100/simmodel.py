@@ -28,9 +28,9 @@ from mlctool.devices.xc100.registers import line_settings_refused
 from mlctool.devices.xc100.tables import tables
 from mlctool.sim.seriallink import PORT_NAMES, LineSettings
 from mlctool.sim.signals import KINDS, MODEL_NAME
-from mlctool.sim.signals import parse as parse_signal
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
-from mlctool.targets.model import Target
+from mlctool.sim.state import parse_signal_name as parse_signal
+from mlctool.targetapi.model import Target
 
 MODE_CODES = {v: k for k, v in tables().modes.items()}
 

@@ -1,0 +1,227 @@
+"""Vigor VS routines of the basic and chapter 4-5 instructions that the engine's generic
+routines (sim/semantics.py) do not cover or cover differently: the step ladder (STL/RET),
+master control (MC/MCR), result edges, ADD/SUB with the status flags, CMP/ZCP, XCH, BMOV,
+FILL, SWAP, FLT/INT, SUM. Keyed by `op` like semantics.py; simulation.py merges them with the
+chapter modules' tables into the target's Simulation.
+"""
+
+from __future__ import annotations
+
+import math
+
+from mlctool.sim import semantics as base
+from mlctool.sim.operands import WordRef
+from mlctool.sim.state import Machine, SimFault, bits_f32, f32_bits, s16, s32, to_f32
+from mlctool.targets.vs.common import set_flags  # M9020 zero / M9021 borrow / M9022 carry
+
+# ------------------------------------------------------------------ step ladder (4-6-1)
+
+def stl(m: Machine, s):
+    """STL Sn opens the step's bus: the rung result and every load inside are ANDed with Sn.
+
+    An active step runs its block; in the scan after it went Off the block runs once more
+    with the bus Off (its OUT coils and timers go Off); otherwise the block is not executed:
+    the scan goes on at the next STL or RET (4-1-3, 4-6-1)."""
+    n = s.ops[0].addr(m)
+    on = bool(m.bits["S"][n])
+    was_on = m.edge[s.index]
+    m.edge[s.index] = on
+    m.stl_step = n
+    m.bus = on
+    m.acc = on
+    m.blocks.clear()
+    m.stack.clear()
+    if not on and not was_on and s.target >= 0:
+        return s.target
+    return None
+
+
+def ret(m: Machine, s) -> None:
+    m.stl_step = None
+    m.bus = m.mc_stack[-1] if m.mc_stack else True
+    m.acc = False
+
+
+def _transfer(m: Machine, s) -> None:
+    """SET/OUT Sx inside an active step: Sx On now, the source step Off at the end of the
+    scan (both are On for the rest of the transfer scan, 4-1-3); M9040 inhibits transfers."""
+    relay = m.target.settings.get("stl_inhibit_relay")
+    if relay is not None and m.bits["M"][relay]:
+        return
+    s.ops[0].setbit(m, 1)
+    n = s.ops[0].addr(m)
+    if n != m.stl_step:
+        m.stl_leaving.add(m.stl_step)
+
+
+def step_set(m: Machine, s) -> None:
+    if m.acc:
+        if m.stl_step is not None:
+            _transfer(m, s)
+        else:
+            s.ops[0].setbit(m, 1)
+
+
+def step_out(m: Machine, s) -> None:
+    if m.stl_step is None:
+        s.ops[0].setbit(m, m.acc)  # an ordinary coil outside step ladder
+    elif m.acc:
+        _transfer(m, s)
+
+
+# ------------------------------------------------------------------ master control (3-6)
+
+def mc(m: Machine, s) -> None:
+    m.mc_stack.append(m.bus)
+    m.bus = m.bus and m.acc
+
+
+def mcr(m: Machine, s) -> None:
+    """MCR Nn closes level n and every deeper one."""
+    n = s.ins.operands[0].number
+    if n < len(m.mc_stack):
+        m.bus = m.mc_stack[n]
+        del m.mc_stack[n:]
+    m.acc = False
+
+
+def result_rise(m: Machine, s) -> None:
+    """MEP: the result so far, On only in the scan it goes Off->On (3-3)."""
+    prev = m.edge[s.index]
+    m.edge[s.index] = m.acc
+    m.acc = bool(m.acc and not prev)
+
+
+def result_fall(m: Machine, s) -> None:
+    prev = m.edge[s.index]
+    m.edge[s.index] = m.acc
+    m.acc = bool(prev and not m.acc)
+
+
+# ------------------------------------------------------------------ arithmetic with flags (5-3)
+
+
+def _add_sub(sign: int):
+    @base._on
+    def run(m: Machine, s) -> None:
+        r = s.ops[0].get(m) + sign * s.ops[1].get(m)
+        w = s.width
+        lo, hi = -(1 << (w - 1)), (1 << (w - 1)) - 1
+        wrapped = s32(r) if w == 32 else s16(r)
+        s.ops[2].set(m, wrapped)
+        set_flags(m, zero=wrapped == 0, carry=r > hi, borrow=r < lo)
+    return run
+
+
+# ------------------------------------------------------------------ data (ch. 6)
+
+def _words(m: Machine, ref, count: int) -> tuple[list, int]:
+    if not isinstance(ref, WordRef):
+        raise SimFault(f"{ref.text}: block operands of word devices only are simulated")
+    return m.words[ref.kind], ref.addr(m, count)
+
+
+@base._on
+def cmp3(m: Machine, s) -> None:
+    """CMP S1 S2 D: D = S1 > S2, D+1 = S1 = S2, D+2 = S1 < S2 (FNC 10)."""
+    a, b = s.ops[0].get(m), s.ops[1].get(m)
+    for k, on in enumerate((a > b, a == b, a < b)):
+        s.ops[2].setbit(m, on, k)
+
+
+@base._on
+def zcp(m: Machine, s) -> None:
+    """ZCP S1 S2 S D: D = S < S1, D+1 = S1 <= S <= S2, D+2 = S > S2; S1 > S2 uses S1 as both (FNC 11)."""
+    lo, hi, v = s.ops[0].get(m), s.ops[1].get(m), s.ops[2].get(m)
+    hi = max(lo, hi) if lo <= hi else lo
+    for k, on in enumerate((v < lo, lo <= v <= hi, v > hi)):
+        s.ops[3].setbit(m, on, k)
+
+
+@base._on
+def xch(m: Machine, s) -> None:
+    a, b = s.ops[0].get(m), s.ops[1].get(m)
+    s.ops[0].set(m, b)
+    s.ops[1].set(m, a)
+
+
+@base._on
+def bmov(m: Machine, s) -> None:
+    """BMOV S D n: n words; overlapping blocks copied in the safe order (FNC 15)."""
+    n = s.ops[2].get(m)
+    src, a = _words(m, s.ops[0], n)
+    dst, b = _words(m, s.ops[1], n)
+    block = src[a:a + n]
+    dst[b:b + n] = block
+    for k in range(n):
+        m.writer[(s.ops[1].kind, b + k)] = m.pc
+
+
+@base._on
+def fill(m: Machine, s) -> None:
+    """FMOV S D n: S into n destinations (32-bit: n pairs) (FNC 16)."""
+    n = s.ops[2].get(m)
+    size = 2 if s.width == 32 else 1
+    dst, b = _words(m, s.ops[1], n * size)
+    v = s.ops[0].get(m)
+    for k in range(n):
+        dst[b + k * size] = v & 0xFFFF
+        if size == 2:
+            dst[b + k * size + 1] = (v >> 16) & 0xFFFF
+    for k in range(n * size):
+        m.writer[(s.ops[1].kind, b + k)] = m.pc
+
+
+@base._on
+def swap(m: Machine, s) -> None:
+    """SWAP S: the bytes of each word exchanged (FNC 147)."""
+    v = s.ops[0].get(m) & (0xFFFFFFFF if s.width == 32 else 0xFFFF)
+    words = [(v >> (16 * k)) & 0xFFFF for k in range(s.width // 16)]
+    r = sum((((w & 0xFF) << 8) | (w >> 8)) << (16 * k) for k, w in enumerate(words))
+    s.ops[0].set(m, r)
+
+
+def _pair(m: Machine, ref) -> tuple[list, int]:
+    """The two words of a float operand, whatever the instruction's width (FLT D, INT S)."""
+    return _words(m, ref, 2)
+
+
+@base._on
+def flt(m: Machine, s) -> None:
+    """FLT S D: integer -> binary float; D is always a pair (FNC 49)."""
+    words, a = _pair(m, s.ops[1])
+    raw = f32_bits(float(s.ops[0].get(m)))
+    words[a], words[a + 1] = raw & 0xFFFF, raw >> 16
+    m.writer[(s.ops[1].kind, a)] = m.writer[(s.ops[1].kind, a + 1)] = m.pc
+
+
+@base._on
+def int_(m: Machine, s) -> None:
+    """INT S D: binary float (a pair) -> integer, fraction dropped (FNC 129)."""
+    words, a = _pair(m, s.ops[0])
+    x = to_f32(bits_f32(words[a] | (words[a + 1] << 16)))
+    lo, hi = (-(1 << 31), (1 << 31) - 1) if s.width == 32 else (-32768, 32767)
+    if not math.isfinite(x) or not lo <= math.trunc(x) <= hi:
+        set_flags(m, carry=True)
+        return
+    r = math.trunc(x)
+    s.ops[1].set(m, r)
+    set_flags(m, zero=r == 0, borrow=r != x)
+
+
+@base._on
+def sum_bits(m: Machine, s) -> None:
+    """SUM S D: number of 1 bits of S (FNC 43)."""
+    v = s.ops[0].get(m) & (0xFFFFFFFF if s.width == 32 else 0xFFFF)
+    r = bin(v).count("1")
+    s.ops[1].set(m, r)
+    set_flags(m, zero=r == 0)
+
+
+BASIC_ACTIONS = {
+    "stl": stl, "ret": ret, "step_set": step_set, "step_out": step_out, "mc": mc, "mcr": mcr,
+    "result_rise": result_rise, "result_fall": result_fall,
+    "add": _add_sub(1), "sub": _add_sub(-1),
+    "cmp": cmp3, "zcp": zcp, "xch": xch, "bmov": bmov, "fill": fill, "swap": swap,
+    "flt": flt, "int": int_, "sum": sum_bits, "fcmp3": base.fcmp,
+}

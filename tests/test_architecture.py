@@ -1,0 +1,72 @@
+"""The package's layout rules (docs/architecture.md), checked on the import graph that
+tools/import_graph.py reads from the source.
+
+Imports count wherever they are written, inside functions too: a lazy import hides a cycle
+from Python, not from a reader. The CLI (mlctool.cli.*) sits on top of everything and nothing
+imports it, so its lazy command imports cannot close a cycle.
+"""
+
+from __future__ import annotations
+
+import sys
+import tomllib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tools"))
+
+import import_graph  # noqa: E402
+
+from mlctool.targetapi.registry import BUILTIN  # noqa: E402
+
+GRAPH = import_graph.graph()
+
+
+def test_no_import_cycles():
+    assert import_graph.cycles(GRAPH) == []
+
+
+def test_the_cycle_finder_finds_a_cycle():
+    g = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
+    assert import_graph.cycles(g) == [["a", "b", "c"]]
+
+
+def test_the_engine_imports_no_target():
+    """mlctool/sim/ is the engine alone: targets plug in through mlctool.targetapi."""
+    bad = {m: sorted(t for t in deps if t.startswith("mlctool.targets"))
+           for m, deps in GRAPH.items() if m.startswith("mlctool.sim")}
+    assert {m: t for m, t in bad.items() if t} == {}
+
+
+def test_lazy_imports_are_seen():
+    """The graph reads imports inside functions (a lazy import still names a dependency)."""
+    assert "mlctool.syntax.lark_parser" in GRAPH["mlctool.syntax.parser"]
+
+
+def test_generic_code_imports_no_target():
+    """Only a target's own package and the CLI may name a target package (the CLI's FBs
+    positioning-file commands)."""
+    allowed = ("mlctool.targets", "mlctool.cli")
+    bad = {m: sorted(t for t in deps if t.startswith("mlctool.targets."))
+           for m, deps in GRAPH.items() if not m.startswith(allowed)}
+    assert {m: t for m, t in bad.items() if t} == {}
+
+
+def test_targets_do_not_import_each_other():
+    def target_of(module: str) -> str | None:
+        parts = module.split(".")
+        return parts[2] if len(parts) > 2 and parts[:2] == ["mlctool", "targets"] else None
+
+    bad = [(m, t) for m, deps in GRAPH.items() for t in deps
+           if target_of(m) and target_of(t) and target_of(m) != target_of(t)]
+    assert bad == []
+
+
+def test_builtin_targets_are_registered_as_entry_points():
+    """pyproject.toml registers every folder of mlctool/targets/ as a third-party target is
+    registered, and registry.BUILTIN (the fallback of an uninstalled checkout) agrees."""
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text("utf-8"))
+    points = project["project"]["entry-points"]["mlctool.targets"]
+    folders = {p.parent.name: f"mlctool.targets.{p.parent.name}:TARGET"
+               for p in (ROOT / "mlctool" / "targets").glob("*/target.toml")}
+    assert points == folders == BUILTIN
