@@ -120,18 +120,20 @@ UGLY = "ld x0 ; 啟動\nout   y0\nend\n"
 PRETTY = _fmt(UGLY)
 
 
-@pytest.mark.parametrize("encoding, bom, newline", [
-    ("utf-8", b"", "\r\n"),
-    ("utf-8", b"\xef\xbb\xbf", "\r\n"),
-    ("utf-16-le", b"\xff\xfe", "\r\n"),
-    ("utf-16-be", b"\xfe\xff", "\n"),
-    ("cp950", b"", "\r\n"),  # Big5 as Delta's and Vigor's editors write it
-    ("utf-8", b"", "\r"),
+@pytest.mark.parametrize("encoding, bom, newline, named", [
+    ("utf-8", b"", "\r\n", None),
+    ("utf-8", b"\xef\xbb\xbf", "\r\n", None),
+    ("utf-16-le", b"\xff\xfe", "\r\n", None),
+    ("utf-16-be", b"\xfe\xff", "\n", None),
+    ("utf-16-le", b"", "\r\n", "utf-16"),  # no BOM: named, and written back without one
+    ("cp950", b"", "\r\n", "cp950"),  # Big5 as Delta's and Vigor's editors write it
+    ("cp950", b"", "\r\n", None),  # ... guessed (N108)
+    ("utf-8", b"", "\r", None),
 ])
-def test_fmt_keeps_encoding_bom_and_line_endings(mlc, tmp_path, encoding, bom, newline):
+def test_fmt_keeps_encoding_bom_and_line_endings(mlc, tmp_path, encoding, bom, newline, named):
     p = tmp_path / "p.il"
     p.write_bytes(bom + UGLY.replace("\n", newline).encode(encoding))
-    args = ["--encoding", encoding] if encoding == "cp950" else []
+    args = ["--encoding", named] if named else []
     r = mlc("fmt", *args, str(p))
     assert r.code == 0, r.err
     assert p.read_bytes() == bom + PRETTY.replace("\n", newline).encode(encoding)

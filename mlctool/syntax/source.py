@@ -45,11 +45,14 @@ _BOMS = {"utf-8": codecs.BOM_UTF8, "utf-16-le": codecs.BOM_UTF16_LE, "utf-16-be"
 
 
 def known_encoding(name: str) -> str | None:
-    """The codec's canonical name (`Big5` -> `big5`, `sjis` -> `shift_jis`), None if unknown."""
+    """The codec's canonical name (`Big5` -> `big5`, `sjis` -> `shift_jis`), None if unknown.
+    UTF-16/32 named without a byte order mean little-endian (as Windows writes them), so a file
+    without a BOM is written back without one."""
     try:
-        return codecs.lookup(name).name
+        canonical = codecs.lookup(name).name
     except (LookupError, ValueError):
         return None
+    return {"utf-16": "utf-16-le", "utf-32": "utf-32-le"}.get(canonical, canonical)
 
 
 def decode(path: str, data: bytes, encoding: str | None = None) -> tuple[SourceText | None, list[Diagnostic]]:
@@ -68,7 +71,8 @@ def decode(path: str, data: bytes, encoding: str | None = None) -> tuple[SourceT
             return None, [diag(path, Span.at(1), "E102", f"invalid UTF-16 ({e.reason})")]
         used = bom
     else:
-        nul = data.find(b"\0")
+        wide = bool(encoding) and encoding.startswith(("utf-16", "utf-32"))  # NULs are part of the code
+        nul = -1 if wide and bom is None else data.find(b"\0")
         if nul >= 0:
             line = data.count(b"\n", 0, nul) + 1
             col = nul - (data.rfind(b"\n", 0, nul) + 1) + 1
