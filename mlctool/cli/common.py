@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import _thread
 import fnmatch
 import os
 import sys
+import threading
 import traceback
 
 import click
@@ -16,9 +18,63 @@ from mlctool.report import render_text
 from mlctool.targetapi import Target, available_targets, load_target
 from mlctool.targetapi.model import UnknownModel
 
+# --max-wall: the timer that stops the command, and whether it did
+_WALL: dict = {"timer": None, "hit": False, "text": ""}
+WALL_EXIT = 1  # a run stopped by --max-wall did not pass (docs/reliability.md, Exit codes)
+
+
+def max_wall_option(fn):
+    return click.option("--max-wall", "max_wall", default=None, metavar="TIME", callback=_start_wall_limit,
+                        expose_value=False, is_eager=True,
+                        help="stop after TIME of wall-clock time (e.g. 30s, 5min): E607, exit 1 (for CI)")(fn)
+
+
+def _start_wall_limit(_ctx, _param, text: str | None) -> None:
+    """Start the wall-clock limit: a timer that interrupts the command as Ctrl-C would, so every
+    output being written is discarded (mlctool/fileio.py); run_guarded says why."""
+    if text is None:
+        return
+    from mlctool.sim.stimulus import StimError, parse_time
+
+    try:
+        us = parse_time(text)
+    except StimError as e:
+        raise click.BadParameter(e.message, param_hint="--max-wall") from None
+    if us <= 0:
+        raise click.BadParameter("must be positive", param_hint="--max-wall")
+    timer = threading.Timer(us / 1e6, _wall_reached)
+    timer.daemon = True
+    _WALL.update(timer=timer, text=text)
+    timer.start()
+
+
+def _wall_reached() -> None:
+    _WALL["hit"] = True
+    _thread.interrupt_main()
+
+
+def _interrupted() -> int:
+    if _WALL["hit"]:
+        render_text([diag("<command line>", Span.at(1), "E607",
+                          f"--max-wall {_WALL['text']}: the wall-clock limit was reached; stopped, "
+                          "nothing written")], {})
+        return WALL_EXIT
+    click.echo("mlc: interrupted", err=True)
+    return 130  # 128 + SIGINT
+
 
 def run_guarded(group: click.Group, argv: list[str] | None) -> int:
     """Run the click group; turn every failure into a message and an exit code."""
+    _WALL.update(timer=None, hit=False, text="")
+    try:
+        return _run_guarded(group, argv)
+    finally:
+        if _WALL["timer"] is not None:
+            _WALL["timer"].cancel()
+        _WALL["timer"] = None
+
+
+def _run_guarded(group: click.Group, argv: list[str] | None) -> int:
     try:
         group.main(args=argv, prog_name="mlc", standalone_mode=False)
         return 0
@@ -31,16 +87,14 @@ def run_guarded(group: click.Group, argv: list[str] | None) -> int:
         e.show()
         return 2
     except click.exceptions.Abort as e:
-        if isinstance(e.__cause__, KeyboardInterrupt):  # Ctrl-C (click wraps it): 128 + SIGINT
-            click.echo("mlc: interrupted", err=True)
-            return 130
+        if isinstance(e.__cause__, KeyboardInterrupt):  # Ctrl-C or --max-wall (click wraps it)
+            return _interrupted()
         click.echo("aborted", err=True)
         return 2
     except SystemExit as e:
         return e.code if isinstance(e.code, int) else 1
     except KeyboardInterrupt:
-        click.echo("mlc: interrupted", err=True)
-        return 130
+        return _interrupted()
     except RecursionError:
         click.echo("mlc: error: input nests too deeply to process", err=True)
         return 2

@@ -20,22 +20,30 @@ from mlctool.cli.common import (
     examples,
     get_config,
     get_target,
+    max_wall_option,
     output_plan,
     show,
     target_option,
 )
 from mlctool.cli.sim_batch import batch_cmd, is_batch
-from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
 from mlctool.fileio import Outputs
 from mlctool.sim.batch import Options
 from mlctool.sim.decode import unsimulated
 from mlctool.sim.engine import ENGINE_ENV, ENGINES
 from mlctool.sim.output import json_value, run_diagnostics, summary, to_json
 from mlctool.sim.pin_window import EDGE_LIMIT, parse_window
-from mlctool.sim.run import DEFAULT_SCAN_US, RunResult, Simulation, build_models, plan_scans
+from mlctool.sim.run import (
+    DEFAULT_SCAN_US,
+    RunResult,
+    RunTooLong,
+    Simulation,
+    build_models,
+    plan_scans,
+)
 from mlctool.sim.scan import DEFAULT_WATCHDOG
 from mlctool.sim.state import NameError_, parse_device_name
-from mlctool.sim.stimulus import StimError, Stimulus, load_stimulus, parse_time
+from mlctool.sim.stimulus import MAX_SCANS, StimError, Stimulus, load_stimulus, parse_time
 from mlctool.targetapi.registry import simulation_of
 
 PROGRESS_MIN_SCANS = 5000
@@ -65,11 +73,12 @@ def _errors(diags: list[Diagnostic]) -> bool:
 @target_option
 @encoding_option
 @config_option
+@max_wall_option
 @click.option("--stimulus", "stim_path", default=None, type=click.Path(dir_okay=False),
               help="stimulus file (docs/stimulus.md)")
 @click.option("--scan-time", default=None, metavar="TIME", help="scan period (default 10ms)")
 @click.option("--until", default=None, metavar="TIME", help="run the scans that start before TIME")
-@click.option("--scans", type=click.IntRange(0, 10**9), default=None, help="run N scans")
+@click.option("--scans", type=click.IntRange(0, MAX_SCANS), default=None, help="run N scans")
 @click.option("--vcd", "vcd_path", default=None, type=click.Path(dir_okay=False),
               help="write a VCD waveform (and a .gtkw save file beside it)")
 @click.option("--watch", multiple=True, metavar="DEV,...", help="devices to report and show")
@@ -161,7 +170,10 @@ def _simulate(plan: Outputs, keep_gtkw, target_name, config, stim_path, scan_us,
         sys.exit(2)
 
     period = st.scan_us or scan_us or DEFAULT_SCAN_US
-    n_scans = plan_scans(st, period, until_us, scans)
+    try:
+        n_scans = plan_scans(st, period, until_us, scans)
+    except RunTooLong as e:
+        raise MlcError(diag(stim_path or "<command line>", Span.at(1), "E601", str(e)), 2) from None
     power = None
     if report_path:
         from mlctool.ladder.report import PowerProbe

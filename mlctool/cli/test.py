@@ -16,6 +16,7 @@ from mlctool.cli.common import (
     encoding_option,
     examples,
     get_target,
+    max_wall_option,
     output_plan,
     show,
     target_option,
@@ -63,6 +64,7 @@ def _enter_project(path: str | None):
 ))
 @target_option
 @encoding_option
+@max_wall_option
 @click.option("--jobs", "-j", type=click.IntRange(1, 64), default=1, show_default=True,
               help="run scenarios in N worker processes")
 @click.option("--junit", "junit_path", default=None, metavar="FILE", help="write JUnit XML (path relative to the project)")

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mlctool.diagnostics import Span, diag
 from mlctool.program import Image
 from mlctool.sim.decode import Program, program_devices
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, WordRef
@@ -38,6 +39,7 @@ from mlctool.sim.run import (
     DEFAULT_SCAN_US,
     ExpectOutcome,
     RunResult,
+    RunTooLong,
     Simulation,
     build_models,
     plan_scans,
@@ -93,9 +95,13 @@ def _run_one(image: Image, target: Target, path: str, opts: Options,
     if any(d.severity == "error" for d in model_diags):
         return Scenario(path, None, diags + model_diags, st.lines)
     period = st.scan_us or opts.scan_us or DEFAULT_SCAN_US
+    try:
+        n_scans = plan_scans(st, period, opts.until_us, opts.scans)
+    except RunTooLong as e:
+        return Scenario(path, None, [diag(path, Span.at(1), "E601", str(e))], st.lines)
     sim = Simulation(image, target, st, models, period, list(opts.watch), trace=False,
                      watchdog=opts.watchdog, engine=opts.engine, preload=opts.preload)
-    result = sim.run(plan_scans(st, period, opts.until_us, opts.scans))
+    result = sim.run(n_scans)
     return Scenario(path, result, run_diagnostics(result, path), st.lines)
 
 
@@ -741,7 +747,11 @@ def run_batch(image: Image, target: Target, paths: list[str], opts: Options, job
             rest.append(p)
             continue
         period = st.scan_us or opts.scan_us or DEFAULT_SCAN_US
-        n_scans = plan_scans(st, period, opts.until_us, opts.scans)
+        try:
+            n_scans = plan_scans(st, period, opts.until_us, opts.scans)
+        except RunTooLong:  # run one by one, where _run_one reports it
+            rest.append(p)
+            continue
         if lp is not None and _lane_ready(st, opts, n_scans):
             groups.setdefault((period, n_scans), []).append((p, st))
         elif wp is not None and _word_lane_ready(st, opts, n_scans, scratch):

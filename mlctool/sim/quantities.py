@@ -11,7 +11,14 @@ from mlctool.limits import clip, long_number, too_long_message
 
 _UNITS = {"us": 1, "ms": 1000, "s": 1_000_000, "min": 60_000_000}
 _TIME = re.compile(r"(?P<num>[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?P<unit>us|ms|s|min)", re.IGNORECASE)
-MAX_TIME_US = 10**15  # about 31 years of virtual time; beyond is surely a typo
+# The bounds of a run (docs/simulator.md "Bounds"), one pair for every way to ask for time:
+# stimulus times (absolute and +relative), `run TIME`/`run #N`, `#N` scan numbers, --until,
+# --scans, --scan-time, --duration. 10^12 us is about 11.6 days of virtual time; 10^9 scans
+# are 10^7 s at the default 10 ms scan. Beyond either is surely a typo, and a CI run that must
+# stop by wall-clock time has --max-wall.
+MAX_TIME_US = 10**12
+MAX_SCANS = 10**9
+TIME_BOUND = "10^12 us (about 11.6 days)"
 
 
 class StimError(ValueError):
@@ -34,7 +41,7 @@ def parse_time(text: str) -> int:
     if us.denominator != 1:
         raise StimError(f"{text!r} is not a whole number of microseconds")
     if us > MAX_TIME_US:
-        raise StimError(f"{text!r} is too far in the future")
+        raise StimError(f"{text!r} is past the bound of virtual time, {TIME_BOUND}")
     return int(us)
 
 

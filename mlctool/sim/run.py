@@ -23,7 +23,7 @@ from mlctool.sim.pulses import Quadrature, Train, add_quadrature, add_train, dri
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, load_program
 from mlctool.sim.signals import SIGNAL
 from mlctool.sim.state import DeviceView, Machine
-from mlctool.sim.stimulus import Check, Event, Stimulus
+from mlctool.sim.stimulus import MAX_SCANS, Check, Event, Stimulus
 from mlctool.targetapi.model import Target
 from mlctool.targetapi.registry import simulation_of
 
@@ -166,17 +166,27 @@ def _signal_diags(st: Stimulus, models: list[tuple[object, DeviceModel]],
     return diags
 
 
+class RunTooLong(ValueError):
+    """The scans a run asks for pass MAX_SCANS (a short scan period over a long time)."""
+
+
 def plan_scans(st: Stimulus, period_us: int, until_us: int | None, scans: int | None) -> int:
-    """Number of scans: --scans/--until, else the stimulus `run`, else through the last event."""
+    """Number of scans: --scans/--until, else the stimulus `run`, else through the last event.
+    RunTooLong past MAX_SCANS (each time is bounded by MAX_TIME_US already)."""
     if scans is not None:
-        return scans
-    if until_us is not None:
-        return -(-until_us // period_us)
-    if st.run_scans is not None:
-        return st.run_scans
-    if st.run_time_us is not None:
-        return -(-st.run_time_us // period_us)
-    return max((e.scan_index(period_us) + 1 for e in st.events), default=1)
+        n, why = scans, "--scans"
+    elif until_us is not None:
+        n, why = -(-until_us // period_us), "--until"
+    elif st.run_scans is not None:
+        n, why = st.run_scans, "`run`"
+    elif st.run_time_us is not None:
+        n, why = -(-st.run_time_us // period_us), "`run`"
+    else:
+        n, why = max((e.scan_index(period_us) + 1 for e in st.events), default=1), "the last stimulus line"
+    if n > MAX_SCANS:
+        raise RunTooLong(f"{why} asks for {n:,} scans of {period_us} us; a run is at most {MAX_SCANS:,} "
+                         "scans (docs/simulator.md, Bounds)")
+    return n
 
 
 class Simulation:

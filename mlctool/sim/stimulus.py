@@ -12,7 +12,14 @@ from fractions import Fraction
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.limits import long_number, too_long_message
-from mlctool.sim.quantities import StimError, parse_frequency, parse_time
+from mlctool.sim.quantities import (
+    MAX_SCANS,
+    MAX_TIME_US,
+    TIME_BOUND,
+    StimError,
+    parse_frequency,
+    parse_time,
+)
 from mlctool.sim.signals import SIGNAL
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name, to_f32
 from mlctool.syntax.source import read_source
@@ -198,6 +205,9 @@ class _Parser:
             scan = _scan_number(when)
         elif when.startswith("+"):
             time_us = self.last_time + parse_time(when[1:])
+            if time_us > MAX_TIME_US:  # relative times add up: the sum is bounded too
+                raise StimError(f"{when!r} after {self.last_time} us is past the bound of virtual time, "
+                                f"{TIME_BOUND}")
         else:
             try:
                 time_us = parse_time(when)
@@ -379,8 +389,10 @@ def _rejoin(raw: str, count: int) -> str:
 
 
 def _scan_number(text: str) -> int:
-    if not re.fullmatch(r"#[0-9]+", text) or len(text) > 16:
+    if not re.fullmatch(r"#[0-9]+", text):
         raise StimError(f"{text!r} is not a scan number (e.g. #250)")
+    if len(text) > 11 or int(text[1:]) > MAX_SCANS:
+        raise StimError(f"{text!r} is past the bound of a run, {MAX_SCANS:,} scans")
     return int(text[1:])
 
 
@@ -397,5 +409,5 @@ def load_stimulus(path: str, target: Target) -> tuple[Stimulus | None, list[Diag
     return parse_stimulus_text(path, src.text, target)
 
 
-__all__ = ["Check", "Event", "ModelSpec", "Stimulus", "StimError", "load_stimulus",
+__all__ = ["MAX_SCANS", "MAX_TIME_US", "Check", "Event", "ModelSpec", "Stimulus", "StimError", "load_stimulus",
            "parse_stimulus_text", "parse_time", "parse_value"]

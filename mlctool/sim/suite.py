@@ -16,11 +16,18 @@ from functools import lru_cache
 
 from mlctool.asm import program_from_paths
 from mlctool.config import Config, load_config
-from mlctool.diagnostics import Diagnostic, diag
+from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image
 from mlctool.sim.coverage import Probe
 from mlctool.sim.output import run_diagnostics
-from mlctool.sim.run import DEFAULT_SCAN_US, RunResult, Simulation, build_models, plan_scans
+from mlctool.sim.run import (
+    DEFAULT_SCAN_US,
+    RunResult,
+    RunTooLong,
+    Simulation,
+    build_models,
+    plan_scans,
+)
 from mlctool.sim.stimulus import load_stimulus
 from mlctool.targetapi import Target, load_target
 
@@ -89,8 +96,12 @@ def _run_scenario(image: Image, target: Target, stim_path: str, coverage: bool) 
         return Scenario(stim_path, None, diags + model_diags, st.lines)
     probe = Probe(len(image.instrs)) if coverage else None
     period = st.scan_us or DEFAULT_SCAN_US
+    try:
+        n_scans = plan_scans(st, period, None, None)
+    except RunTooLong as e:
+        return Scenario(stim_path, None, [diag(stim_path, Span.at(1), "E601", str(e))], st.lines)
     sim = Simulation(image, target, st, models, period, [], trace=False, probe=probe)
-    result = sim.run(plan_scans(st, period, None, None))
+    result = sim.run(n_scans)
     return Scenario(stim_path, result, run_diagnostics(result, stim_path), st.lines, probe)
 
 
