@@ -36,7 +36,7 @@ def test_stimulus_past_a_bound_is_e601_before_running(work, stimulus, where):
 def test_the_bounds_themselves_are_accepted(work):
     (work / "s.stim").write_text(f"0ms X0=1\n{MAX_TIME_US}us X0=0\n")
     from mlctool.sim.stimulus import load_stimulus
-    from mlctool.targets import load_target
+    from mlctool.targetapi import load_target
 
     st, diags = load_stimulus(str(work / "s.stim"), load_target("nc5"))
     assert not diags and st.events[-1].time_us == MAX_TIME_US
