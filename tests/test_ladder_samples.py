@@ -114,3 +114,56 @@ def test_multi_input_box_gets_one_line_per_input():
     r = run_mlc("ladder", "--target", "fbs", "--term", str(SAMPLES / "fbs" / "home_and_run.il"))
     assert r.code == 0, r.err
     assert r.out.count("▷PAU") == 2 and r.out.count("▷ABT") == 2
+
+
+def _operand_texts(target, spec) -> list[list[str]]:
+    """A few operands of the kinds each operand of `spec` allows, lowest numbers first."""
+    out = []
+    for o in spec.operands:
+        texts: list[str] = []
+        for kind in sorted(o.kinds):
+            if kind == "K":
+                texts += ["K1", "K2"]
+            elif kind == "H":
+                texts.append("H1")
+            elif kind.startswith("Kn"):
+                texts.append(f"K1{kind[2:]}0")
+            elif kind in target.devices:
+                texts.append(f"{kind}{target.devices[kind].lo if kind != 'P' else 1}")
+        out.append(texts[:3])
+    return out
+
+
+@pytest.mark.parametrize("target_name", TARGET_DIRS)
+def test_every_instruction_that_checks_draws(target_name):
+    """Each instruction of the target, in the rung forms it takes (after a contact, after
+    three blocks for multi-input boxes, alone on the rail), draws and converts back to IL
+    whenever `mlc check` accepts the program (MEP/MEF crashed the drawing)."""
+    import itertools
+
+    from mlctool.check import check_texts
+    from mlctool.ladder.document import build_sheet
+    from mlctool.ladder.network import build_items, items_to_il
+    from mlctool.ladder.svg import sheets_svg
+    from mlctool.ladder.term import sheets_text
+    from mlctool.syntax.source import SourceText
+    from mlctool.targets import load_target
+
+    target = load_target(target_name)
+    drawn = 0
+    for name, spec in sorted(target.instructions.items()):
+        for combo in itertools.islice(itertools.product(*_operand_texts(target, spec)), 30):
+            line = " ".join((name, *combo))
+            forms = (f"LD X0\n{line}\nEND\n", f"LD X0\n{line}\nOUT Y0\nEND\n",
+                     f"LD X0\nLD X1\nLD X2\n{line}\nEND\n",
+                     f"LD X0\nCJ P1\nP1:\nLD X0\n{line}\nEND\n", f"{line}\nLD X0\nOUT Y0\nEND\n")
+            texts = [t for t in forms if not check_texts([SourceText("t.il", t)], target).errors]
+            for text in texts[:1]:
+                instrs = check_texts([SourceText("t.il", text)], target).modules[0].instrs
+                sheet = build_sheet("t.il", instrs, {"t.il": text.splitlines()})
+                assert sheets_svg([sheet]) and sheets_text([sheet]).plain, text
+                items_to_il(build_items(instrs), instrs, target)
+                drawn += 1
+            if texts:
+                break
+    assert drawn >= len(target.instructions) // 2

@@ -119,7 +119,7 @@ ALL_X: list[X] = [tuple(bool(n >> k & 1) for k in range(8)) for n in range(256)]
 
 def _checked(text: str, target):
     r = check_texts([SourceText("t.il", text)], target)
-    assert not r.errors, [(d.span.line, d.code, d.message) for d in r.diagnostics]
+    assert not r.diagnostics, [(d.span.line, d.code, d.message) for d in r.diagnostics]  # clean
     return r.modules[0].instrs
 
 

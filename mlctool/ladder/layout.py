@@ -25,6 +25,8 @@ COMPARE_REL = {"cmp_eq": "=", "cmp_ne": "<>", "cmp_gt": ">", "cmp_lt": "<", "cmp
                "cmp_le": "<="}
 # coils by `op`: the letter inside the coil; every other output is an instruction box
 COIL_LETTER = {"out": "", "set": "S", "rst": "R"}
+# MEP/MEF (VS 3-3): the edge of the result so far, drawn as an arrow on the line
+RESULT_EDGE = {"result_rise": "↑", "result_fall": "↓"}
 # width in columns of the series elements that are not plain contacts, by instruction class
 CLASS_WIDTH = {"inv": 1, "nop": 1}
 BIT_COIL_KINDS = ("Y", "M", "A")  # OUT/SET/RST of these are coils, everything else a box
@@ -37,7 +39,7 @@ class Cell:
     x: int
     y: int
     w: int
-    kind: str  # contact | compare | inv | nop | tap | step (STL's state box)
+    kind: str  # contact | compare | inv | nop | tap | step (STL's state box) | edge (MEP/MEF)
     ins: Instr | None
     index: int  # instruction index (-1: tap)
     glyph: str = ""  # contact glyph, relation of a comparison, or the tap's step address
@@ -125,6 +127,8 @@ def _leaf_cell(leaf: Leaf, x: int, y: int) -> Cell:
         return Cell(x, y, 2, "compare", leaf.ins, leaf.index, COMPARE_REL[spec.op])
     if spec.cls in CLASS_WIDTH:
         return Cell(x, y, 1, spec.cls, leaf.ins, leaf.index)
+    if spec.op in RESULT_EDGE:
+        return Cell(x, y, 1, "edge", leaf.ins, leaf.index, RESULT_EDGE[spec.op])
     if spec.cls == "bus":
         return Cell(x, y, 1, "step", leaf.ins, leaf.index)
     return Cell(x, y, 1, "contact", leaf.ins, leaf.index, CONTACT_GLYPH.get(spec.op, ""))

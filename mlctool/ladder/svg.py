@@ -150,6 +150,12 @@ def _cell(sheet: Sheet, c: Cell) -> str:
                   _text(mid, y - 18, "INV", "small")]
     elif c.kind == "nop":
         parts += [_line(x0, y, x1, y), _text(mid, y - 8, "NOP", "small")]
+    elif c.kind == "edge":  # MEP/MEF: the edge of the result so far, an arrow across the line
+        parts += [_line(x0, y, x1, y), _line(mid, y - 12, mid, y + 12, "sym"),
+                  _text(mid, y - 18, c.ins.mnemonic, "small")]
+        tip = y - 12 if c.glyph == "↑" else y + 12
+        back = tip + 6 if c.glyph == "↑" else tip - 6
+        parts += [_line(mid - 5, back, mid, tip, "sym"), _line(mid + 5, back, mid, tip, "sym")]
     elif c.kind == "step":  # the state box of a step ladder step (VS 4-6-2 (b))
         parts += [_line(x0, y, x0 + 8, y), _line(x1 - 8, y, x1, y),
                   f'<rect class="box step" x="{x0 + 8}" y="{y - 14}" width="{x1 - x0 - 16}" height="28"/>',

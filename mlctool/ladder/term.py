@@ -88,6 +88,9 @@ def _cell(cv: Canvas, c: Cell) -> None:
     elif c.kind in ("inv", "nop"):
         cv.center(x0, x1, y, "╱" if c.kind == "inv" else "")
         cv.center(x0, x1, y - 1, c.kind.upper(), "symbol")
+    elif c.kind == "edge":  # MEP/MEF: the edge of the result so far
+        cv.center(x0, x1, y, c.glyph)
+        cv.center(x0, x1, y - 1, c.ins.mnemonic, "symbol")
     elif c.kind == "step":  # the state box of a step ladder step (VS 4-6-2 (b))
         cv.center(x0, x1, y, f"[{operand_texts(c.ins)[0][0]}]", STYLES["step"])
         cv.center(x0, x1, y - 1, "STL", "symbol")
