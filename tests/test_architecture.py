@@ -70,3 +70,42 @@ def test_builtin_targets_are_registered_as_entry_points():
     folders = {p.parent.name: f"mlctool.targets.{p.parent.name}:TARGET"
                for p in (ROOT / "mlctool" / "targets").glob("*/target.toml")}
     assert points == folders == BUILTIN
+
+
+# -- docs/architecture.md matches the tree
+
+DOC = (ROOT / "docs" / "architecture.md").read_text("utf-8")
+PACKAGES = sorted(p.parent.relative_to(ROOT).as_posix() for p in (ROOT / "mlctool").rglob("__init__.py")
+                  if "toy" not in p.parts)
+
+
+def test_the_picture_is_the_import_graph():
+    import architecture_svg
+
+    drawn = (ROOT / "docs" / "architecture.svg").read_text("utf-8")
+    assert drawn == architecture_svg.svg(architecture_svg.group_graph()), \
+        "docs/architecture.svg is stale: run python tools/architecture_svg.py"
+
+
+def test_every_package_has_a_row():
+    missing = [p for p in PACKAGES if p != "mlctool" and f"| `{p}/` |" not in DOC]
+    assert missing == []
+
+
+def test_every_path_named_exists():
+    import re
+
+    named = set(re.findall(r"`((?:mlctool|tests|tools|docs)/[^`\s]*)`", DOC))
+    assert named and [p for p in sorted(named) if not (ROOT / p).exists()] == []
+
+
+def test_every_package_says_what_belongs_there():
+    """Each package's docstring says what belongs there and what does not."""
+    import ast
+
+    vague = []
+    for p in PACKAGES:
+        doc = ast.get_docstring(ast.parse((ROOT / p / "__init__.py").read_text("utf-8"))) or ""
+        if "Belongs here" not in doc or "Does not belong here" not in doc:
+            vague.append(p)
+    assert vague == []

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mlctool.check.resolve import resolve
-from mlctool.syntax.layout import FormatOptions, format_source
+from mlctool.fmt import FormatOptions, format_source
 from mlctool.syntax.parser import parse
 from mlctool.syntax.source import decode
 from mlctool.targetapi import load_target

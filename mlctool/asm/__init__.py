@@ -1,4 +1,8 @@
-"""Assembler, object files, linker and listings."""
+"""Assembler, object files, linker and listings.
+
+Belongs here: checked modules -> step addresses, object files, linked images, listings, map
+files, project builds. Does not belong here: checking rules (check/), running programs (sim/).
+"""
 
 from __future__ import annotations
 

@@ -2,6 +2,9 @@
 
 Pipeline per file: decode -> parse -> resolve (operands vs target tables) -> structure -> lint;
 then cross-module label resolution, configured severities and `mlc: noqa` suppressions.
+
+Belongs here: everything `mlc check` decides about a source. Does not belong here: code
+generation (asm/), simulation (sim/), formatting (mlctool/fmt.py).
 """
 
 from __future__ import annotations

@@ -4,6 +4,9 @@ Commands live in mlctool/cli/<area>.py and register themselves on `main_group` w
 `@main_group.command(...)`. The modules are imported only when their command runs (or for
 `mlc --help`), so `mlc check` does not pay for the simulator's or Modbus's imports. A new
 command module is added to COMMAND_MODULES.
+
+Belongs here: options, wiring, output and exit codes of the commands. Does not belong here:
+logic a stage could hold (a command calls the stages' functions).
 """
 
 from __future__ import annotations

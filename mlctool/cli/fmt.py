@@ -19,7 +19,7 @@ from mlctool.cli.common import (
 )
 from mlctool.diagnostics import unreadable
 from mlctool.fileio import Outputs, rewrite
-from mlctool.syntax.layout import FormatOptions, format_source
+from mlctool.fmt import FormatOptions, format_source
 from mlctool.syntax.source import GUESSED, read_source, source_encoding
 
 

@@ -1,4 +1,9 @@
-"""Device (plant) models for `mlc sim`: a registry from the stimulus `model KIND` name."""
+"""Device (plant) models for `mlc sim`: a registry from the stimulus `model KIND` name.
+
+Belongs here: the machines around the PLC that a stimulus adds (conveyor, a peer VS PLC, the
+XC100 servo controller) and their I/O to the simulated PLC. Does not belong here: PLC
+instructions (those are the engine's or a target's, mlctool/sim/, mlctool/targets/).
+"""
 
 from __future__ import annotations
 

@@ -1,5 +1,9 @@
 """Ladder diagrams: IL rungs as series/parallel networks, laid out on a grid and rendered
-as SVG, a self-contained HTML page, terminal text, or a simulation report (docs/ladder.md)."""
+as SVG, a self-contained HTML page, terminal text, or a simulation report (docs/ladder.md).
+
+Belongs here: drawing and reporting programs as ladders. Does not belong here: checking
+(check/) or running them (sim/).
+"""
 
 from __future__ import annotations
 
