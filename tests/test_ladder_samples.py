@@ -147,7 +147,7 @@ def test_every_instruction_that_checks_draws(target_name):
     from mlctool.ladder.svg import sheets_svg
     from mlctool.ladder.term import sheets_text
     from mlctool.syntax.source import SourceText
-    from mlctool.targets import load_target
+    from mlctool.targetapi import load_target
 
     target = load_target(target_name)
     drawn = 0
