@@ -27,7 +27,6 @@ from mlctool.cli.common import (
 )
 from mlctool.cli.sim_batch import batch_cmd, is_batch
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
-from mlctool.fileio import Outputs
 from mlctool.sim.batch import Options
 from mlctool.sim.decode import unsimulated
 from mlctool.sim.engine import ENGINE_ENV, ENGINES
@@ -130,13 +129,8 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         if path:
             plan.add(path, what)
     plan.validate()
-    with plan:
-        _simulate(plan, keep_gtkw, target_name, config, stim_path, scan_us, until_us, scans, vcd_path, watch,
-                  as_json, junit_path, watchdog, report_path, engine, jobs, tables, pulse_window, window, program)
-
-
-def _simulate(plan: Outputs, keep_gtkw, target_name, config, stim_path, scan_us, until_us, scans, vcd_path, watch,
-              as_json, junit_path, watchdog, report_path, engine, jobs, tables, pulse_window, window, program):
+    # however the command ends (an error, Ctrl-C, --max-wall), no staged output is left behind
+    click.get_current_context().with_resource(plan)
     target = get_target(_object_target(list(program), target_name) or target_name, config)
     image, diags, lines = program_from_paths(list(program), target, config)
     if image is None:
