@@ -70,7 +70,7 @@ PLACEHOLDERS = {
     "OUT.svg": "out.svg", "OUT.html": "out.html", "DIR": "rebuilt", "CODE": "W401",
     "PATH": "/dev/null", ("--map", "F"): "build/other.map", ("--listing", "F"): "build/other.lst",
 }
-PARSE_ONLY = {("device", "serve")}  # serves until stopped
+PARSE_ONLY = {("device", "serve"), ("lsp",)}  # serve until stopped
 
 COMMAND = re.compile(r"^(?:\$ |- |run: )?(mlc (?:[a-z-]|--?[a-z]).*)$")
 

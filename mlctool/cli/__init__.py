@@ -26,6 +26,7 @@ COMMAND_MODULES = {
     "fmt": "mlctool.cli.fmt",
     "import": "mlctool.cli.imports",
     "ladder": "mlctool.cli.ladder",
+    "lsp": "mlctool.cli.lsp",
     "sim": "mlctool.cli.sim",
     "test": "mlctool.cli.test",
 }
@@ -40,6 +41,7 @@ COMMAND_SUMMARIES = {
     "fmt": "Rewrite IL files in the canonical layout (idempotent; code unchanged).",
     "import": "Convert an editor's export to plain IL for the target (docs/vs.md, Imports).",
     "ladder": "Draw the FILEs as ladder diagrams, one rung per IL rung, in program order.",
+    "lsp": "Serve the Language Server Protocol over stdio for editors (docs/editor.md).",
     "link": "Link object modules (.mlo): one main module and its subroutine libraries.",
     "objdump": "Show an object module (.mlo) or linked program (.mlx), or an FBs positioning "
                "register image (.json/.csv) as program text.",

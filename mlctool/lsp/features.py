@@ -1,0 +1,417 @@
+"""The language features as plain functions of an Analysis (mlctool/lsp/project.py) and a
+position; server.py only converts between these and the protocol.
+
+Positions here are 1-based lines and columns as in the rest of mlctool; server.py converts.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from types import SimpleNamespace
+
+from mlctool.codes import CODES
+from mlctool.diagnostics import Diagnostic
+from mlctool.lsp.project import LABEL, Analysis, Place
+from mlctool.syntax.operands import SYMBOL, OperandSyntaxError, parse_operand
+from mlctool.targetapi.model import InstrSpec, Target
+
+_DID_YOU_MEAN = re.compile(r"did you mean ['\"`]?([^'\"`?\s]+)['\"`]?\?")
+_NOQA = re.compile(r"\bmlc:\s*noqa\b", re.IGNORECASE)
+
+
+@dataclass(frozen=True)
+class Found:
+    """The word under the cursor and what it is."""
+
+    place: Place
+    role: str  # mnemonic | operand | label | define | directive
+
+
+def word_at(a: Analysis, path: str, line: int, col: int) -> Found | None:
+    st = a.index.statement_at(path, line)
+    if st is None:
+        return None
+    words = [(st.name, "label" if st.kind == "label" or (LABEL.fullmatch(st.name.text) and not st.operands)
+              else st.kind if st.kind == "directive" else "mnemonic")]
+    if st.kind == "directive" and st.name.text.lower() == ".define" and st.operands:
+        words.append((st.operands[0], "define"))
+        words += [(w, "operand") for w in st.operands[1:]]
+    else:
+        words += [(w, "operand") for w in st.operands]
+    for w, role in words:
+        if w.col <= col <= w.end_col:
+            return Found(Place(path, line, w.col, w.end_col, w.text), role)
+    return None
+
+
+# ------------------------------------------------------------------------------------ hover
+def hover(a: Analysis, path: str, line: int, col: int) -> tuple[str, Place] | None:
+    found = word_at(a, path, line, col)
+    target = a.project.target
+    if found is None or target is None:
+        return None
+    text = found.place.text
+    if found.role == "mnemonic":
+        specs = target.variants_of(text)
+        return (instruction_doc(target, specs), found.place) if specs else None
+    if found.role == "label" or (found.role == "operand" and _is_label(a, path, text)):
+        return (_label_doc(a, path, text), found.place)
+    if found.role in ("operand", "define"):
+        doc = _operand_doc(a, path, text)
+        return (doc, found.place) if doc else None
+    return None
+
+
+def instruction_doc(target: Target, specs: tuple[InstrSpec, ...]) -> str:
+    spec = specs[0]
+    head = f"**{spec.mnemonic}**" + (f" (API {spec.api})" if spec.api is not None else "")
+    out = [head + f": {spec.width}-bit{', float' if spec.is_float else ''}"
+           + (", pulse (once per Off->On)" if spec.pulse else ""),
+           f"Manual: {spec.section} ({target.settings.get('manual_title') or target.title})"]
+    other = _other_width(target, spec)
+    steps = f"{spec.steps}" + ("~" + str(spec.steps + 1) if spec.short_steps else "")
+    out.append(f"Steps: {steps} ({spec.width}-bit)" + (f", {other.steps} ({other.width}-bit {other.mnemonic})"
+                                                     if other else ""))
+    for spec_v in specs:
+        if spec_v.operands:
+            out.append("Operands: " + ", ".join(
+                f"`{o.role}` {'/'.join(sorted(o.kinds))}{' (written)' if 'w' in o.access else ''}"
+                for o in spec_v.operands))
+        else:
+            out.append("Operands: none")
+    out.append(f"Class: {spec.cls} ({spec.op})")
+    out += [f"- {n}" for n in spec.notes]
+    return "\n\n".join(out)
+
+
+def _other_width(target: Target, spec: InstrSpec) -> InstrSpec | None:
+    for s in target.instructions.values():
+        if s is not spec and s.op == spec.op and s.section == spec.section and s.width != spec.width \
+                and s.pulse == spec.pulse and s.operands == spec.operands:
+            return s
+    return None
+
+
+def resolve_symbol(a: Analysis, path: str, name: str) -> tuple[str, Place | None] | None:
+    """(operand text, where defined) of a symbol seen from `path`: its .define, else mlc.toml."""
+    key = name.upper()
+    idx = a.index
+    if key in idx.define_values.get(path, {}):
+        return idx.define_values[path][key], idx.defines[path][key]
+    table = a.project.config.data.get("symbols", {})
+    if isinstance(table, dict):
+        for k, v in table.items():
+            if k.upper() == key and isinstance(v, str):
+                file, span = a.project.config.locate("symbols", k)
+                return v, Place(file, span.line, span.col, span.end_col, k)
+    return None
+
+
+def _operand_doc(a: Analysis, path: str, text: str) -> str | None:
+    target = a.project.target
+    sym = resolve_symbol(a, path, text)
+    operand_text = sym[0] if sym else text
+    try:
+        op = parse_operand(operand_text, target.operand_syntax)
+    except OperandSyntaxError:
+        return f"`{text}`: undefined symbol" if SYMBOL.fullmatch(text) else None
+    out = []
+    if sym:
+        out.append(f"**{text}** = `{operand_text}` (symbol)")
+    if op.is_const:
+        out.append(f"`{operand_text}`: constant {op.value!r}")
+        return "\n\n".join(out)
+    dev = target.devices.get(op.kind)
+    if dev is None:
+        return "\n\n".join(out) or None
+    name = operand_text.upper()
+    area = dev.area(op.number)
+    line = f"**{name}**: {dev.kind} device {dev.name}{dev.lo}-{dev.name_of(dev.hi)[len(dev.name):]}"
+    if area is not None:
+        line += f", {area.name}" + (", latched" if area.latched else ", not latched") \
+            + ({"nc": ", written by the NC", "reserved": ", reserved"}.get(area.write, ""))
+    out.append(line + f" (manual {dev.section})")
+    names = [n for n, v in a.index.define_values.get(path, {}).items() if v.upper() == name]
+    if names and not sym:
+        out.append("Symbol: " + ", ".join(names))
+    reads, writes = device_uses(a, name)
+    for verb, places in (("Written", writes), ("Read", reads)):
+        if places:
+            shown = [f"{_short(a, p.path)}:{p.line}" for p in places[:8]]
+            more = f" and {len(places) - 8} more" if len(places) > 8 else ""
+            out.append(f"{verb} at: " + ", ".join(shown) + more)
+    if not reads and not writes:
+        out.append("Not used by the project's code.")
+    return "\n\n".join(out)
+
+
+def _short(a: Analysis, path: str) -> str:
+    root = a.project.root
+    if root is not None and path.startswith(str(root)):
+        return path[len(str(root)) + 1:]
+    return path.rsplit("/", 1)[-1]
+
+
+def device_uses(a: Analysis, device: str) -> tuple[list[Place], list[Place]]:
+    """(reads, writes) of one device over the checked modules, from the link map's
+    cross-reference (so a DMOV to D0 writes D1 too)."""
+    cache = getattr(a, "_xref", None)
+    if cache is None:
+        from mlctool.asm.mapfile import xref
+
+        cache = {}
+        for m in a.result.modules:
+            instrs = [i for i in m.instrs if i.valid]
+            at = {i.addr: i for i in instrs}
+            for dev, (reads, writes) in xref(SimpleNamespace(instrs=instrs), a.project.target).items():
+                r, w = cache.setdefault(dev, ([], []))
+                r += [Place(m.path, at[x].line, at[x].col, at[x].col, dev) for x in reads]
+                w += [Place(m.path, at[x].line, at[x].col, at[x].col, dev) for x in writes]
+        a._xref = cache
+    return cache.get(device, ([], []))
+
+
+def _is_label(a: Analysis, path: str, text: str) -> bool:
+    key = text.upper()
+    if LABEL.fullmatch(text):
+        return True
+    return any(key in labels for labels in a.index.labels.values())
+
+
+def _label_doc(a: Analysis, path: str, text: str) -> str:
+    where = label_definition(a, path, text)
+    if where is None:
+        return f"**{text.upper()}**: label not defined in the project"
+    exported = text.upper() in a.index.exports.get(where.path, set())
+    return (f"**{text.upper()}**: label defined at {_short(a, where.path)}:{where.line}"
+            + (" (exported)" if exported else ""))
+
+
+# ------------------------------------------------------------------ definition, references
+def label_definition(a: Analysis, path: str, text: str) -> Place | None:
+    key = text.upper()
+    own = a.index.labels.get(path, {})
+    if key in own:
+        return own[key]
+    for p, labels in a.index.labels.items():
+        if key in labels and key in a.index.exports.get(p, set()):
+            return labels[key]
+    return None
+
+
+def definition(a: Analysis, path: str, line: int, col: int) -> Place | None:
+    found = word_at(a, path, line, col)
+    if found is None:
+        return None
+    if found.role == "define":
+        return found.place
+    text = found.place.text
+    if found.role == "label" or (found.role == "operand" and _is_label(a, path, text)):
+        return label_definition(a, path, text)
+    if found.role == "operand":
+        sym = resolve_symbol(a, path, text)
+        return sym[1] if sym else None
+    return None
+
+
+def references(a: Analysis, path: str, line: int, col: int, include_declaration: bool = True
+               ) -> list[Place]:
+    found = word_at(a, path, line, col)
+    if found is None or found.role in ("mnemonic", "directive"):
+        return []
+    text = found.place.text
+    key = text.upper()
+    idx = a.index
+    if found.role == "label" or (found.role == "operand" and _is_label(a, path, text)):
+        home = label_definition(a, path, text)
+        if home is None:
+            files = [path]
+        elif key in idx.exports.get(home.path, set()):
+            files = [p for p in idx.parsed if p == home.path or key not in idx.labels.get(p, {})]
+        else:
+            files = [home.path]
+        out = [home] if home is not None and include_declaration else []
+    else:
+        sym = resolve_symbol(a, path, text)
+        if sym is None:
+            return []
+        home = sym[1]
+        if home is not None and home.path in idx.parsed:
+            files = [home.path]
+        else:  # an mlc.toml symbol: every module that does not define the name itself
+            files = [p for p in idx.parsed if key not in idx.defines.get(p, {})]
+        out = [home] if home is not None and include_declaration else []
+    for p in files:
+        out += [u for u in idx.uses.get(p, []) if u.text.upper() == key]
+    return out
+
+
+def rename_check(a: Analysis, path: str, line: int, col: int, new_name: str) -> str | None:
+    """Why `new_name` cannot replace the name under the cursor (None: it can)."""
+    found = word_at(a, path, line, col)
+    if found is None or found.role in ("mnemonic", "directive"):
+        return "nothing to rename here: put the cursor on a .define symbol or a label"
+    text = found.place.text
+    is_label = found.role == "label" or (found.role == "operand" and _is_label(a, path, text))
+    if is_label:
+        if not (LABEL.fullmatch(new_name) or SYMBOL.fullmatch(new_name)):
+            return f"{new_name!r} is not a label (P0, P1 ... or a name)"
+        return None
+    if resolve_symbol(a, path, text) is None:
+        return f"{text!r} is not a symbol: only .define symbols and labels are renamed"
+    try:
+        parse_operand(new_name, a.project.target.operand_syntax)
+        return f"{new_name!r} reads as an operand: a symbol needs another name"
+    except OperandSyntaxError:
+        pass
+    if not SYMBOL.fullmatch(new_name):
+        return f"{new_name!r} is not a symbol name (letters, digits, _ and .)"
+    return None
+
+
+# ------------------------------------------------------------------------------ completion
+@dataclass(frozen=True)
+class Completion:
+    label: str
+    kind: str  # instruction | device | symbol | label
+    detail: str
+    snippet: str | None = None
+    doc: str = ""
+
+
+def completions(a: Analysis, path: str, line: int, col: int, line_text: str) -> list[Completion]:
+    target = a.project.target
+    if target is None:
+        return []
+    before = line_text[:col - 1]
+    code = before.split(";", 1)[0]
+    if code.lstrip().startswith("."):
+        return []
+    words = code.split()
+    first_word = not words or (len(words) == 1 and not code.endswith((" ", "\t")))
+    if words and words[0].isdigit():  # a leading step number
+        first_word = len(words) == 1 and code.endswith((" ", "\t")) or (len(words) == 2 and not code.endswith((" ", "\t")))
+    if first_word:
+        out = []
+        for name, spec in sorted(target.instructions.items()):
+            roles = [o.role for o in spec.operands]
+            snippet = name if not roles else name + " " + " ".join(
+                f"${{{k}:{r}}}" for k, r in enumerate(roles, 1))
+            out.append(Completion(name, "instruction", f"{spec.section}: {spec.steps} steps", snippet))
+        return out
+    out = []
+    idx = a.index
+    for name, value in sorted(idx.define_values.get(path, {}).items()):
+        out.append(Completion(name, "symbol", f"= {value}"))
+    table = a.project.config.data.get("symbols", {})
+    if isinstance(table, dict):
+        for name, value in sorted(table.items()):
+            if name.upper() not in idx.define_values.get(path, {}):
+                out.append(Completion(name, "symbol", f"= {value} (mlc.toml)"))
+    seen = set()
+    for p, labels in idx.labels.items():
+        for name in labels:
+            if (p == path or name in idx.exports.get(p, set())) and name not in seen:
+                seen.add(name)
+                out.append(Completion(name, "label", f"label ({_short(a, p)})"))
+    for dev in target.devices.values():
+        out.append(Completion(dev.name, "device", f"{dev.kind} {dev.name}{dev.lo}-"
+                              f"{dev.name_of(dev.hi)[len(dev.name):]} ({dev.section})"))
+    return out
+
+
+# -------------------------------------------------------------------------- document symbols
+@dataclass
+class Symbol:
+    name: str
+    kind: str  # label | define | rung
+    line: int
+    end_line: int
+    col: int = 1
+    end_col: int = 1
+    children: list[Symbol] | None = None
+
+
+def document_symbols(a: Analysis, path: str) -> list[Symbol]:
+    parsed = a.index.parsed.get(path)
+    if parsed is None:
+        return []
+    lines = parsed.lines
+    out: list[Symbol] = []
+    current: Symbol | None = None
+    by_line = {st.line: st for st in parsed.statements}
+    comment: tuple[int, str] | None = None
+    for number, raw in enumerate(lines, 1):
+        st = by_line.get(number)
+        stripped = raw.strip()
+        if st is None:
+            if stripped.startswith((";", "//")):
+                if comment is None:
+                    comment = (number, stripped.lstrip(";/ ").strip())
+            elif not stripped:
+                comment = None
+            continue
+        if st.kind == "directive":
+            if st.name.text.lower() == ".define" and st.operands:
+                w = st.operands[0]
+                out.append(Symbol(w.text, "define", number, number, w.col, w.end_col))
+            comment = None
+            continue
+        if st.kind == "label" or (LABEL.fullmatch(st.name.text) and not st.operands):
+            if current is not None:
+                current.end_line = number - 1
+            current = Symbol(st.name.text.upper(), "label", number, len(lines), st.name.col,
+                             st.name.end_col, [])
+            out.append(current)
+            comment = None
+            continue
+        if comment is not None:
+            rung = Symbol(comment[1] or "rung", "rung", comment[0], number, 1, len(raw) + 1)
+            (current.children if current is not None else out).append(rung)
+            comment = None
+    return out
+
+
+# ------------------------------------------------------------------------------ formatting
+def formatted(a: Analysis, path: str) -> str | None:
+    from mlctool.syntax.layout import format_source
+
+    src = a.sources.get(path)
+    if src is None or a.project.target is None:
+        return None
+    new, _ = format_source(src, a.project.target)
+    return None if new is None or new == src.text else new
+
+
+# ---------------------------------------------------------------------------- code actions
+@dataclass(frozen=True)
+class Fix:
+    title: str
+    line: int
+    col: int
+    end_col: int
+    new_text: str
+    code: str
+    preferred: bool = False
+
+
+def fixes(a: Analysis, path: str, diags: list[Diagnostic], lines: list[str]) -> list[Fix]:
+    out = []
+    for d in diags:
+        m = _DID_YOU_MEAN.search(d.message)
+        if m is not None and d.span.line == d.span.end_line:
+            out.append(Fix(f"Replace with {m[1]}", d.span.line, d.span.col, d.span.end_col, m[1], d.code,
+                           True))
+        if d.severity == "warning" and 0 < d.span.line <= len(lines):
+            text = lines[d.span.line - 1]
+            if not _NOQA.search(text):
+                end = len(text) + 1
+                out.append(Fix(f"Silence {d.code} on this line (; mlc: noqa {d.code})", d.span.line,
+                               end, end, f"  ; mlc: noqa {d.code}", d.code))
+    return out
+
+
+def explain(code: str) -> str:
+    c = CODES.get(code)
+    return f"{c.code}: {c.summary}\n\n{c.doc.strip()}" if c else ""

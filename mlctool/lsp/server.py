@@ -1,0 +1,246 @@
+"""The pygls wiring of `mlc lsp`: protocol messages <-> mlctool/lsp/features.py.
+
+Positions: the protocol's are 0-based, mlctool's 1-based. Columns are counted in code points
+(IL sources are ASCII or CJK of the basic plane, where UTF-16 units are the same count).
+"""
+
+from __future__ import annotations
+
+from urllib.parse import unquote, urlparse
+
+from lsprotocol import types as lsp
+from pygls.lsp.server import LanguageServer
+from pygls.uris import from_fs_path
+
+from mlctool import __version__
+from mlctool.diagnostics import Diagnostic
+from mlctool.lsp import features
+from mlctool.lsp.project import Analysis, Place, Workspace
+
+SEVERITY = {"error": lsp.DiagnosticSeverity.Error, "warning": lsp.DiagnosticSeverity.Warning,
+            "note": lsp.DiagnosticSeverity.Information}
+SYMBOL_KIND = {"label": lsp.SymbolKind.Function, "define": lsp.SymbolKind.Constant,
+               "rung": lsp.SymbolKind.Event}
+COMPLETION_KIND = {"instruction": lsp.CompletionItemKind.Function, "device": lsp.CompletionItemKind.Variable,
+                   "symbol": lsp.CompletionItemKind.Constant, "label": lsp.CompletionItemKind.Reference}
+IL_SUFFIXES = (".il",)
+
+
+def path_of(uri: str) -> str:
+    parsed = urlparse(uri)
+    return unquote(parsed.path) if parsed.scheme == "file" else uri
+
+
+def uri_of(path: str) -> str:
+    return from_fs_path(path) or path
+
+
+def _range(line: int, col: int, end_line: int, end_col: int) -> lsp.Range:
+    return lsp.Range(lsp.Position(max(line - 1, 0), max(col - 1, 0)),
+                     lsp.Position(max(end_line - 1, 0), max(end_col - 1, 0)))
+
+
+def _place_range(p: Place) -> lsp.Range:
+    return _range(p.line, p.col, p.line, p.end_col)
+
+
+def to_lsp(d: Diagnostic) -> lsp.Diagnostic:
+    s = d.span
+    message = d.message + "".join(f"\n{n}" for n in d.notes)
+    return lsp.Diagnostic(_range(s.line, s.col, s.end_line, s.end_col), message,
+                          severity=SEVERITY.get(d.severity, lsp.DiagnosticSeverity.Information),
+                          code=d.code, source="mlc")
+
+
+class MlcServer(LanguageServer):
+    def __init__(self) -> None:
+        super().__init__("mlc", __version__)
+        self.projects = Workspace()
+        self.published: dict[str, set[str]] = {}  # project root -> uris given diagnostics
+
+    def analysis(self, uri: str) -> Analysis:
+        return self.projects.analysis(path_of(uri))
+
+    def publish(self, uri: str) -> None:
+        """Diagnostics of every module checked with the file (an exported label that changed
+        changes the other modules' diagnostics too)."""
+        a = self.analysis(uri)
+        by_file: dict[str, list[lsp.Diagnostic]] = {p: [] for p in a.sources}
+        for d in a.result.diagnostics:
+            by_file.setdefault(d.file, []).append(to_lsp(d))
+        key = str(a.project.root)
+        uris = set()
+        own = path_of(uri)  # the edited file last: a client waiting for it has all the others
+        for path, diags in sorted(by_file.items(), key=lambda kv: kv[0] == own):
+            u = uri_of(path) if path.startswith("/") else path
+            uris.add(u)
+            version = None
+            doc = self.workspace.text_documents.get(u)
+            if doc is not None:
+                version = doc.version
+            self.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(u, diags, version))
+        for stale in self.published.get(key, set()) - uris:
+            self.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(stale, []))
+        self.published[key] = uris
+
+
+server = MlcServer()
+
+
+def _is_il(uri: str) -> bool:
+    return not uri.lower().endswith((".stim", ".toml"))
+
+
+@server.feature(lsp.TEXT_DOCUMENT_DID_OPEN)
+def did_open(ls: MlcServer, params: lsp.DidOpenTextDocumentParams) -> None:
+    uri = params.text_document.uri
+    if not _is_il(uri):
+        return
+    ls.projects.open(path_of(uri), params.text_document.text)
+    ls.publish(uri)
+
+
+@server.feature(lsp.TEXT_DOCUMENT_DID_CHANGE)
+def did_change(ls: MlcServer, params: lsp.DidChangeTextDocumentParams) -> None:
+    uri = params.text_document.uri
+    if not _is_il(uri):
+        return
+    ls.projects.open(path_of(uri), ls.workspace.get_text_document(uri).source)
+    ls.publish(uri)
+
+
+@server.feature(lsp.TEXT_DOCUMENT_DID_SAVE)
+def did_save(ls: MlcServer, params: lsp.DidSaveTextDocumentParams) -> None:
+    uri = params.text_document.uri
+    if uri.endswith("mlc.toml"):  # settings changed: every project is read again
+        ls.projects.reload()
+        for open_uri in list(ls.workspace.text_documents):
+            if _is_il(open_uri):
+                ls.publish(open_uri)
+
+
+@server.feature(lsp.TEXT_DOCUMENT_DID_CLOSE)
+def did_close(ls: MlcServer, params: lsp.DidCloseTextDocumentParams) -> None:
+    uri = params.text_document.uri
+    if _is_il(uri):
+        ls.projects.close(path_of(uri))  # the file on disk counts again
+
+
+@server.feature(lsp.TEXT_DOCUMENT_HOVER)
+def hover(ls: MlcServer, params: lsp.HoverParams) -> lsp.Hover | None:
+    path = path_of(params.text_document.uri)
+    a = ls.analysis(params.text_document.uri)
+    line, col = params.position.line + 1, params.position.character + 1
+    found = features.hover(a, path, line, col)
+    explained = [features.explain(d.code) for d in a.diagnostics_of(path)
+                 if d.span.line <= line <= d.span.end_line and d.span.col <= col <= d.span.end_col]
+    parts = ([found[0]] if found else []) + [e for e in explained if e]
+    if not parts:
+        return None
+    rng = _place_range(found[1]) if found else None
+    return lsp.Hover(lsp.MarkupContent(lsp.MarkupKind.Markdown, "\n\n---\n\n".join(parts)), rng)
+
+
+@server.feature(lsp.TEXT_DOCUMENT_COMPLETION, lsp.CompletionOptions(trigger_characters=[" "]))
+def completion(ls: MlcServer, params: lsp.CompletionParams) -> lsp.CompletionList:
+    uri = params.text_document.uri
+    doc = ls.workspace.get_text_document(uri)
+    line = params.position.line
+    text = doc.lines[line].rstrip("\r\n") if line < len(doc.lines) else ""
+    a = ls.analysis(uri)
+    items = []
+    for c in features.completions(a, path_of(uri), line + 1, params.position.character + 1, text):
+        item = lsp.CompletionItem(c.label, kind=COMPLETION_KIND[c.kind], detail=c.detail)
+        if c.snippet:
+            item.insert_text = c.snippet
+            item.insert_text_format = lsp.InsertTextFormat.Snippet
+        items.append(item)
+    return lsp.CompletionList(is_incomplete=False, items=items)
+
+
+@server.feature(lsp.TEXT_DOCUMENT_DEFINITION)
+def definition(ls: MlcServer, params: lsp.DefinitionParams) -> lsp.Location | None:
+    a = ls.analysis(params.text_document.uri)
+    p = features.definition(a, path_of(params.text_document.uri), params.position.line + 1,
+                            params.position.character + 1)
+    return lsp.Location(uri_of(p.path), _place_range(p)) if p else None
+
+
+@server.feature(lsp.TEXT_DOCUMENT_REFERENCES)
+def references(ls: MlcServer, params: lsp.ReferenceParams) -> list[lsp.Location]:
+    a = ls.analysis(params.text_document.uri)
+    found = features.references(a, path_of(params.text_document.uri), params.position.line + 1,
+                                params.position.character + 1, params.context.include_declaration)
+    return [lsp.Location(uri_of(p.path), _place_range(p)) for p in found]
+
+
+@server.feature(lsp.TEXT_DOCUMENT_PREPARE_RENAME)
+def prepare_rename(ls: MlcServer, params: lsp.PrepareRenameParams) -> lsp.Range | None:
+    a = ls.analysis(params.text_document.uri)
+    path = path_of(params.text_document.uri)
+    line, col = params.position.line + 1, params.position.character + 1
+    if features.rename_check(a, path, line, col, "X_RENAMED_") not in (None,):
+        return None
+    found = features.word_at(a, path, line, col)
+    return _place_range(found.place) if found else None
+
+
+@server.feature(lsp.TEXT_DOCUMENT_RENAME)
+def rename(ls: MlcServer, params: lsp.RenameParams) -> lsp.WorkspaceEdit:
+    a = ls.analysis(params.text_document.uri)
+    path = path_of(params.text_document.uri)
+    line, col = params.position.line + 1, params.position.character + 1
+    why = features.rename_check(a, path, line, col, params.new_name)
+    if why is not None:
+        raise ValueError(why)  # pygls answers with an error response carrying the message
+    changes: dict[str, list[lsp.TextEdit]] = {}
+    for p in features.references(a, path, line, col):
+        changes.setdefault(uri_of(p.path), []).append(lsp.TextEdit(_place_range(p), params.new_name))
+    return lsp.WorkspaceEdit(changes=changes)
+
+
+@server.feature(lsp.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
+def document_symbol(ls: MlcServer, params: lsp.DocumentSymbolParams) -> list[lsp.DocumentSymbol]:
+    a = ls.analysis(params.text_document.uri)
+
+    def convert(s: features.Symbol) -> lsp.DocumentSymbol:
+        return lsp.DocumentSymbol(
+            s.name, SYMBOL_KIND[s.kind], _range(s.line, 1, s.end_line, 1 if s.end_line > s.line else s.end_col),
+            _range(s.line, s.col, s.line, s.end_col), children=[convert(c) for c in s.children or []])
+
+    return [convert(s) for s in features.document_symbols(a, path_of(params.text_document.uri))]
+
+
+@server.feature(lsp.TEXT_DOCUMENT_FORMATTING)
+def formatting(ls: MlcServer, params: lsp.DocumentFormattingParams) -> list[lsp.TextEdit]:
+    a = ls.analysis(params.text_document.uri)
+    path = path_of(params.text_document.uri)
+    new = features.formatted(a, path)
+    if new is None:
+        return []
+    doc = ls.workspace.get_text_document(params.text_document.uri)
+    end = len(doc.lines)
+    return [lsp.TextEdit(lsp.Range(lsp.Position(0, 0), lsp.Position(end, 0)), new)]
+
+
+@server.feature(lsp.TEXT_DOCUMENT_CODE_ACTION,
+                lsp.CodeActionOptions(code_action_kinds=[lsp.CodeActionKind.QuickFix]))
+def code_action(ls: MlcServer, params: lsp.CodeActionParams) -> list[lsp.CodeAction]:
+    uri = params.text_document.uri
+    path = path_of(uri)
+    a = ls.analysis(uri)
+    first, last = params.range.start.line + 1, params.range.end.line + 1
+    diags = [d for d in a.diagnostics_of(path) if first <= d.span.line <= last]
+    lines = a.sources[path].text.split("\n") if path in a.sources else []
+    out = []
+    for fix in features.fixes(a, path, diags, lines):
+        edit = lsp.TextEdit(_range(fix.line, fix.col, fix.line, fix.end_col), fix.new_text)
+        related = [to_lsp(d) for d in diags if d.code == fix.code and d.span.line == fix.line]
+        out.append(lsp.CodeAction(fix.title, kind=lsp.CodeActionKind.QuickFix, diagnostics=related,
+                                  is_preferred=fix.preferred or None,
+                                  edit=lsp.WorkspaceEdit(changes={uri: [edit]})))
+    return out
+
+
+def main() -> None:
+    server.start_io()

@@ -1,0 +1,247 @@
+"""`mlc lsp` end to end: a real server process and a pytest-lsp client, on a copy of
+samples/project (two modules: conveyor.il CALLs P10/P11 exported by pickplace.il)."""
+
+from __future__ import annotations
+
+import asyncio
+import shutil
+import sys
+from pathlib import Path
+
+import pytest
+import pytest_lsp
+from lsprotocol import types as lsp
+from pytest_lsp import ClientServerConfig, LanguageClient
+
+ROOT = Path(__file__).resolve().parents[1]
+pytestmark = pytest.mark.asyncio(loop_scope="module")
+
+
+@pytest.fixture(scope="module")
+def project(tmp_path_factory) -> Path:
+    ws = tmp_path_factory.mktemp("lsp") / "project"
+    shutil.copytree(ROOT / "samples" / "project", ws, ignore=shutil.ignore_patterns("build"))
+    return ws
+
+
+@pytest_lsp.fixture(scope="module", config=ClientServerConfig(
+    server_command=[sys.executable, "-m", "mlctool", "lsp"]))
+async def client(lsp_client: LanguageClient, project: Path):
+    handlers = lsp_client.protocol.fm.features  # pytest-lsp's handler, and the version kept too
+    keep = handlers[lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS]
+
+    def diagnostics(params: lsp.PublishDiagnosticsParams) -> None:
+        keep(params)
+        _published[params.uri] = params.version
+
+    handlers[lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS] = diagnostics
+
+    await lsp_client.initialize_session(lsp.InitializeParams(
+        capabilities=lsp.ClientCapabilities(), root_uri=project.as_uri()))
+    yield
+    await lsp_client.shutdown_session()
+
+
+def _uri(project: Path, name: str) -> str:
+    return (project / "src" / name).as_uri()
+
+
+_versions: dict[str, int] = {}  # uri -> the version last sent
+_published: dict[str, int | None] = {}  # uri -> the version of the diagnostics last received
+
+
+async def _show(client: LanguageClient, uri: str, text: str) -> list[lsp.Diagnostic]:
+    """Open (or replace) a document and wait for its diagnostics."""
+    version = _versions.get(uri, 0) + 1
+    _versions[uri] = version
+    if version == 1:
+        client.text_document_did_open(lsp.DidOpenTextDocumentParams(lsp.TextDocumentItem(uri, "il", version, text)))
+    else:
+        client.text_document_did_change(lsp.DidChangeTextDocumentParams(
+            lsp.VersionedTextDocumentIdentifier(version, uri), [lsp.TextDocumentContentChangeWholeDocument(text)]))
+    for _ in range(3000):  # the server publishes every module of the project: this version's
+        if _published.get(uri) == version:
+            return list(client.diagnostics[uri])
+        await asyncio.sleep(0.01)
+    raise AssertionError(f"no diagnostics for version {version} of {uri} within 30 s")
+
+
+def _text(project: Path, name: str) -> str:
+    return (project / "src" / name).read_text()
+
+
+def _line_of(text: str, needle: str) -> int:
+    """The first line that starts with `needle` (0-based, as the protocol counts)."""
+    return next(k for k, line in enumerate(text.split("\n")) if line.startswith(needle))
+
+
+async def test_diagnostics_match_mlc_check(client: LanguageClient, project: Path):
+    uri = _uri(project, "conveyor.il")
+    text = _text(project, "conveyor.il")
+    assert await _show(client, uri, text) == []  # the sample is clean, as `mlc check` says
+    bad = text.replace("OUT     CONVEYOR", "OUTT    CONVEYOR")
+    diags = await _show(client, uri, bad)
+    assert [(d.code, d.range.start.line, d.severity) for d in diags] == [
+        ("E201", _line_of(bad, "OUTT"), lsp.DiagnosticSeverity.Error)]
+    assert "did you mean OUT" in diags[0].message
+    await _show(client, uri, text)
+
+
+async def test_an_exported_label_removed_shows_in_the_other_module(client: LanguageClient, project: Path):
+    conveyor, pickplace = _uri(project, "conveyor.il"), _uri(project, "pickplace.il")
+    await _show(client, conveyor, _text(project, "conveyor.il"))
+    text = _text(project, "pickplace.il")
+    await _show(client, pickplace, text.replace(".export P10 P11", ".export P11"))
+    # the main module's CALL P10 has no target any more: published for conveyor.il too
+    codes = {d.code for d in client.diagnostics[conveyor]}
+    assert codes, "conveyor.il got no diagnostics after P10 stopped being exported"
+    await _show(client, pickplace, text)
+    assert not client.diagnostics[conveyor]
+
+
+async def test_hover_instruction_device_and_symbol(client: LanguageClient, project: Path):
+    uri = _uri(project, "conveyor.il")
+    text = _text(project, "conveyor.il")
+    await _show(client, uri, text)
+    line = _line_of(text, "LD      START")
+    h = await client.text_document_hover_async(lsp.HoverParams(lsp.TextDocumentIdentifier(uri), lsp.Position(line, 1)))
+    assert "2.2 LD" in h.contents.value and "Steps: 1~2" in h.contents.value and "`S`" in h.contents.value
+    h = await client.text_document_hover_async(lsp.HoverParams(lsp.TextDocumentIdentifier(uri), lsp.Position(line, 10)))
+    value = h.contents.value
+    assert "**START** = `X0`" in value and "on-board input" in value
+    assert f"Read at: src/conveyor.il:{line + 1}" in value
+    # a device written in the library and read in the main program: both named
+    line = _line_of(text, "OUT     CONVEYOR")
+    h = await client.text_document_hover_async(lsp.HoverParams(lsp.TextDocumentIdentifier(uri), lsp.Position(line, 10)))
+    assert f"Written at: src/conveyor.il:{line + 1}" in h.contents.value
+
+
+async def test_completion_mnemonics_with_snippets_and_operands(client: LanguageClient, project: Path):
+    uri = _uri(project, "conveyor.il")
+    text = _text(project, "conveyor.il") + "DMO\n"
+    await _show(client, uri, text)
+    last = len(text.split("\n")) - 2
+    got = await client.text_document_completion_async(lsp.CompletionParams(
+        lsp.TextDocumentIdentifier(uri), lsp.Position(last, 3)))
+    items = {i.label: i for i in got.items}
+    assert items["DMOV"].insert_text == "DMOV ${1:S} ${2:D}"
+    assert items["DMOV"].insert_text_format == lsp.InsertTextFormat.Snippet
+    text = _text(project, "conveyor.il") + "LD      \n"
+    await _show(client, uri, text)
+    got = await client.text_document_completion_async(lsp.CompletionParams(
+        lsp.TextDocumentIdentifier(uri), lsp.Position(last, 8)))
+    labels = {i.label: i for i in got.items}
+    assert {"START", "PICKED", "P10", "X", "D"} <= set(labels)
+    assert "DMOV" not in labels  # an operand position offers no mnemonics
+    await _show(client, uri, _text(project, "conveyor.il"))
+
+
+async def test_definition_and_references_across_modules(client: LanguageClient, project: Path):
+    uri = _uri(project, "conveyor.il")
+    text = _text(project, "conveyor.il")
+    await _show(client, uri, text)
+    line = _line_of(text, "CALL    P10")
+    got = await client.text_document_definition_async(lsp.DefinitionParams(
+        lsp.TextDocumentIdentifier(uri), lsp.Position(line, 9)))
+    lib = _text(project, "pickplace.il")
+    assert got.uri == _uri(project, "pickplace.il") and got.range.start.line == _line_of(lib, "P10:")
+    refs = await client.text_document_references_async(lsp.ReferenceParams(
+        context=lsp.ReferenceContext(include_declaration=True), text_document=lsp.TextDocumentIdentifier(uri),
+        position=lsp.Position(line, 9)))
+    assert sorted((r.uri.rsplit("/", 1)[1], r.range.start.line) for r in refs) == sorted([
+        ("conveyor.il", line), ("pickplace.il", _line_of(lib, "P10:")), ("pickplace.il", _line_of(lib, ".export"))])
+    # a symbol: its .define in the same module
+    use = _line_of(text, "OR      RUN")
+    got = await client.text_document_definition_async(lsp.DefinitionParams(
+        lsp.TextDocumentIdentifier(uri), lsp.Position(use, 9)))
+    assert got.uri == uri and got.range.start.line == _line_of(text, ".define RUN")
+
+
+async def test_rename_a_symbol_stays_in_its_module(client: LanguageClient, project: Path):
+    uri = _uri(project, "conveyor.il")
+    text = _text(project, "conveyor.il")
+    await _show(client, uri, text)
+    line = _line_of(text, ".define RUN")
+    edit = await client.text_document_rename_async(lsp.RenameParams(
+        lsp.TextDocumentIdentifier(uri), lsp.Position(line, 9), "LINE_RUN"))
+    # pickplace.il has its own `.define RUN M0`: not this symbol
+    assert set(edit.changes) == {uri}
+    lines = {e.range.start.line for e in edit.changes[uri]}
+    assert lines == {k for k, t in enumerate(text.split("\n")) if " RUN" in t.split(";")[0]}
+    assert all(e.new_text == "LINE_RUN" for e in edit.changes[uri])
+    with pytest.raises(Exception, match="reads as an operand"):
+        await client.text_document_rename_async(lsp.RenameParams(
+            lsp.TextDocumentIdentifier(uri), lsp.Position(line, 9), "M5"))
+
+
+async def test_rename_an_exported_label_everywhere(client: LanguageClient, project: Path):
+    uri = _uri(project, "pickplace.il")
+    lib = _text(project, "pickplace.il")
+    await _show(client, uri, lib)
+    edit = await client.text_document_rename_async(lsp.RenameParams(
+        lsp.TextDocumentIdentifier(uri), lsp.Position(_line_of(lib, "P11:"), 1), "P21"))
+    assert set(edit.changes) == {uri, _uri(project, "conveyor.il")}
+    assert len(edit.changes[_uri(project, "conveyor.il")]) == 1
+
+
+async def test_formatting_is_mlc_fmt(client: LanguageClient, project: Path, tmp_path):
+    from mlctool.syntax.layout import format_source
+    from mlctool.syntax.source import SourceText
+    from mlctool.targetapi import load_target
+
+    uri = _uri(project, "conveyor.il")
+    text = _text(project, "conveyor.il")
+    messy = text.replace("LD      START", "  ld START").replace("AND     GUARD", "and      GUARD")
+    await _show(client, uri, messy)
+    edits = await client.text_document_formatting_async(lsp.DocumentFormattingParams(
+        lsp.TextDocumentIdentifier(uri), lsp.FormattingOptions(tab_size=8, insert_spaces=True)))
+    expected, _ = format_source(SourceText("x.il", messy), load_target("nc5"))
+    assert len(edits) == 1 and edits[0].new_text == expected == text
+    await _show(client, uri, text)
+    edits = await client.text_document_formatting_async(lsp.DocumentFormattingParams(
+        lsp.TextDocumentIdentifier(uri), lsp.FormattingOptions(tab_size=8, insert_spaces=True)))
+    assert not edits  # formatted already: nothing to change
+
+
+async def test_code_actions_did_you_mean_and_noqa(client: LanguageClient, project: Path):
+    uri = _uri(project, "conveyor.il")
+    text = _text(project, "conveyor.il")
+    bad = text.replace("OUT     CONVEYOR", "OUTT    CONVEYOR")
+    diags = await _show(client, uri, bad)
+    line = _line_of(bad, "OUTT")
+    actions = await client.text_document_code_action_async(lsp.CodeActionParams(
+        lsp.TextDocumentIdentifier(uri), lsp.Range(lsp.Position(line, 0), lsp.Position(line, 4)),
+        lsp.CodeActionContext(diagnostics=diags)))
+    fix = next(a for a in actions if a.title == "Replace with OUT")
+    (edit,) = fix.edit.changes[uri]
+    assert (edit.range.start.character, edit.range.end.character, edit.new_text) == (0, 4, "OUT")
+    # a warning: two OUTs of one coil (W-code) can be silenced on its line
+    warned = text.replace("OUT     Y7", "OUT     CONVEYOR")
+    diags = await _show(client, uri, warned)
+    warnings = [d for d in diags if d.severity == lsp.DiagnosticSeverity.Warning]
+    assert warnings
+    w = warnings[0]
+    actions = await client.text_document_code_action_async(lsp.CodeActionParams(
+        lsp.TextDocumentIdentifier(uri), w.range, lsp.CodeActionContext(diagnostics=[w])))
+    noqa = next(a for a in actions if "noqa" in a.title)
+    (edit,) = noqa.edit.changes[uri]
+    assert edit.new_text == f"  ; mlc: noqa {w.code}"
+    lines = warned.split("\n")
+    k = edit.range.start.line
+    lines[k] = lines[k][:edit.range.start.character] + edit.new_text + lines[k][edit.range.start.character:]
+    after = await _show(client, uri, "\n".join(lines))
+    assert not [d for d in after if d.code == w.code and d.range.start.line == k]
+    await _show(client, uri, text)
+
+
+async def test_document_symbols(client: LanguageClient, project: Path):
+    uri = _uri(project, "pickplace.il")
+    lib = _text(project, "pickplace.il")
+    await _show(client, uri, lib)
+    symbols = await client.text_document_document_symbol_async(lsp.DocumentSymbolParams(
+        lsp.TextDocumentIdentifier(uri)))
+    by_name = {s.name: s for s in symbols}
+    assert {"P10", "P11", "STEP", "DONE"} <= set(by_name)
+    assert by_name["P10"].kind == lsp.SymbolKind.Function
+    rungs = [c.name for c in by_name["P10"].children]
+    assert any(r.startswith("step 0: lower the gripper") for r in rungs), rungs
