@@ -19,11 +19,13 @@ temporary file to write during a long run (the VCD), renamed with the others.
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import os
 import signal
 import stat
 import tempfile
+import threading
 from collections.abc import Iterable
 from typing import IO
 
@@ -116,12 +118,13 @@ class Outputs:
                 _fill(fd, data.encode("utf-8") if isinstance(data, str) else data, path)
             for tmp, path in self._staged:
                 _settle(tmp, path)
-            for tmp, path in self._staged:
-                try:
-                    os.replace(tmp, path)
-                except (OSError, ValueError) as e:  # ValueError: a name the OS cannot take (NUL)
-                    raise _cannot_write(path, getattr(e, "strerror", None) or e) from e
-            self._staged.clear()
+            with held_interrupts():  # Ctrl-C or --max-wall waits until the set is in place
+                for tmp, path in self._staged:
+                    try:
+                        os.replace(tmp, path)
+                    except (OSError, ValueError) as e:  # ValueError: a name the OS cannot take (NUL)
+                        raise _cannot_write(path, getattr(e, "strerror", None) or e) from e
+                self._staged.clear()
         finally:
             self.discard()
 
@@ -148,15 +151,12 @@ class Outputs:
             except OSError as e:
                 raise _cannot_write(path, e.strerror or e) from e
         # Ctrl-C between creating the file and noting it would leave it behind: held meanwhile
-        held = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if _CAN_HOLD else None
-        try:
-            fd, tmp = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=".tmp", dir=folder)
+        with held_interrupts():
+            try:
+                fd, tmp = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=".tmp", dir=folder)
+            except OSError as e:
+                raise _cannot_write(path, e.strerror or e) from e
             self._staged.append((tmp, path))
-        except OSError as e:
-            raise _cannot_write(path, e.strerror or e) from e
-        finally:
-            if held is not None:
-                signal.pthread_sigmask(signal.SIG_SETMASK, held)
         return tmp, fd
 
 
@@ -189,6 +189,20 @@ def _settle(tmp: str, path: str) -> None:
         os.chmod(tmp, 0o644)
     except OSError as e:
         raise _cannot_write(path, e.strerror or e) from e
+
+
+@contextlib.contextmanager
+def held_interrupts():
+    """SIGINT (Ctrl-C, and --max-wall, which sends it to the main thread) is held until the
+    block ends, then delivered: for the few steps that must not be cut in two."""
+    if not _CAN_HOLD or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, held)
 
 
 def open_input(path: str, mode: str = "rb", encoding: str | None = None) -> IO:

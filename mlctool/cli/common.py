@@ -5,6 +5,7 @@ from __future__ import annotations
 import _thread
 import fnmatch
 import os
+import signal
 import sys
 import threading
 import traceback
@@ -50,7 +51,10 @@ def _start_wall_limit(_ctx, _param, text: str | None) -> None:
 
 def _wall_reached() -> None:
     _WALL["hit"] = True
-    _thread.interrupt_main()
+    if hasattr(signal, "pthread_kill"):  # a real SIGINT: held while outputs are renamed (fileio.py)
+        signal.pthread_kill(threading.main_thread().ident, signal.SIGINT)
+    else:
+        _thread.interrupt_main()
 
 
 def _interrupted() -> int:
