@@ -375,7 +375,7 @@ def document_symbols(a: Analysis, path: str) -> list[Symbol]:
 
 # ------------------------------------------------------------------------------ formatting
 def formatted(a: Analysis, path: str) -> str | None:
-    from mlctool.syntax.layout import format_source
+    from mlctool.fmt import format_source
 
     src = a.sources.get(path)
     if src is None or a.project.target is None:
