@@ -108,3 +108,19 @@ def test_register_image_number_too_long(name, text, tmp_path):
     (tmp_path / name).write_text(text, "utf-8")
     r = run_mlc("objdump", name, cwd=tmp_path)
     assert r.code == 2 and LIMIT in r.err and "internal error" not in r.err, r.err[-800:]
+
+
+@pytest.mark.parametrize("option", [
+    ["--until", f"{HUGE}ms"], ["--max-wall", f"{HUGE}s"], ["--scan-time", f"{HUGE}ms"],
+    ["--vcd", "o.vcd", "--pulse-window", f"{HUGE}ms..{HUGE}ms"], ["--watch", f"D{HUGE}"],
+])
+def test_sim_option_number_too_long(option, tmp_path):
+    (tmp_path / "t.il").write_text("LD X0\nOUT Y0\nEND\n", "utf-8")
+    r = run_mlc("sim", "t.il", *option, cwd=tmp_path)
+    assert r.code == 2 and LIMIT in r.err and "internal error" not in r.err, r.err[-800:]
+
+
+def test_tcp_port_too_long():
+    r = run_mlc("device", "serve", "xc100", "--tcp", f"127.0.0.1:{HUGE}")
+    assert r.code == 2 and "E801" in r.err and "internal error" not in r.err, r.err[-800:]
+    assert len(r.err) < 400  # the option is shown clipped

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import asyncio
 import math
+import re
 import signal
 import sys
 
@@ -16,6 +17,7 @@ import click
 from mlctool.cli import main_group
 from mlctool.cli.common import examples
 from mlctool.diagnostics import MlcError, Span, diag
+from mlctool.limits import clip
 from mlctool.sim.stimulus import StimError, parse_time
 
 LOOPBACK = {"127.0.0.1", "localhost"}
@@ -28,8 +30,9 @@ def _fail(code: str, message: str) -> MlcError:
 
 def parse_tcp(text: str) -> tuple[str, int]:
     host, sep, port = text.rpartition(":")
-    if not sep or not port.isdigit() or not 0 < int(port) < 65536:
-        raise _fail("E801", f"--tcp {text!r}: expected HOST:PORT, e.g. 127.0.0.1:5020")
+    # ASCII digits only (isdigit() takes "²"), and few enough for int() (mlctool/limits.py)
+    if not sep or not re.fullmatch(r"[0-9]{1,5}", port) or not 0 < int(port) < 65536:
+        raise _fail("E801", f"--tcp {clip(text, 60)!r}: expected HOST:PORT, e.g. 127.0.0.1:5020")
     if host not in LOOPBACK:
         raise _fail("E801", f"--tcp {text!r}: only loopback (127.0.0.1, localhost) is served")
     return "127.0.0.1", int(port)

@@ -11,6 +11,7 @@ import re
 import struct
 from dataclasses import dataclass, field
 
+from mlctool.limits import clip, long_number, too_long_message
 from mlctool.sim import signals
 from mlctool.sim.signals import SIGNAL
 from mlctool.sim.unit_words import UnitWords, unit_word_arrays
@@ -343,6 +344,9 @@ def parse_signal_name(text: str) -> DeviceView:
 
 def parse_device_name(text: str, target: Target) -> DeviceView:
     """`D0:f` -> DeviceView. Raises NameError_ with a message for E602."""
+    long = long_number(text)
+    if long:  # --watch, stimulus and report names: bounded before int() (mlctool/limits.py)
+        raise NameError_(too_long_message(repr(clip(text)), len(long[0])))
     for special in simulation_of(target).special_devices:  # the target's own (VS BFM2#5)
         view = special.parse(text, target)
         if view is not None:
