@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
+from mlctool.limits import long_number, too_long_message
 from mlctool.suggest import did_you_mean
 
 
@@ -149,6 +150,15 @@ def _read(path: Path) -> tuple[str, dict]:
         message = re.sub(r"\s*\(at (line \d+, column \d+|end of document)\)", "", str(e))
         raise ConfigError([diag(str(path), Span.at(line, col), "E110", f"not valid TOML: {message}")],
                           {str(path): lines}) from e
+    except ValueError as e:  # tomllib met Python's int-conversion limit (4,300 digits)
+        long = long_number(text)
+        if long is None:
+            raise
+        line = text.count("\n", 0, long.start()) + 1
+        col = long.start() - text.rfind("\n", 0, long.start())
+        raise ConfigError([diag(str(path), Span.at(line, col, len(long[0])), "E110",
+                                too_long_message("the value", len(long[0])))],
+                          {str(path): text.split("\n")}) from e
 
 
 def validate(path: str, text: str, table: dict, prefix: tuple[str, ...] = ()) -> list[Diagnostic]:

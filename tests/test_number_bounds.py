@@ -124,3 +124,12 @@ def test_tcp_port_too_long():
     r = run_mlc("device", "serve", "xc100", "--tcp", f"127.0.0.1:{HUGE}")
     assert r.code == 2 and "E801" in r.err and "internal error" not in r.err, r.err[-800:]
     assert len(r.err) < 400  # the option is shown clipped
+
+
+def test_mlc_toml_number_too_long(tmp_path):
+    """tomllib converts integers itself: past 4,300 digits it raises ValueError, which is
+    reported as E110 at the number."""
+    (tmp_path / "mlc.toml").write_text(f'target = "nc5"\ncapacity = {HUGE}\n', "utf-8")
+    (tmp_path / "t.il").write_text("LD X0\nOUT Y0\nEND\n", "utf-8")
+    r = run_mlc("check", "t.il", cwd=tmp_path)
+    assert r.code == 2 and "mlc.toml:2:12: error[E110]" in r.err and LIMIT in r.err, r.err[-800:]
