@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from conftest import run_mlc
+from conftest import SAMPLES, run_mlc
 from mlctool.limits import MAX_DIGITS
 
 HUGE = "1" * 5000
@@ -133,3 +133,13 @@ def test_mlc_toml_number_too_long(tmp_path):
     (tmp_path / "t.il").write_text("LD X0\nOUT Y0\nEND\n", "utf-8")
     r = run_mlc("check", "t.il", cwd=tmp_path)
     assert r.code == 2 and "mlc.toml:2:12: error[E110]" in r.err and LIMIT in r.err, r.err[-800:]
+
+
+def test_fbs_table_register_too_long(tmp_path):
+    """The SR of `--table SR=FILE` and `build --sr` (FBs): a register name, bounded."""
+    pos = SAMPLES / "fbs" / "home.pos"
+    r = run_mlc("sim", "--target", "fbs", str(SAMPLES / "fbs" / "home_and_run.il"),
+                "--table", f"R{HUGE}={pos}", cwd=tmp_path)
+    assert r.code == 2 and "internal error" not in r.err and len(r.err) < 600, r.err[-800:]
+    r = run_mlc("build", "--target", "fbs", str(pos), "-o", "t.json", "--sr", f"R{HUGE}", cwd=tmp_path)
+    assert r.code == 2 and "internal error" not in r.err and len(r.err) < 600, r.err[-800:]

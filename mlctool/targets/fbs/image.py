@@ -13,12 +13,12 @@ import json
 import re
 from dataclasses import dataclass
 
-from mlctool.limits import long_number, too_long_message
+from mlctool.limits import clip, long_number, too_long_message
 from mlctool.targets.fbs.model import tables
 
 FORMAT = "mlctool-fbs-table"
 VERSION = 1
-_SR = re.compile(r"([RD])([0-9]+)", re.IGNORECASE)
+_SR = re.compile(r"([RD])([0-9]{1,20})", re.IGNORECASE)  # digits bounded as limits.MAX_DIGITS
 # SR areas FUN140/FUN147 accept (operand tables: HR R0-R3839, DR D0-D3999, ROR R5000-R8071)
 SR_AREAS = {"R": ((0, 3839), (5000, 8071)), "D": ((0, 3999),)}
 
@@ -40,7 +40,7 @@ def parse_sr(text: str, words: int) -> Register:
     """`R5000` -> Register; the whole table (`words` registers) must lie in one SR area."""
     m = _SR.fullmatch(text.strip())
     if not m:
-        raise ImageError(f"--sr {text!r}: the table starts at a register Rnnnn or Dnnnn")
+        raise ImageError(f"--sr {clip(text)!r}: the table starts at a register Rnnnn or Dnnnn")
     kind, n = m[1].upper(), int(m[2])
     for lo, hi in SR_AREAS[kind]:
         if lo <= n and n + words - 1 <= hi:
