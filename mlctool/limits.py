@@ -26,3 +26,9 @@ def too_long_message(what: str, digits: int) -> str:
 def clip(text: str, n: int = 40) -> str:
     """`text` for a message: at most n characters."""
     return text if len(text) <= n else text[:n - 1] + "…"
+
+
+def is_decimal(text: str) -> bool:
+    """ASCII digits only, at most MAX_DIGITS of them: what int(text) reads safely. (str.isdigit
+    also takes "²" and other digits int() refuses.)"""
+    return 0 < len(text) <= MAX_DIGITS and text.isascii() and text.isdigit()

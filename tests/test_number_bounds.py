@@ -143,3 +143,15 @@ def test_fbs_table_register_too_long(tmp_path):
     assert r.code == 2 and "internal error" not in r.err and len(r.err) < 600, r.err[-800:]
     r = run_mlc("build", "--target", "fbs", str(pos), "-o", "t.json", "--sr", f"R{HUGE}", cwd=tmp_path)
     assert r.code == 2 and "internal error" not in r.err and len(r.err) < 600, r.err[-800:]
+
+
+@pytest.mark.parametrize("line", [
+    "port CP1 baud=²", "port CP1 station=²", "model vsplc link=CP1 station=²",
+    "model xc100 link=CP1 station=²", f"port CP1 baud={HUGE}",
+])
+def test_stimulus_settings_take_ascii_digits_only(line, tmp_path):
+    """str.isdigit() takes "²", which int() refuses: settings are read with limits.is_decimal."""
+    (tmp_path / "t.il").write_text("LD X0\nOUT Y0\nEND\n", "utf-8")
+    (tmp_path / "t.stim").write_text(line + "\n", "utf-8")
+    r = run_mlc("sim", "--target", "vs", "t.il", "--stimulus", "t.stim", cwd=tmp_path)
+    assert r.code == 2 and "E601" in r.err and "internal error" not in r.err, r.err[-800:]

@@ -13,6 +13,7 @@ as LINK traffic follows the scans, 6-10 CPUL page; the manual gives no figure).
 from __future__ import annotations
 
 from mlctool.devices.base import DeviceModel, ModelIO, ParamError
+from mlctool.limits import is_decimal
 from mlctool.sim.serial_stim import BAUDS
 from mlctool.sim.seriallink import PORT_NAMES, LineSettings
 from mlctool.targetapi.model import Target
@@ -27,11 +28,11 @@ class VsPlc(DeviceModel):
         if self.port not in PORT_NAMES:
             raise ParamError("link", f"link takes {', '.join(PORT_NAMES)}, not {self.port!r}")
         text = self._param("station", None)
-        if not text.isdigit() or not 0 <= int(text) <= 254:
+        if not is_decimal(text) or not 0 <= int(text) <= 254:
             raise ParamError("station", f"station takes 0-254 (6-10 LINK/CPUL), not {text!r}")
         self.station = int(text)
         baud = self._param("baud", "19200")
-        if not baud.isdigit() or int(baud) not in BAUDS:
+        if not is_decimal(baud) or int(baud) not in BAUDS:
             raise ParamError("baud", f"baud takes one of {', '.join(map(str, BAUDS))} (7-3-3), not {baud!r}")
         self.settings = LineSettings(int(baud))
         self.reply_us = self.time("reply", "10ms")

@@ -14,6 +14,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from mlctool.limits import is_decimal
 from mlctool.sim.quantities import StimError, parse_time
 from mlctool.sim.seriallink import PORT_NAMES, LineSettings
 
@@ -67,7 +68,7 @@ def parse_port(toks: list[tuple[str, int]]) -> PortSpec:
         if key not in values or not value:
             raise StimError(f"{t!r}: port settings are {', '.join(f'{x}=' for x in values)}", k)
         if key == "baud":
-            if not value.isdigit() or int(value) not in BAUDS:
+            if not is_decimal(value) or int(value) not in BAUDS:
                 raise StimError(f"baud {value!r}: one of {', '.join(map(str, BAUDS))} (7-3-8)", k)
             values[key] = int(value)
         elif key == "data":
@@ -88,7 +89,7 @@ def parse_port(toks: list[tuple[str, int]]) -> PortSpec:
             if values[key] <= 0:
                 raise StimError("timeout must be longer than 0", k)
         else:
-            if not value.isdigit() or not 0 <= int(value) <= 254:
+            if not is_decimal(value) or not 0 <= int(value) <= 254:
                 raise StimError(f"station {value!r}: 0-254 (7-3-7)", k)
             values[key] = int(value)
     settings = LineSettings(values["baud"], values["data"], values["parity"])

@@ -26,6 +26,7 @@ from mlctool.devices.xc100 import controller as c
 from mlctool.devices.xc100.modbus import handle_pdu
 from mlctool.devices.xc100.registers import line_settings_refused
 from mlctool.devices.xc100.tables import tables
+from mlctool.limits import is_decimal
 from mlctool.sim.seriallink import PORT_NAMES, LineSettings
 from mlctool.sim.signals import KINDS, MODEL_NAME
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
@@ -95,7 +96,7 @@ class XC100Model(DeviceModel):
                                   "ErrorStatus 2)")
         dev = c.new_xc100(lead_mm=lead, stroke_mm=stroke, start_mm=start, work_mm=work, params=regs)
         points = {}
-        for key in sorted(k for k in params if k.startswith("p") and k[1:].isdigit()):
+        for key in sorted(k for k in params if k.startswith("p") and is_decimal(k[1:])):
             self.used.add(key)
             n = int(key[1:])
             if n > 127:
@@ -191,7 +192,7 @@ class XC100Model(DeviceModel):
         if port not in PORT_NAMES:
             raise ParamError("link", f"link takes {', '.join(PORT_NAMES)}, not {port!r}")
         text = self._param("station", "1")
-        if not text.isdigit() or not 1 <= int(text) <= 16:
+        if not is_decimal(text) or not 1 <= int(text) <= 16:
             raise ParamError("station", f"station takes 1-16 (rotary switch CH + 1, 8.2), not {text!r}")
         timeout = self.time("timeout") if "timeout" in self.params else None
         if timeout is not None and timeout <= 0:

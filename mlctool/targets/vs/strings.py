@@ -4,6 +4,7 @@ constants are strings too. A string without its terminator is an operation error
 
 from __future__ import annotations
 
+from mlctool.limits import is_decimal
 from mlctool.sim import semantics as base
 from mlctool.sim.state import Machine
 from mlctool.targets.vs.common import (
@@ -68,7 +69,7 @@ def _val(m: Machine, s) -> None:
         return
     body = text[1:].lstrip(" ")
     whole, _, frac = body.partition(".")
-    if not (whole + frac).isdigit() or not whole.isdigit() or len(frac) > top_dec:
+    if not is_decimal(whole + frac) or not is_decimal(whole) or len(frac) > top_dec:
         op_error(m, s, f"{text!r} is not a number of this format")
         return
     v = int(whole + frac) * (-1 if text[0] == "-" else 1)
