@@ -361,7 +361,7 @@ class _Resolver:
         """A fast yes for the common operand: a plain device (no index, group, bit or unit)
         whose number lies where check_operand would find nothing to say. The numbers are
         worked out once per instruction form, position and device kind (legal_numbers);
-        anything else takes check_operand. tests/test_check_fastpath.py compares the two."""
+        anything else takes check_operand. tests/check/test_check_fastpath.py compares the two."""
         if op.index or op.unit or op.digits or op.is_const or op.is_bit_of_word:
             return False
         key = (id(spec), k, op.kind)

@@ -32,7 +32,7 @@ COMMAND_MODULES = {
 }
 
 # The first paragraph of each command's help, for the list in `mlc --help` without importing
-# the command modules (tests/test_cli_startup.py checks it against the commands' own help).
+# the command modules (tests/cli/test_cli_startup.py checks it against the commands' own help).
 COMMAND_SUMMARIES = {
     "build": "Assemble sources into object modules (.mlo) or a linked program (.mlx).",
     "check": "Check instruction-list sources against the target's manual.",

@@ -114,7 +114,7 @@ def _run_guarded(group: click.Group, argv: list[str] | None) -> int:
 
 def examples(*lines: str) -> str:
     """A command's help epilog: "Examples:" and command lines kept as written (the `\\b` line
-    stops click from rewrapping them). tests/test_docs_commands.py runs them."""
+    stops click from rewrapping them). tests/cli/test_docs_commands.py runs them."""
     return "\b\nExamples:\n" + "\n".join("  " + line for line in lines)
 
 

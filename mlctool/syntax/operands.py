@@ -136,7 +136,7 @@ def parse_operand(text: str, syntax: OperandSyntax = DEFAULT_SYNTAX) -> Operand:
 
     A plain device (`M1005`, `D5V0`) whose first letter no other form of the target claims
     is read at once; everything else goes through every form in order (full_parse_operand;
-    tests/test_parser.py checks that both agree)."""
+    tests/syntax/test_parser.py checks that both agree)."""
     t = text.upper()
     if len(t) <= 40 and t[:1] not in _claimed_initials(syntax) and (m := _DEV.fullmatch(t)):
         number, radix = _number(m["num"], m["dev"], syntax, text)
@@ -237,7 +237,7 @@ SYMBOL = re.compile(r"[A-Za-z_][A-Za-z0-9_.]*")
 
 # Han ideographs of the BMP (CJK Unified Ideographs, Extension A, Compatibility Ideographs):
 # the Chinese characters VS names may hold (2-10 "8個中文字或16個英文數字"). The same ranges
-# stand in grammars/il.lark's MNEMONIC and OPERAND (tests/test_cjk_names.py compares them).
+# stand in grammars/il.lark's MNEMONIC and OPERAND (tests/check/test_cjk_names.py compares them).
 # Only targets whose target.toml `named_labels` has `cjk_width` accept them (check/labels.py).
 CJK_RANGES = r"\u3400-\u4DBF\u4E00-\u9FFF\uF900-\uFAFF"
 CJK_CHAR = re.compile(f"[{CJK_RANGES}]")

@@ -53,7 +53,7 @@ def _fast_line():
     25 ms; most lines are `[STEP] MNEMONIC OPERAND...`, `[STEP] LABEL:` or `.DIRECTIVE
     OPERAND...`, which these regexes recognise directly. Every other line (errors, odd forms
     such as `0000P10:`) goes through lark (mlctool/syntax/lark_parser.py).
-    tests/test_parser.py checks that both give the same statements.
+    tests/syntax/test_parser.py checks that both give the same statements.
     """
     t = {m["name"]: m["re"] for m in _TERMINAL.finditer(grammar_text())}
     head = rf"(?:{t['SEP']})?(?:(?P<step>{t['STEP']})(?:{t['SEP']}))?"

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from conftest import MLC_COMMAND
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 SAMPLES = ROOT / "samples" / "fbs"
 
 

@@ -1,6 +1,6 @@
 """Vigor VS RS (6-10 FNC 80): non-protocol send on port CPn with the per-port flags M9100+
 and registers D9100+; m counts bytes in both data modes (the page's timing diagrams).
-Reception: tests/test_vs_sim_serial_receive.py."""
+Reception: tests/targets/vs/test_vs_sim_serial_receive.py."""
 
 from __future__ import annotations
 

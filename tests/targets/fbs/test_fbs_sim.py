@@ -17,7 +17,7 @@ from mlctool.targetapi import load_target
 from mlctool.targets.fbs.files import table_preload
 
 FBS = load_target("fbs")
-SAMPLES = Path(__file__).resolve().parents[1] / "samples" / "fbs"
+SAMPLES = Path(__file__).resolve().parents[3] / "samples" / "fbs"
 
 # FUN141 table in R2000 (motor unit, 1 Ut = 1 Ps with P3 = 3, P4 100 kHz, P5 500 Hz, P8 100 ms,
 # DOG X4), then one HSPSO on Ps0 with EN M0, PAU M10, ABT M11; table at R5000, WR R2100.

@@ -11,7 +11,7 @@ from conftest import run_mlc
 from mlctool.imports import detect, import_file, import_text
 from mlctool.targetapi import load_target
 
-DATA = Path(__file__).resolve().parent / "data" / "vs_imports"
+DATA = Path(__file__).resolve().parents[2] / "data" / "vs_imports"
 VS = load_target("vs")
 PLAIN = (DATA / "program.il").read_text("utf-8")
 EXPORTS = {"gxworks2.csv": "gxworks2", "gxdeveloper.csv": "gxdeveloper", "wplsoft.csv": "wplsoft",

@@ -8,7 +8,7 @@ from mlctool.targets.fbs.axis import Axis, Params
 from mlctool.targets.fbs.lang import parse_program
 from mlctool.targets.fbs.model import tables
 
-SAMPLES = Path(__file__).resolve().parents[1] / "samples" / "fbs"
+SAMPLES = Path(__file__).resolve().parents[3] / "samples" / "fbs"
 HSPSO = tables().dialects["hspso"]
 
 

@@ -13,7 +13,7 @@ from mlctool.targets.fbs.lang import normalize, parse_program
 from mlctool.targets.fbs.model import BLANK, NEXT, Cond, Motion, Val, tables
 from mlctool.targets.fbs.table import TableError, decode, encode, program_text
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 SAMPLES = ROOT / "samples" / "fbs"
 HSPSO = tables().dialects["hspso"]
 MHSPO = tables().dialects["mhspo"]

@@ -1,10 +1,10 @@
 """MBUS (FNC 149) in the VS coverage table: with no device on the port every request times
 out (status 0AH, station in the high byte, error relay M9103). The exchange with a device
-model is tested in tests/test_xc100_cosim.py."""
+model is tested in tests/devices/test_xc100_cosim.py."""
 
 from __future__ import annotations
 
-from tests.test_vs_sim import run  # noqa: F401
+from tests.targets.vs.test_vs_sim import run  # noqa: F401
 
 
 def test_mbus_without_a_device_times_out():

@@ -17,7 +17,7 @@ from mlctool.sim.decode import simulated_ops, unsimulated
 from mlctool.syntax.source import decode
 from mlctool.targetapi import load_target
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 VS = load_target("vs")
 
 

@@ -10,7 +10,7 @@ from mlctool.program import Image
 from mlctool.sim.run import Simulation
 from mlctool.sim.scan import run_scan
 from mlctool.sim.stimulus import Stimulus
-from tests.test_ladder_network import NC5, module
+from tests.ladder.test_ladder_network import NC5, module
 
 
 def test_report_on_the_conveyor_sample(mlc, tmp_path):

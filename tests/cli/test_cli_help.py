@@ -1,6 +1,6 @@
 """`--help` of every command: examples at the end, consistent metavars, exit codes.
 
-The examples themselves are run by tests/test_docs_commands.py."""
+The examples themselves are run by tests/cli/test_docs_commands.py."""
 
 from __future__ import annotations
 

@@ -20,7 +20,7 @@ from mlctool.check import check_texts
 from mlctool.syntax.source import decode
 from mlctool.targetapi import load_target
 
-MANUAL = Path(__file__).resolve().parents[2] / "shared" / "manuals" / "000_a33d4a328dc57a96.txt"
+MANUAL = Path(__file__).resolve().parents[3] / "shared" / "manuals" / "000_a33d4a328dc57a96.txt"
 
 pytestmark = pytest.mark.skipif(not MANUAL.is_file(), reason=f"manual text not found at {MANUAL}")
 

@@ -4,7 +4,7 @@ tool.
 Harvested: each line of a fenced block (```) in README.md and docs/*.md that starts with
 `mlc` and a subcommand or option (after a `$ ` prompt, a YAML `- ` or `run: `, and in
 `a && mlc b` chains), with `\\` continuations joined; and the Examples of every command's
-`--help` (tests/test_cli_help.py checks they are there). Shell redirections and pipes end a
+`--help` (tests/cli/test_cli_help.py checks they are there). Shell redirections and pipes end a
 command (`mlc check > out.sarif` runs `mlc check`).
 
 Synopsis notation is turned into one concrete command: an optional group `[--a | --b X]`

@@ -25,7 +25,7 @@ from conftest import MLC_COMMAND
 from mlctool.devices.xc100 import controller as c
 from mlctool.devices.xc100.server import make_server, run_device
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def free_port() -> int:

@@ -20,7 +20,7 @@ from mlctool.sim.stimulus import parse_stimulus_text
 from mlctool.syntax.source import decode
 from mlctool.targetapi import load_target
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 VS = load_target("vs")
 
 # The manual's frames (004 8.4 RTU, 8.5 ASCII): read ActionStatus, write 201EH = 3 (homing),
