@@ -247,3 +247,23 @@ async def test_document_symbols(client: LanguageClient, project: Path):
     assert by_name["P10"].kind == lsp.SymbolKind.Function
     rungs = [c.name for c in by_name["P10"].children]
     assert any(r.startswith("step 0: lower the gripper") for r in rungs), rungs
+
+
+async def test_folding_and_step_address_hints(client: LanguageClient, project: Path):
+    uri = _uri(project, "pickplace.il")
+    lib = _text(project, "pickplace.il")
+    await _show(client, uri, lib)
+    folds = await client.text_document_folding_range_async(lsp.FoldingRangeParams(lsp.TextDocumentIdentifier(uri)))
+    regions = {f.start_line: f.end_line for f in folds if f.kind == lsp.FoldingRangeKind.Region}
+    p10, p11 = _line_of(lib, "P10:"), _line_of(lib, "P11:")
+    lines = lib.split("\n")
+    assert p10 in regions and p11 in regions
+    assert lines[regions[p10]].startswith("SRET") and regions[p10] < p11
+    assert any(f.kind == lsp.FoldingRangeKind.Comment and f.start_line == 0 for f in folds)
+    hints = await client.text_document_inlay_hint_async(lsp.InlayHintParams(
+        lsp.TextDocumentIdentifier(uri), lsp.Range(lsp.Position(0, 0), lsp.Position(len(lines), 0))))
+    by_line = {h.position.line: h.label for h in hints}
+    # the library's first instruction (the P10 label) at step 0; addresses grow with the code
+    assert by_line[p10] == "0"
+    addresses = [int(by_line[k]) for k in sorted(by_line)]
+    assert addresses == sorted(addresses) and addresses[-1] > 10

@@ -415,3 +415,40 @@ def fixes(a: Analysis, path: str, diags: list[Diagnostic], lines: list[str]) -> 
 def explain(code: str) -> str:
     c = CODES.get(code)
     return f"{c.code}: {c.summary}\n\n{c.doc.strip()}" if c else ""
+
+
+# ------------------------------------------------------------------- folding, inlay hints
+def folding_ranges(a: Analysis, path: str) -> list[tuple[int, int, str]]:
+    """(first line, last line, kind): each label's routine up to the next label (its last
+    code line), and runs of two or more comment lines."""
+    parsed = a.index.parsed.get(path)
+    if parsed is None:
+        return []
+    out: list[tuple[int, int, str]] = []
+    code_lines = [st.line for st in parsed.statements]
+    starts = [st.line for st in parsed.statements
+              if st.kind == "label" or (LABEL.fullmatch(st.name.text) and not st.operands)]
+    for k, first in enumerate(starts):
+        stop = starts[k + 1] if k + 1 < len(starts) else len(parsed.lines) + 1
+        last = max((n for n in code_lines if first < n < stop), default=first)
+        if last > first:
+            out.append((first, last, "region"))
+    run_start = None
+    for number, raw in enumerate([*parsed.lines, ""], 1):
+        is_comment = raw.strip().startswith((";", "//"))
+        if is_comment and run_start is None:
+            run_start = number
+        elif not is_comment and run_start is not None:
+            if number - 1 > run_start:
+                out.append((run_start, number - 1, "comment"))
+            run_start = None
+    return sorted(out)
+
+
+def step_addresses(a: Analysis, path: str, first: int, last: int) -> list[tuple[int, int]]:
+    """(line, step address) of each instruction of the module between the lines (inclusive),
+    as `mlc build` places it in its module (the listing's addresses before linking)."""
+    for m in a.result.modules:
+        if m.path == path:
+            return [(i.line, i.addr) for i in m.instrs if first <= i.line <= last]
+    return []

@@ -242,5 +242,23 @@ def code_action(ls: MlcServer, params: lsp.CodeActionParams) -> list[lsp.CodeAct
     return out
 
 
+@server.feature(lsp.TEXT_DOCUMENT_FOLDING_RANGE)
+def folding_range(ls: MlcServer, params: lsp.FoldingRangeParams) -> list[lsp.FoldingRange]:
+    a = ls.analysis(params.text_document.uri)
+    kinds = {"region": lsp.FoldingRangeKind.Region, "comment": lsp.FoldingRangeKind.Comment}
+    return [lsp.FoldingRange(first - 1, last - 1, kind=kinds[kind])
+            for first, last, kind in features.folding_ranges(a, path_of(params.text_document.uri))]
+
+
+@server.feature(lsp.TEXT_DOCUMENT_INLAY_HINT)
+def inlay_hint(ls: MlcServer, params: lsp.InlayHintParams) -> list[lsp.InlayHint]:
+    """The step address of each instruction, before it (as `mlc fmt --steps renumber` would
+    write it)."""
+    a = ls.analysis(params.text_document.uri)
+    found = features.step_addresses(a, path_of(params.text_document.uri), params.range.start.line + 1,
+                                    params.range.end.line + 1)
+    return [lsp.InlayHint(lsp.Position(line - 1, 0), f"{addr}", padding_right=True) for line, addr in found]
+
+
 def main() -> None:
     server.start_io()
