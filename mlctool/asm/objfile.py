@@ -363,12 +363,11 @@ class _Decoder:
         return Operand(kind, number, value, digits, index, decimals, bit, radix, unit)
 
 
-def _validate(k: int, spec, operands, texts, table, steps) -> None:
+def _validate(k: int, spec, operands, texts, table, steps, target) -> None:
     """The shape the target's tables give an instruction, so a well-formed but wrong object
     (written by another tool, or crafted) cannot reach the simulator."""
-    wanted = 1 if spec.short_steps else spec.steps
     ok = (len(operands) == len(spec.operands) and len(texts) == len(operands)
-          and len(table) == spec.table and (steps == wanted or spec.short_steps and steps == 2))
+          and len(table) == spec.table and steps == target.instr_steps(spec, operands))
     if not ok:
         raise ObjectError("E502", f"instruction {k} ({spec.mnemonic}) does not have the form "
                           "the target's tables give it")
@@ -495,7 +494,7 @@ def _decode(kind: str, sections: dict[bytes, bytes], target: Target) -> ObjectFi
             spec = choose_variant(variants, len(operands), operands[0] if operands else None)
         texts = tuple(d.str(r) for _ in range(r.uint()))
         table = tuple(r.sint() for _ in range(r.uint()))
-        _validate(k, spec, operands, texts, table, steps)
+        _validate(k, spec, operands, texts, table, steps, target)
         laddr, unit, line, col = lines[k]
         if laddr != addr or unit >= len(units):
             raise ObjectError("E502", f"line table disagrees with code at instruction {k}")

@@ -53,6 +53,8 @@ class _Resolver:
         self.names = names or {}  # named labels of this file -> P number (check/labels.py)
         self.named_labels = bool(target.settings.get("named_labels"))
         self.short_operand = target.settings.get("short_operand", {})
+        # ops whose steps depend on the operand beyond the short rule (target.toml [[step_rules]])
+        self.step_rule_ops = frozenset(op for rule in target.settings.get("step_rules", ()) for op in rule["ops"])
 
     # -- reporting
     def err(self, line: int, w: Word, code: str, msg: str, *notes: str) -> None:
@@ -488,9 +490,8 @@ class _Resolver:
 
     def emit(self, st: Statement, spec: InstrSpec, ops, texts, table=()) -> None:
         steps = spec.steps
-        if spec.short_steps and ops:
-            rng = self.short_operand.get(ops[0].kind)  # as Target.short_operand
-            steps = 1 if rng is not None and rng[0] <= ops[0].number <= rng[1] else 2
+        if spec.short_steps and ops or spec.op in self.step_rule_ops:
+            steps = self.t.instr_steps(spec, ops)
         if st.step is not None and int(st.step.text) != self.addr:
             self.err(st.line, st.step, "W107", f"step number {st.step.text} but the computed address is {self.addr}")
         col = st.name.col

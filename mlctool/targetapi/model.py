@@ -171,6 +171,20 @@ class Target:
         rng = self.settings.get("short_operand", {}).get(kind)
         return rng is not None and rng[0] <= number <= rng[1]
 
+    def instr_steps(self, spec: InstrSpec, ops) -> int:
+        """Steps of one written instruction: the first target.toml `[[step_rules]]` entry whose
+        op and first-operand kind (and number range) fit, else the "short" rule (1 in the
+        short ranges, else 2), else the table's steps."""
+        first = ops[0] if ops else None
+        if first is not None:
+            for rule in self.settings.get("step_rules", ()):
+                if spec.op in rule["ops"] and first.kind in rule["kinds"] \
+                        and rule.get("lo", 0) <= first.number <= rule.get("hi", 1 << 31):
+                    return rule["steps"]
+            if spec.short_steps:
+                return 1 if self.short_operand(first.kind, first.number) else 2
+        return spec.steps
+
     @property
     def end_labels(self) -> frozenset[int]:
         """P numbers that stand for END: CJ to one jumps to END without a label (VS 2-10: P63,
