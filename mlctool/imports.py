@@ -31,16 +31,27 @@ from mlctool.syntax.operands import OperandSyntaxError, format_operand, parse_op
 from mlctool.syntax.source import decode, read_source
 from mlctool.targetapi.model import Target
 
-FORMATS = ("gxworks2", "gxdeveloper", "wplsoft", "il")
-_HEADER = {  # column -> the header texts naming it (English and Japanese GX)
-    "step": ("step number", "step no.", "ステップ番号"),
-    "statement": ("line statement", "行間ステートメント"),
-    "instruction": ("instruction", "命令"),
-    "device": ("i/o(device)", "i/o(デバイス)", "device"),
-    "note": ("note", "ノート"),
+FORMATS = ("gxworks2", "gxdeveloper", "wplsoft", "delta", "il")
+# column -> the header texts naming it, lower case: English (GX Works2 "Step Number", GX
+# Developer "Step No."), Japanese (GX Works2 / GX Developer, "PC情報:" title row), Simplified
+# Chinese (GX Works2, "PLC信息:" title row) and Traditional Chinese. DECISION: the
+# Traditional Chinese words are the Simplified ones in traditional characters (步號, 行間聲明,
+# I/O(軟元件), 註解) — no export of that language version was found to confirm them.
+_HEADER = {
+    "step": ("step number", "step no.", "ステップ番号", "步号", "步號"),
+    "statement": ("line statement", "行間ステートメント", "行间声明", "行間聲明"),
+    "instruction": ("instruction", "命令", "指令"),
+    "device": ("i/o(device)", "i/o(デバイス)", "i/oデバイス", "i/o(软元件)", "i/o(軟元件)", "device"),
+    "note": ("note", "ノート", "注解", "註解"),
 }
+# the headerless CSV GX's "read from CSV" accepts: the columns in the export's order
+_HEADERLESS = {"step": 0, "statement": 1, "instruction": 2, "device": 3, "note": 6}
+_DELTA_HEADER = ("step", "instruction", "operand1")  # Step,Instruction,Operand1,Operand2,Operand3
 _STEP6 = re.compile(r"\s*[0-9]{6}\s*[,\t]")
 _LABEL = re.compile(r"[PI][0-9]+", re.IGNORECASE)
+_FX_POINTER = re.compile(r"I([0-9]{1,3})", re.IGNORECASE)
+# the family of each export's special devices (targets/<name>/specials.toml)
+SOURCE_FAMILY = {"gxworks2": "fx", "gxdeveloper": "fx", "wplsoft": "dvp", "delta": "dvp"}
 
 
 def decode_export(path: str, data: bytes, encoding: str | None = None) -> tuple[str | None, list[Diagnostic]]:
@@ -73,50 +84,110 @@ def _rows(text: str, delimiter: str) -> list[list[str]]:
     return out
 
 
+def _cells(line: str) -> list[str]:
+    return [c.strip().strip('"').strip().lower() for c in re.split(r"[\t,]", line)]
+
+
 def detect(text: str) -> str:
     head = text.splitlines()[:12]
     for line in head:
-        cells = [c.strip().strip('"').lower() for c in re.split(r"[\t,]", line)]
-        if any(c in _HEADER["instruction"] for c in cells) and any(c in _HEADER["device"][:2] for c in cells):
+        cells = _cells(line)
+        if any(c in _HEADER["instruction"] for c in cells) and any(c in _HEADER["device"][:-1] for c in cells):
             return "gxworks2" if "\t" in line else "gxdeveloper"
+        if tuple(cells[:3]) == _DELTA_HEADER:
+            return "delta"
     if any(_STEP6.match(line) for line in head):
         return "wplsoft"
+    if _headerless(head):
+        return "gxworks2" if any("\t" in line for line in head) else "gxdeveloper"
     return "il"
+
+
+def _headerless(head: list[str]) -> bool:
+    """GX rows without the title and header rows: `"0","","LD","X000","","",""` — at least
+    two rows of 4+ cells with a step number or nothing first, a mnemonic-like third cell."""
+    rows = [_cells(line) for line in head if line.strip()]
+    good = [r for r in rows if len(r) >= 4 and re.fullmatch(r"[0-9]*", r[0])
+            and (re.fullmatch(r"[a-z][a-z0-9<>=]*", r[2]) or not r[2] and r[3])]
+    return len(good) >= 2 and len(good) >= len(rows) - 1
 
 
 class _Writer:
     """Collects IL lines; rewrites mnemonics and operands as the target writes them."""
 
-    def __init__(self, path: str, target: Target):
+    def __init__(self, path: str, target: Target, family: str = "", comments: dict[str, str] | None = None):
+        from mlctool.targets.specials import families
+
         self.path, self.t = path, target
+        self.family = families(target.name).get(family)  # the source's special devices
+        self.comments = comments or {}  # device as the target writes it -> its comment
         self.lines: list[str] = []
         self.diags: list[Diagnostic] = []
         self.pending: list[str] | None = None  # the instruction whose operands may continue
+        self.pending_step: tuple[int, int] | None = None  # (row, export step) of the pending one
         self.kinds: list[str] = []  # of each diagnostic: rows of one kind are reported once
         self.referenced: set[str] = set()  # operands written, upper case: the labels jumped to
         self.maybe_labels: list[tuple[int, str, int]] = []  # (line index, name, row)
+        self.steps: dict[int, tuple[int, int]] = {}  # IL line index -> (row, the export's step)
+        self.mapped: dict[str, dict[str, str]] = {}  # device kind -> {source: target (function)}
+        self.unmapped: dict[str, list[int]] = {}  # source device -> rows
 
     def error(self, row: int, kind: str, message: str, *notes: str) -> None:
         self.diags.append(diag(self.path, Span.at(row), "E907", message, *notes))
         self.kinds.append(kind)
 
+    def warn(self, row: int, kind: str, code: str, message: str, *notes: str) -> None:
+        self.diags.append(diag(self.path, Span.at(row), code, message, *notes))
+        self.kinds.append(kind)
+
     def flush(self) -> None:
         if self.pending is not None:
+            self.settle()
+            if self.pending_step is not None:
+                self.steps[len(self.lines)] = self.pending_step
+            said = [f"{w} {self.comments[w]}" for w in self.pending[1:] if w in self.comments]
+            if said:
+                at = next((k for k, w in enumerate(self.pending) if w.startswith(";")), None)
+                if at is None:
+                    self.pending.append("; " + "; ".join(said))
+                else:
+                    self.pending[at] += "; " + "; ".join(said)
             self.lines.append(" ".join(self.pending))
-            self.pending = None
+            self.pending = self.pending_step = None
 
     def comment(self, text: str) -> None:
         self.flush()
         self.lines.append(f"; {text}")
 
-    def label(self, text: str, row: int = 0) -> None:
+    def label(self, text: str, row: int = 0, step: str = "") -> None:
         """A label row. A bare name (no colon, no P/I number) is a label only if the program
         jumps to it; otherwise it is an unknown instruction without operands (`NOPLF`),
-        decided in finish()."""
+        decided in finish(). An FX interrupt pointer (I001) gets the target's name (IX0P)."""
         self.flush()
         if row and not text.endswith((":", "：")) and not _LABEL.fullmatch(text):
             self.maybe_labels.append((len(self.lines), text, row))
-        self.lines.append(f"{text.rstrip(':：').upper()}:")
+        name = text.rstrip(":：").upper()
+        if _FX_POINTER.fullmatch(name):
+            name = self.pointer(name, row)
+        if step.isdigit():
+            self.steps[len(self.lines)] = (row, int(step))
+        self.lines.append(f"{name}:")
+
+    def pointer(self, text: str, row: int) -> str:
+        """FX interrupt pointer I001 / I610 / I010 (I0 = I000) -> the target's name (IX0P,
+        ITA10, IHC0) by the I number the target keeps (target.toml [interrupts])."""
+        from mlctool.check.interrupts import families, pointer_numbered
+
+        if not families(self.t):
+            return text
+        p = pointer_numbered(int(text[1:]), self.t)
+        if p is None:
+            self.error(row, f"pointer {text}", f"row {row}: interrupt pointer {text} has no counterpart on target "
+                       f"{self.t.name}", "the target's pointers are IX0P-IX7P/IX0F-IX7F (FX I001-I701/I000-I700), "
+                       "ITA01-ITC99 (I601-I899), IHC0-IHC7 (I010-I080), IHHC1/IHHC2; rewrite the routine "
+                       "for one of them (docs/vs.md, Interrupts)")
+            return text
+        return p.name
 
     def finish(self) -> None:
         self.flush()
@@ -124,6 +195,18 @@ class _Writer:
             if name.upper() not in self.referenced:
                 self.lines[index] = name
                 self.unknown(name.upper(), row)
+        if self.mapped:
+            for kind, pairs in sorted(self.mapped.items()):
+                shown = ", ".join(f"{a} -> {b}" for a, b in sorted(pairs.items(), key=lambda x: _natural(x[0])))
+                self.diags.append(diag(self.path, Span.at(1), "N910", f"{self.family.title} special "
+                                       f"{'relays' if kind == 'M' else 'registers'} mapped to target {self.t.name}'s by "
+                                       f"function: {shown}", "targets/" + self.t.name + "/specials.toml cites the "
+                                       "manual's row of each"))
+                self.kinds.append(f"mapped {kind}")
+        for device, rows in self.unmapped.items():
+            self.warn(rows[0], f"unmapped {device}", "W910", f"row {rows[0]}: {device} is a {self.family.title} special "
+                      f"device with no counterpart known on target {self.t.name}; kept as {device}, an ordinary "
+                      "device there", *((f"also in rows {', '.join(map(str, rows[1:11]))}",) if rows[1:] else ()))
 
     def is_label(self, text: str) -> bool:
         """A label written alone in the instruction cell: P10 / I001, or on a target with named
@@ -138,10 +221,12 @@ class _Writer:
 
         return bool(self.t.settings.get("named_labels")) and is_label_name(name, self.t)
 
-    def instruction(self, mnemonic: str, operands: list[str], row: int, note: str = "") -> None:
+    def instruction(self, mnemonic: str, operands: list[str], row: int, note: str = "", step: str = "") -> None:
         self.flush()
         self.referenced.update(o.upper() for o in operands)
-        self.pending = [self.mnemonic(mnemonic, row), *(self.operand(o) for o in operands if o)]
+        self.pending = [self.mnemonic(mnemonic, row), *(self.operand(o, row) for o in operands if o)]
+        if step.isdigit():
+            self.pending_step = (row, int(step))
         if note:
             self.pending.append(f"; {note}")
 
@@ -151,12 +236,27 @@ class _Writer:
             return
         self.referenced.add(operand.upper())
         at = next((k for k, w in enumerate(self.pending) if w.startswith(";")), len(self.pending))
-        self.pending.insert(at, self.operand(operand))
+        self.pending.insert(at, self.operand(operand, row))
+
+    def settle(self) -> None:
+        """Forms of the source family the target writes otherwise, once all operands are in:
+        FX `MC N0 M100` (the VS MC takes the nesting level only, 3-6: the relay is dropped,
+        said in a comment)."""
+        p = self.pending
+        if p and p[0] == "MC" and len(p) >= 3 and not p[2].startswith(";") and self.t.name == "vs":
+            dropped = p.pop(2)
+            p.append(f"; the export's MC {p[1]} {dropped}: the VS MC has no relay operand (3-6)")
+
+    _DELTA_TIMERS = {"TMR": "OUT", "CNT": "OUT", "DCNT": "OUT"}
 
     def mnemonic(self, text: str, row: int) -> str:
         m = text.upper()
         if m in self.t.instructions or m in self.t.variants or m in self.t.unavailable:
             return m
+        # Delta DVP's timer and counter coils (TMR T0 K50, CNT C0 K10, DCNT C200 K10) are FX's
+        # OUT T0 K50 / OUT C0 K10 / OUT C200 K10
+        if self.family is not None and self.family.name == "dvp" and m in self._DELTA_TIMERS:
+            return self._DELTA_TIMERS[m]
         # another vendor's spelling of a 32-bit comparison (DLD>= for LDD>=): the same FNC
         short = self.t.instructions.get(m[1:]) if m.startswith("D") else None
         if short is not None and short.api is not None:
@@ -174,17 +274,41 @@ class _Writer:
         self.error(row, f"unknown {mnemonic}", f"row {row}: unknown instruction {mnemonic!r} for target "
                    f"{self.t.name}{suggestion}", *notes)
 
-    def operand(self, text: str) -> str:
+    def operand(self, text: str, row: int = 0) -> str:
+        # GX Works2 writes a unit's buffer memory U1\G3; the VS writes U1G3 (2-9-2)
+        text = re.sub(r"^(U[0-9]+)\\(G)", r"\1\2", text, flags=re.IGNORECASE)
+        if _FX_POINTER.fullmatch(text) and row:
+            return self.pointer(text.upper(), row)  # DHSCS K100 C235 I010
         try:
             op = parse_operand(text, self.t.operand_syntax)
         except OperandSyntaxError:
             return text  # a symbol, a label name, or an error `mlc check` reports
+        if self.family is not None and not op.is_const and not op.is_group and not op.index \
+                and self.family.is_special(op.kind, op.number):
+            source = f"{op.kind}{op.number}"
+            special = self.family.mapping.get((op.kind, op.number))
+            if special is None:
+                self.unmapped.setdefault(source, []).append(row)
+                return format_operand(op)
+            self.mapped.setdefault(op.kind, {})[source] = f"{special.device} ({special.function})"
+            mapped = parse_operand(special.device, self.t.operand_syntax)
+            if op.is_bit_of_word:
+                return f"{special.device}.{op.bit:X}"
+            return format_operand(mapped)
         return format_operand(op) if not op.is_const or op.kind in ("K", "H") else text
+
+
+def _natural(device: str) -> tuple[str, int]:
+    m = re.fullmatch(r"([A-Z]+)([0-9]+)", device)
+    return (m[1], int(m[2])) if m else (device, 0)
 
 
 def _gx(w: _Writer, text: str, delimiter: str) -> None:
     rows = _rows(text, delimiter)
     cols: dict[str, int] = {}
+    headerless = _headerless(text.splitlines()[:12]) and detect_header(rows) is None
+    if headerless:
+        cols = dict(_HEADERLESS)
     for k, row in enumerate(rows, 1):
         low = [c.lower() for c in row]
         if not cols:
@@ -198,19 +322,29 @@ def _gx(w: _Writer, text: str, delimiter: str) -> None:
             return row[i] if i is not None and i < len(row) else ""
 
         instr, device, statement, note = cell("instruction"), cell("device"), cell("statement"), cell("note")
+        step = cell("step")
         if statement:
             w.comment(statement)
         if instr:
             if not device and w.is_label(instr):
-                w.label(instr, k)
+                w.label(instr, k, step)
             else:
-                w.instruction(instr, device.split(), k, note)
+                w.instruction(instr, device.split(), k, note, step)
         elif device:
             w.more(device, k)
         elif note:
             w.comment(note)
     if not cols:
         w.error(1, "header", "no header row naming the Instruction and I/O(Device) columns")
+
+
+def detect_header(rows: list[list[str]]) -> int | None:
+    """The index of the header row among the first 12, None when there is none."""
+    for k, row in enumerate(rows[:12]):
+        low = [c.lower() for c in row]
+        if any(c in _HEADER["instruction"] for c in low) and any(c in _HEADER["device"] for c in low):
+            return k
+    return None
 
 
 def _wplsoft(w: _Writer, text: str) -> None:
@@ -226,41 +360,102 @@ def _wplsoft(w: _Writer, text: str) -> None:
                 continue  # a title row
             w.error(k, "step", f"row {k}: expected a 6-digit step number, got {cells[0]!r}")
             continue
-        rest = cells[1:]
-        if not rest:
+        _delta_row(w, k, cells[1:])
+
+
+def _delta_row(w: _Writer, k: int, rest: list[str]) -> None:
+    if not rest:
+        return
+    first = rest[0].split()
+    words = first + rest[1:]
+    if len(words) == 1 and w.is_label(words[0]):
+        w.label(words[0], k)
+    else:
+        w.instruction(words[0], words[1:], k)
+
+
+def _delta(w: _Writer, text: str) -> None:
+    """Delta's `Step,Instruction,Operand1,Operand2,Operand3` CSV: a header row, then one row per
+    instruction with its operands in their own cells; `;` rows are comments."""
+    header = False
+    for k, row in enumerate(_rows(text, ","), 1):
+        cells = [c for c in row if c != ""]
+        if not cells:
             continue
-        first = rest[0].split()
-        words = first + rest[1:]
-        if len(words) == 1 and w.is_label(words[0]):
-            w.label(words[0], k)
-        else:
-            w.instruction(words[0], words[1:], k)
+        if not header:
+            header = tuple(c.lower() for c in row[:3]) == _DELTA_HEADER
+            continue
+        if cells[0].startswith((";", "//")):
+            w.comment(",".join(row).lstrip(";/ "))
+            continue
+        if not re.fullmatch(r"[0-9]+", row[0].strip()):
+            w.error(k, "step", f"row {k}: expected a step number, got {row[0]!r}")
+            continue
+        _delta_row(w, k, [c for c in row[1:] if c != ""])
 
 
-def import_text(path: str, text: str, target: Target, fmt: str | None = None
-                ) -> tuple[str | None, str, list[Diagnostic]]:
+def import_text(path: str, text: str, target: Target, fmt: str | None = None,
+                comments: dict[str, str] | None = None) -> tuple[str | None, str, list[Diagnostic]]:
     """-> (IL text or None on errors, the format read, diagnostics)."""
     if fmt is None:
         fmt = detect(text)
         if fmt == "il" and not looks_like_il(path, text):
-            return None, "", [diag(path, Span.at(1), "E909", "not recognised as a GX Works2, GX Developer or "
-                                   "WPLSoft export, nor as instruction-list text",
+            return None, "", [diag(path, Span.at(1), "E909", "not recognised as a GX Works2, GX Developer, "
+                                   "WPLSoft or Delta export, nor as instruction-list text",
                                    "name the format with --from if it is one (docs/vs.md, Imports)")]
     if fmt == "il":
         return (text if text.endswith("\n") else text + "\n"), fmt, []
-    w = _Writer(path, target)
+    w = _Writer(path, target, SOURCE_FAMILY.get(fmt, ""), comments)
     try:
         if fmt in ("gxworks2", "gxdeveloper"):
             _gx(w, text, "\t" if fmt == "gxworks2" or "\t" in text.split("\n", 3)[-1] else ",")
+        elif fmt == "delta":
+            _delta(w, text)
         else:
             _wplsoft(w, text)
     except _BadRow as e:
         return None, fmt, [diag(path, Span.at(e.line), "E907", e.message)]
     w.finish()
+    lines = w.lines
+    if comments:
+        lines = [f"; {dev}  {text}" for dev, text in sorted(comments.items(), key=lambda x: _natural(x[0]))] + lines
+        offset = len(comments)
+        w.steps = {k + offset: v for k, v in w.steps.items()}
+    out = "\n".join(lines) + "\n"
+    if SOURCE_FAMILY.get(fmt) == "fx" and w.steps and not any(d.severity == "error" for d in w.diags):
+        for d, kind in _step_check(path, out, target, w.steps):
+            w.diags.append(d)
+            w.kinds.append(kind)
     diags = _once_per_kind(w.diags, w.kinds)
     if any(d.severity == "error" for d in diags):
         return None, fmt, diags
-    return "\n".join(w.lines) + "\n", fmt, diags
+    return out, fmt, diags
+
+
+def _step_check(path: str, text: str, target: Target, steps: dict[int, tuple[int, int]]
+                ) -> list[tuple[Diagnostic, str]]:
+    """W107 at each export row whose instruction the export counts in other steps than the
+    target's step convention does (the export's step column against the computed addresses:
+    the difference of consecutive step numbers is the row's own count)."""
+    from mlctool.check import check_texts
+    from mlctool.syntax.source import SourceText
+
+    result = check_texts([SourceText(path, text)], target)
+    by_line = {ins.line: ins for m in result.modules for ins in m.instrs}
+    rows = sorted(steps.items())
+    out = []
+    for (index, (row, step)), (_next_index, (_, next_step)) in zip(rows, rows[1:], strict=False):
+        ins = by_line.get(index + 1)
+        if ins is None:
+            continue
+        if next_step - step != ins.steps:
+            shown = " ".join([ins.spec.mnemonic, *ins.texts])
+            kind = f"steps {ins.spec.mnemonic} {ins.operands[0].kind if ins.operands else ''}"
+            out.append((diag(path, Span.at(row), "W107", f"row {row}: {shown} is {next_step - step} steps in the "
+                            f"export (step {step} to {next_step}), {ins.steps} by target {target.name}'s step "
+                            "convention", "the export's step column is the exporting tool's count; the target's "
+                            "addresses follow its own convention (docs/vs.md, Steps)"), kind))
+    return out
 
 
 def _once_per_kind(diags: list[Diagnostic], kinds: list[str]) -> list[Diagnostic]:
@@ -303,10 +498,52 @@ def looks_like_il(path: str, text: str) -> bool:
     return 2 * sum(n in known for n in names) >= len(names)
 
 
+# the device-comment CSV's header words (GX Works2 English / Japanese / Chinese, GX Developer)
+_COMMENT_HEADER = {"device": ("device name", "device", "デバイス名", "软元件名", "軟元件名"),
+                   "comment": ("comment", "コメント", "注释", "註釋", "註解")}
+
+
+def read_comments(path: str, target: Target, encoding: str | None = None
+                  ) -> tuple[dict[str, str] | None, list[Diagnostic]]:
+    """A GX Works2 / GX Developer device-comment CSV (`"COMMENT"` title row, a header row
+    `"Device Name","Comment"` in the tool's language, then one device a row; UTF-16 tab or
+    comma separated) -> {device as the target writes it: comment}."""
+    text, diags = read_export(path, encoding)
+    if text is None:
+        return None, diags
+    delimiter = "\t" if "\t" in text else ","
+    cols: tuple[int, int] | None = None
+    out: dict[str, str] = {}
+    try:
+        rows = _rows(text, delimiter)
+    except _BadRow as e:
+        return None, [diag(path, Span.at(e.line), "E907", e.message)]
+    for k, row in enumerate(rows, 1):
+        low = [c.lower() for c in row]
+        if cols is None:
+            dev = next((low.index(t) for t in _COMMENT_HEADER["device"] if t in low), None)
+            com = next((low.index(t) for t in _COMMENT_HEADER["comment"] if t in low), None)
+            if dev is not None and com is not None:
+                cols = (dev, com)
+            continue
+        if len(row) <= max(cols) or not row[cols[0]] or not row[cols[1]]:
+            continue
+        try:
+            op = parse_operand(row[cols[0]], target.operand_syntax)
+        except OperandSyntaxError:
+            return None, [diag(path, Span.at(k), "E907", f"row {k}: {row[cols[0]]!r} is no device of target "
+                               f"{target.name}")]
+        out[format_operand(op)] = " ".join(row[cols[1]].split())
+    if cols is None:
+        return None, [diag(path, Span.at(1), "E909", "not recognised as a device-comment CSV: no header row "
+                           "naming the Device Name and Comment columns")]
+    return out, []
+
+
 # The target of each export's dialect, when the command line names none: GX Works2 and GX
 # Developer export Mitsubishi FX programs, WPLSoft Delta DVP ones, both FX-style IL, which the
 # Vigor VS target follows (docs/vs.md).
-DIALECT_TARGET = {"gxworks2": "vs", "gxdeveloper": "vs", "wplsoft": "vs"}
+DIALECT_TARGET = {"gxworks2": "vs", "gxdeveloper": "vs", "wplsoft": "vs", "delta": "vs"}
 
 
 def import_file(path: str, target: Target, fmt: str | None = None) -> tuple[str | None, str, list[Diagnostic]]:

@@ -19,6 +19,7 @@ from mlctool.check.labels import assign_named_labels, restrict_names
 from mlctool.check.lint import cross_module_coils, lint_module, referenced_labels, set_without_reset
 from mlctool.check.misuse import not_a_source_by_content, not_a_source_by_name
 from mlctool.check.resolve import resolve
+from mlctool.check.specials import foreign_specials
 from mlctool.check.structure import check_layout, check_rungs
 from mlctool.config import Config, severity_of
 from mlctool.diagnostics import Diagnostic, Span, diag
@@ -118,6 +119,7 @@ def _check_texts(sources: list[SourceText], target: Target, config: Config | Non
     programs = [[m, *libs] for m in valid if not m.library] or [libs]
     for program in programs:
         diags += set_without_reset(program)
+        diags += foreign_specials(program, target)
         if len(program) > 1:
             diags += cross_module_coils(program)
     return CheckResult(modules, _finish(diags, config, ignore, noqa), lines, list(sources))

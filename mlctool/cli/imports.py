@@ -1,4 +1,4 @@
-"""`mlc import`: a vendor export (GX Works2 / GX Developer / WPLSoft CSV, plain IL) -> IL."""
+"""`mlc import`: a vendor export (GX Works2 / GX Developer / WPLSoft / Delta CSV, plain IL) -> IL."""
 
 from __future__ import annotations
 
@@ -18,13 +18,14 @@ from mlctool.cli.common import (
     target_option,
 )
 from mlctool.diagnostics import unreadable
-from mlctool.imports import DIALECT_TARGET, FORMATS, detect, import_text, read_export
+from mlctool.imports import DIALECT_TARGET, FORMATS, detect, import_text, read_comments, read_export
 from mlctool.syntax.source import source_encoding
 
 
 @main_group.command("import", epilog=examples(
     "mlc import --target vs export.csv -o prog.il      # the format is recognised",
     "mlc import --target vs --from gxworks2 export.csv -o prog.il",
+    "mlc import --comments COMMENT.csv MAIN.csv -o prog.il   # device comments too",
 ))
 @target_option
 @encoding_option
@@ -33,11 +34,13 @@ from mlctool.syntax.source import source_encoding
               help="the export's format (default: recognised from its content)")
 @click.option("-o", "--output", default=None, type=click.Path(dir_okay=False),
               help="write the IL here (default: standard output)")
+@click.option("--comments", "comments_file", default=None, type=click.Path(dir_okay=False),
+              help="a GX device-comment CSV: each device's comment on the lines using it")
 @click.argument("file", type=click.Path())
-def import_cmd(target_name, config_path, fmt, output, file):
+def import_cmd(target_name, config_path, fmt, output, comments_file, file):
     """Convert an editor's export to plain IL for the target (docs/vs.md, Imports).
 
-    Without --target, a GX Works2, GX Developer or WPLSoft export (FX dialect) is imported
+    Without --target, a GX Works2, GX Developer, WPLSoft or Delta export (FX dialect) is imported
     for target vs; plain IL for the target of mlc.toml, else nc5.
 
     Exit 0: converted; 1: rows that cannot be placed; 2: unreadable input or not an export.
@@ -52,8 +55,14 @@ def import_cmd(target_name, config_path, fmt, output, file):
     # an FX-dialect export is a VS program unless the command line says otherwise
     dialect = DIALECT_TARGET.get(found_fmt) if not target_name else None
     target = get_target(target_name or dialect, config)
+    comments = None
+    if text is not None and comments_file:
+        comments, found = read_comments(comments_file, target, source_encoding(config)[0])
+        if comments is None:
+            show(found, {})
+            sys.exit(2 if unreadable(found) or any(d.code == "E909" for d in found) else 1)
     if text is not None:
-        text, found_fmt, converted = import_text(file, text, target, fmt)
+        text, found_fmt, converted = import_text(file, text, target, fmt, comments)
         diags = diags + converted
     show(diags, {})
     if text is None:

@@ -116,7 +116,7 @@ def test_an_unrecognised_file_is_an_error_not_a_copy(tmp_path):
     notes.write_text("Shopping list\n\nmilk, eggs and bread for the week\n")
     out = tmp_path / "out.il"
     r = mlc("import", str(notes), "-o", str(out))
-    assert r.code == 2 and "error[E909]: not recognised as a GX Works2, GX Developer or WPLSoft export" in r.err
+    assert r.code == 2 and "error[E909]: not recognised as a GX Works2, GX Developer, WPLSoft or Delta export" in r.err
     assert not out.exists()
     # plain IL is recognised and copied; --from il takes any text as it is
     r = mlc("import", str(DATA / "program.il"))

@@ -1,0 +1,67 @@
+"""W217: another family's special device read as if it were special (targets/<name>/specials.toml).
+
+An FX program's `LD M8000` (RUN on) or a Delta DVP program's `LD M1002` (initial pulse) checks
+clean on the VS, where those are ordinary relays nothing drives, and does nothing. Heuristic:
+a device read (a contact, or a source operand) and never written anywhere in the program
+(OUT/SET/RST/PLS/PLF, ZRST, a destination of an application instruction, or through a Kn
+group) that is in FX's special ranges (M8000-M8511, D8000-D8511), or that Delta DVP numbers as
+a special with a VS counterpart (M1000, M1002, M1013, D1010 ...). A program that writes the
+device uses it as an ordinary one, and says nothing here.
+"""
+
+from __future__ import annotations
+
+from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.program import Instr, Module
+from mlctool.targets.model import Target
+from mlctool.targets.specials import families
+
+_CONTACTS = ("contact", "contact_not", "contact_rise", "contact_fall")
+_WRITERS = ("out", "set", "rst", "pls", "plf", "alt")
+
+
+def foreign_specials(modules: list[Module], target: Target) -> list[Diagnostic]:
+    fams = families(target.name)
+    if not fams:
+        return []
+    instrs = [ins for m in modules for ins in m.instrs]
+    written: set[tuple[str, int]] = set()
+    spans: list[tuple[str, int, int]] = []
+    reads: list[tuple[Instr, str, int]] = []
+    for ins in instrs:
+        spec = ins.spec
+        for k, (o, s) in enumerate(zip(ins.operands, spec.operands, strict=False)):
+            if o.is_const or o.index:
+                continue
+            if o.is_group:
+                if s.writes or spec.api is None:
+                    spans.append((o.device, o.number, o.number + 4 * o.digits - 1))
+                continue
+            if spec.op == "zrst" and k == 0 and len(ins.operands) > 1:
+                spans.append((o.kind, min(o.number, ins.operands[1].number), max(o.number, ins.operands[1].number)))
+            elif (spec.op in _WRITERS and k == 0) or (spec.api is not None and s.writes):
+                written.add((o.kind, o.number))
+            elif spec.op in _CONTACTS or (spec.api is not None and not s.writes):
+                reads.append((ins, o.kind, o.number))
+    out, seen = [], set()
+    for ins, kind, number in reads:
+        key = (kind, number)
+        if key in seen or key in written or any(k == kind and lo <= number <= hi for k, lo, hi in spans):
+            continue
+        for fam in fams.values():
+            if not fam.is_special(kind, number):
+                continue
+            special = fam.mapping.get(key)
+            if special is None and fam.name != "fx":
+                continue  # DVP's M1000-M1999 are common ordinary relays: only its known specials
+            seen.add(key)
+            name = f"{kind}{number}"
+            there = (f"its {fam.title} function ({special.function}) is {special.device} on target {target.name} "
+                     f"(manual {special.section})" if special else
+                     f"the {fam.title} special {name} has no known counterpart on target {target.name}")
+            out.append(diag(ins.file, Span(ins.line, ins.col, ins.line, ins.col + len(ins.spec.mnemonic)), "W217",
+                            f"{name} is read but never written: an ordinary device on target {target.name}, "
+                            f"not the {fam.title} special; {there}",
+                            "`mlc import` maps them when it reads the export (docs/vs.md, Special devices)"))
+            break
+    return out

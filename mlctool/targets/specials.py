@@ -1,0 +1,66 @@
+"""Another family's special relays and registers on a target (targets/<name>/specials.toml):
+FX M8000 or Delta DVP M1000 (RUN on) is M9000 on the VS. `mlc import` rewrites them by
+function; `mlc check` warns when a program uses them as specials (W217)."""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from dataclasses import dataclass
+from functools import cache
+
+from mlctool.targets.model import TARGETS_DIR
+
+_DEVICE = re.compile(r"([A-Z]+)([0-9]+)")
+
+
+@dataclass(frozen=True)
+class Special:
+    function: str
+    device: str  # the target's device (M9000)
+    section: str  # the target manual's row
+
+
+@dataclass(frozen=True)
+class Family:
+    name: str  # fx | dvp
+    title: str
+    special: dict[str, tuple[int, int]]  # device kind -> the family's special range
+    mapping: dict[tuple[str, int], Special]  # (kind, number) -> the target's device
+
+    def is_special(self, kind: str, number: int) -> bool:
+        rng = self.special.get(kind)
+        return rng is not None and rng[0] <= number <= rng[1]
+
+
+def _span(text: str) -> tuple[str, int, int]:
+    first, _, last = text.partition("-")
+    m = _DEVICE.fullmatch(first)
+    n = _DEVICE.fullmatch(last) if last else m
+    if m is None or n is None or m[1] != n[1]:
+        raise ValueError(f"specials.toml: bad device or range {text!r}")
+    return m[1], int(m[2]), int(n[2])
+
+
+@cache
+def families(target_name: str) -> dict[str, Family]:
+    """The families mapped onto the target ({} when it has no specials.toml)."""
+    path = TARGETS_DIR / target_name / "specials.toml"
+    if not path.is_file():
+        return {}
+    data = tomllib.loads(path.read_text("utf-8"))
+    out = {}
+    for name, fam in data.get("families", {}).items():
+        mapping: dict[tuple[str, int], Special] = {}
+        for row in data.get("map", ()):
+            if name not in row:
+                continue
+            kind, lo, hi = _span(row[name])
+            vkind, vlo, vhi = _span(row["vs"] if "vs" in row else row["target"])
+            if hi - lo != vhi - vlo:
+                raise ValueError(f"specials.toml: {row[name]} and {row['vs']} differ in length")
+            for k in range(hi - lo + 1):
+                mapping[(kind, lo + k)] = Special(row["function"], f"{vkind}{vlo + k}", row["section"])
+        out[name] = Family(name, fam["title"], {k: (int(v[0]), int(v[1])) for k, v in fam["special"].items()},
+                           mapping)
+    return out
