@@ -108,7 +108,9 @@ def _headerless(head: list[str]) -> bool:
     two rows of 4+ cells with a step number or nothing first, a mnemonic-like third cell."""
     rows = [_cells(line) for line in head if line.strip()]
     good = [r for r in rows if len(r) >= 4 and re.fullmatch(r"[0-9]*", r[0])
-            and (re.fullmatch(r"[a-z][a-z0-9<>=]*", r[2]) or not r[2] and r[3])]
+            and (re.fullmatch(r"[a-z][a-z0-9<>=]*", r[2]) or not r[2] and any(r[1:]))]
+    if not any(r[2] for r in good):
+        return False  # statement and note rows alone: no instruction
     return len(good) >= 2 and len(good) >= len(rows) - 1
 
 
@@ -120,7 +122,13 @@ class _Writer:
 
         self.path, self.t = path, target
         self.family = families(target.name).get(family)  # the source's special devices
-        self.comments = comments or {}  # device as the target writes it -> its comment
+        self.comments = dict(comments or {})  # device as the target writes it -> its comment
+        if self.family is not None:  # a comment on M8000 is one on the M9000 it becomes
+            for device in list(self.comments):
+                m = re.fullmatch(r"([A-Z]+)([0-9]+)", device)
+                special = self.family.mapping.get((m[1], int(m[2]))) if m else None
+                if special is not None:
+                    self.comments[special.device] = self.comments.pop(device)
         self.lines: list[str] = []
         self.diags: list[Diagnostic] = []
         self.pending: list[str] | None = None  # the instruction whose operands may continue
@@ -417,9 +425,9 @@ def import_text(path: str, text: str, target: Target, fmt: str | None = None,
         return None, fmt, [diag(path, Span.at(e.line), "E907", e.message)]
     w.finish()
     lines = w.lines
-    if comments:
-        lines = [f"; {dev}  {text}" for dev, text in sorted(comments.items(), key=lambda x: _natural(x[0]))] + lines
-        offset = len(comments)
+    if w.comments:
+        lines = [f"; {dev}  {text}" for dev, text in sorted(w.comments.items(), key=lambda x: _natural(x[0]))] + lines
+        offset = len(w.comments)
         w.steps = {k + offset: v for k, v in w.steps.items()}
     out = "\n".join(lines) + "\n"
     if SOURCE_FAMILY.get(fmt) == "fx" and w.steps and not any(d.severity == "error" for d in w.diags):

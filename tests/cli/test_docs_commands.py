@@ -51,6 +51,8 @@ WORKSPACE_FILES = {
     "s.stim": "samples/nc5/conveyor.stim",
     "export.csv": "tests/data/vs_imports/gxworks2.csv",
     "program.csv": "tests/data/vs_imports/gxworks2.csv",
+    "MAIN.csv": "tests/corpus/gxworks2_zh_cn.csv",
+    "COMMENT.csv": "tests/corpus/COMMENT.csv",
     "prog.pos": "samples/fbs/run.pos",
 }
 VS_PROGRAM = {"prog.il": "samples/vs/traffic_light.il"}

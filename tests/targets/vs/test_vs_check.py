@@ -216,3 +216,18 @@ def test_nc5_has_neither_names_nor_end_labels():
     assert "E304" in [d.code for d in check_texts([src], nc5).diagnostics]
     src, _ = decode("t.il", b"LD X0\nCJ LOOP\nLOOP:\nEND\n")
     assert {"E215", "E103"} <= {d.code for d in check_texts([src], nc5).diagnostics}
+
+
+def test_w217_foreign_specials_read_but_never_written(tmp_path):
+    """FX M8000 / Delta M1002 / FX D8010 read and never written: W217 naming the VS device;
+    written by the program (an ordinary use), or a Delta number without a VS counterpart: none."""
+    from conftest import run_mlc
+
+    (tmp_path / "p.il").write_text("LD M8000\nOUT Y0\nLD M1002\nOUT Y1\nLD M8100\nOUT Y2\nLD X0\nOUT M8100\n"
+                                   "MOV D8010 D0\nLD M1500\nOUT Y3\nEND\n", "utf-8")
+    r = run_mlc("check", "--target", "vs", "p.il", cwd=tmp_path)
+    found = [line for line in r.err.splitlines() if "W217" in line]
+    assert len(found) == 3, r.err
+    assert "M8000 is read but never written" in found[0] and "M9000" in found[0]
+    assert "M1002" in found[1] and "M9002" in found[1] and "D8010" in found[2] and "D9010" in found[2]
+    assert "M8100" not in r.err.split("W217")[-1].split("\n")[0] and "M1500" not in r.err

@@ -149,3 +149,69 @@ def test_identical_row_errors_are_reported_once():
     assert out is None and len(diags) == 1
     assert diags[0].message == "row 2: expected a 6-digit step number, got 'row 2'"
     assert diags[0].notes == ("and 218 more rows like it: 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, ...",)
+
+
+def _gx_text(rows: list[list[str]]) -> str:
+    head = '"MAIN"\n"PLC Information:"\t"FXCPU FX3U/FX3UC"\n' \
+        '"Step Number"\t"Line Statement"\t"Instruction"\t"I/O(Device)"\t"Blank"\t"PI Statement"\t"Note"\n'
+    return head + "".join("\t".join(f'"{c}"' for c in (r + [""] * 7)[:7]) + "\n" for r in rows)
+
+
+def test_buffer_memory_mc_relay_and_pointer_operands():
+    text = _gx_text([["0", "", "LD", "M8000"], ["2", "", "MOV", "U1\\G3"], ["", "", "", "D0"],
+                     ["7", "", "LD", "X000"], ["8", "", "MC", "N0"], ["", "", "", "M100"],
+                     ["11", "", "LD", "X001"], ["12", "", "DHSCS", "K100"], ["", "", "", "C235"], ["", "", "", "I010"],
+                     ["25", "", "MCR", "N0"], ["27", "", "END"]])
+    out, _, diags = import_text("g.csv", text, VS)
+    assert [d.code for d in diags] == ["N910"], [d.message for d in diags]
+    lines = out.splitlines()
+    assert "MOV U1G3 D0" in lines and "DHSCS K100 C235 IHC0" in lines
+    assert lines[3].startswith("MC N0 ; the export's MC N0 M100")
+
+
+def test_a_pointer_without_a_vs_counterpart_is_an_error_saying_how():
+    text = _gx_text([["0", "", "FEND"], ["1", "", "I999"], ["2", "", "IRET"], ["3", "", "END"]])
+    out, _, diags = import_text("g.csv", text, VS)
+    assert out is None and diags[0].code == "E907" and "I999 has no counterpart" in diags[0].message
+    assert "IX0P" in diags[0].notes[0]
+
+
+def test_a_special_without_a_counterpart_is_kept_with_a_warning():
+    text = _gx_text([["0", "", "LD", "M8005"], ["2", "", "OUT", "Y000"], ["3", "", "END"]])
+    out, _, diags = import_text("g.csv", text, VS)
+    assert "LD M8005" in out.splitlines() and [d.code for d in diags] == ["W107", "W910"]
+    assert "M8005 is a FX special device with no counterpart" in diags[1].message
+
+
+def test_an_export_step_count_unlike_the_target_is_w107_once_per_kind():
+    # the export says RST C0 is 1 step (FX: 2) twice: one W107 naming the row, the other in a note
+    text = _gx_text([["0", "", "LD", "X000"], ["1", "", "RST", "C0"], ["2", "", "LD", "X001"],
+                     ["3", "", "RST", "C1"], ["4", "", "END"]])
+    out, _, diags = import_text("g.csv", text, VS)
+    assert out is not None and [d.code for d in diags] == ["W107"]
+    assert "row 5: RST C0 is 1 steps in the export (step 1 to 2), 2 by target vs" in diags[0].message
+    assert "row" in diags[0].notes[-1] and "7" in diags[0].notes[-1]
+
+
+def test_headerless_and_delta_csv_and_delta_timers():
+    rows = '"0","","LD","X000","","",""\n"1","","OUT","T0","","",""\n"","","","K10","","",""\n"4","","END","","","",""\n'
+    assert detect(rows) == "gxdeveloper"
+    out, _, diags = import_text("h.csv", rows, VS)
+    assert out == "LD X0\nOUT T0 K10\nEND\n" and diags == []
+    delta = "Step,Instruction,Operand1,Operand2,Operand3\n0,LD,M1000,,\n1,TMR,T0,K10,\n5,CNT,C0,K3,\n9,END,,,\n"
+    assert detect(delta) == "delta"
+    out, _, diags = import_text("d.csv", delta, VS)
+    assert out == "LD M9000\nOUT T0 K10\nOUT C0 K3\nEND\n" and [d.code for d in diags] == ["N910"]
+
+
+@pytest.mark.parametrize("header", [
+    ("步号", "行间声明", "指令", "I/O(软元件)", "空白栏", "PI声明", "注解"),
+    ("步號", "行間聲明", "指令", "I/O(軟元件)", "空白欄", "PI聲明", "註解"),
+    ("ステップ番号", "行間ステートメント", "命令", "I/O(デバイス)", "空欄", "PIステートメント", "ノート"),
+])
+def test_chinese_and_japanese_headers(header):
+    text = '"MAIN"\n' + "\t".join(f'"{h}"' for h in header) + '\n"0"\t""\t"LD"\t"X000"\t""\t""\t"start"\n' \
+        '"1"\t""\t"OUT"\t"Y000"\t""\t""\t""\n"2"\t""\t"END"\t""\t""\t""\t""\n'
+    assert detect(text) == "gxworks2"
+    out, _, diags = import_text("z.csv", text, VS)
+    assert out == "LD X0 ; start\nOUT Y0\nEND\n" and diags == []
