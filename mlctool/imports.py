@@ -118,7 +118,7 @@ class _Writer:
     """Collects IL lines; rewrites mnemonics and operands as the target writes them."""
 
     def __init__(self, path: str, target: Target, family: str = "", comments: dict[str, str] | None = None):
-        from mlctool.targets.specials import families
+        from mlctool.targetapi.specials import families
 
         self.path, self.t = path, target
         self.family = families(target.name).get(family)  # the source's special devices
@@ -248,23 +248,24 @@ class _Writer:
 
     def settle(self) -> None:
         """Forms of the source family the target writes otherwise, once all operands are in:
-        FX `MC N0 M100` (the VS MC takes the nesting level only, 3-6: the relay is dropped,
-        said in a comment)."""
+        FX `MC N0 M100` where the target's MC takes the nesting level only (VS 3-6): the relay
+        is dropped, said in a comment."""
         p = self.pending
-        if p and p[0] == "MC" and len(p) >= 3 and not p[2].startswith(";") and self.t.name == "vs":
+        spec = self.t.instructions.get(p[0]) if p else None
+        if spec is not None and spec.op == "mc" and len(spec.operands) == 1 and len(p) >= 3 \
+                and not p[2].startswith(";"):
             dropped = p.pop(2)
-            p.append(f"; the export's MC {p[1]} {dropped}: the VS MC has no relay operand (3-6)")
-
-    _DELTA_TIMERS = {"TMR": "OUT", "CNT": "OUT", "DCNT": "OUT"}
+            p.append(f"; the export's MC {p[1]} {dropped}: the {self.t.name} MC has no relay operand "
+                     f"({spec.section})")
 
     def mnemonic(self, text: str, row: int) -> str:
         m = text.upper()
         if m in self.t.instructions or m in self.t.variants or m in self.t.unavailable:
             return m
-        # Delta DVP's timer and counter coils (TMR T0 K50, CNT C0 K10, DCNT C200 K10) are FX's
-        # OUT T0 K50 / OUT C0 K10 / OUT C200 K10
-        if self.family is not None and self.family.name == "dvp" and m in self._DELTA_TIMERS:
-            return self._DELTA_TIMERS[m]
+        # the family's own spellings (Delta DVP's TMR T0 K50, CNT C0 K10, DCNT C200 K10 are the
+        # target's OUT T0 K50 / OUT C0 K10 / OUT C200 K10: specials.toml `mnemonics`)
+        if self.family is not None and m in self.family.mnemonics:
+            return self.family.mnemonics[m]
         # another vendor's spelling of a 32-bit comparison (DLD>= for LDD>=): the same FNC
         short = self.t.instructions.get(m[1:]) if m.startswith("D") else None
         if short is not None and short.api is not None:
@@ -445,11 +446,16 @@ def _step_check(path: str, text: str, target: Target, steps: dict[int, tuple[int
     """W107 at each export row whose instruction the export counts in other steps than the
     target's step convention does (the export's step column against the computed addresses:
     the difference of consecutive step numbers is the row's own count)."""
-    from mlctool.check import check_texts
+    # the resolver alone (addresses), not mlctool.check: the checker imports this module
+    from mlctool.check.labels import assign_named_labels, restrict_names
+    from mlctool.check.resolve import resolve
+    from mlctool.syntax.parser import parse
     from mlctool.syntax.source import SourceText
 
-    result = check_texts([SourceText(path, text)], target)
-    by_line = {ins.line: ins for m in result.modules for ins in m.instrs}
+    parsed = restrict_names(parse(SourceText(path, text)), target)
+    names, _ = assign_named_labels([parsed], target)
+    module, _ = resolve(parsed, target, {}, names.get(parsed.path))
+    by_line = {ins.line: ins for ins in module.instrs}
     rows = sorted(steps.items())
     out = []
     for (index, (row, step)), (_next_index, (_, next_step)) in zip(rows, rows[1:], strict=False):

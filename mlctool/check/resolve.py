@@ -52,7 +52,6 @@ class _Resolver:
         self.syntax = target.operand_syntax
         self.names = names or {}  # named labels of this file -> P number (check/labels.py)
         self.named_labels = bool(target.settings.get("named_labels"))
-        self.short_operand = target.settings.get("short_operand", {})
         # ops whose steps depend on the operand beyond the short rule (target.toml [[step_rules]])
         self.step_rule_ops = frozenset(op for rule in target.settings.get("step_rules", ()) for op in rule["ops"])
 

@@ -13,8 +13,8 @@ from __future__ import annotations
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module
-from mlctool.targets.model import Target
-from mlctool.targets.specials import families
+from mlctool.targetapi.model import Target
+from mlctool.targetapi.specials import families
 
 _CONTACTS = ("contact", "contact_not", "contact_rise", "contact_fall")
 _WRITERS = ("out", "set", "rst", "pls", "plf", "alt")

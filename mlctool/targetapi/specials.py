@@ -1,4 +1,5 @@
-"""Another family's special relays and registers on a target (targets/<name>/specials.toml):
+"""Another family's special relays and registers on a target (specials.toml in the target's
+tables folder, e.g. mlctool/targets/vs/specials.toml):
 FX M8000 or Delta DVP M1000 (RUN on) is M9000 on the VS. `mlc import` rewrites them by
 function; `mlc check` warns when a program uses them as specials (W217)."""
 
@@ -8,8 +9,9 @@ import re
 import tomllib
 from dataclasses import dataclass
 from functools import cache
+from pathlib import Path
 
-from mlctool.targets.model import TARGETS_DIR
+from mlctool.targetapi.registry import UnknownTarget, target_package
 
 _DEVICE = re.compile(r"([A-Z]+)([0-9]+)")
 
@@ -27,6 +29,7 @@ class Family:
     title: str
     special: dict[str, tuple[int, int]]  # device kind -> the family's special range
     mapping: dict[tuple[str, int], Special]  # (kind, number) -> the target's device
+    mnemonics: dict[str, str]  # the family's spelling -> the target's (TMR -> OUT)
 
     def is_special(self, kind: str, number: int) -> bool:
         rng = self.special.get(kind)
@@ -45,7 +48,10 @@ def _span(text: str) -> tuple[str, int, int]:
 @cache
 def families(target_name: str) -> dict[str, Family]:
     """The families mapped onto the target ({} when it has no specials.toml)."""
-    path = TARGETS_DIR / target_name / "specials.toml"
+    try:
+        path = Path(target_package(target_name).tables) / "specials.toml"
+    except UnknownTarget:
+        return {}
     if not path.is_file():
         return {}
     data = tomllib.loads(path.read_text("utf-8"))
@@ -62,5 +68,5 @@ def families(target_name: str) -> dict[str, Family]:
             for k in range(hi - lo + 1):
                 mapping[(kind, lo + k)] = Special(row["function"], f"{vkind}{vlo + k}", row["section"])
         out[name] = Family(name, fam["title"], {k: (int(v[0]), int(v[1])) for k, v in fam["special"].items()},
-                           mapping)
+                           mapping, dict(fam.get("mnemonics", {})))
     return out
