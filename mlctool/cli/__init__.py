@@ -21,7 +21,7 @@ from mlctool.cli.common import examples, run_guarded
 
 COMMAND_MODULES = {
     "build": "mlctool.cli.asm", "link": "mlctool.cli.asm", "objdump": "mlctool.cli.asm",
-    "check": "mlctool.cli.check", "explain": "mlctool.cli.check", "targets": "mlctool.cli.check",
+    "check": "mlctool.cli.check", "debug": "mlctool.cli.debug", "explain": "mlctool.cli.check", "targets": "mlctool.cli.check",
     "device": "mlctool.cli.device",
     "fmt": "mlctool.cli.fmt",
     "import": "mlctool.cli.imports",
@@ -36,6 +36,7 @@ COMMAND_MODULES = {
 COMMAND_SUMMARIES = {
     "build": "Assemble sources into object modules (.mlo) or a linked program (.mlx).",
     "check": "Check instruction-list sources against the target's manual.",
+    "debug": "Debug a program on the simulator: breakpoints, stepping, time travel (console or DAP).",
     "device": "Device models as real devices on a Modbus link.",
     "explain": "Print the documentation of a diagnostic code.",
     "fmt": "Rewrite IL files in the canonical layout (idempotent; code unchanged).",

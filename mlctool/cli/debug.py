@@ -1,0 +1,79 @@
+"""`mlc debug`: the debugger console, or its Debug Adapter Protocol server (docs/debug.md)."""
+
+from __future__ import annotations
+
+import sys
+
+import click
+
+from mlctool.cli import main_group
+from mlctool.cli.common import (
+    config_option,
+    encoding_option,
+    examples,
+    get_config,
+    get_target,
+    show,
+    target_option,
+)
+from mlctool.sim.engine import ENGINE_ENV, ENGINES
+from mlctool.sim.stimulus import StimError, parse_time
+
+
+@main_group.command("debug", epilog=examples(
+    "mlc debug prog.il --stimulus s.stim        # the console: step, break, back, rung ...",
+    "mlc debug prog.il --stimulus s.stim < commands.txt   # scripted: one command a line",
+    "mlc debug --dap                            # a DAP server on stdio (VS Code: docs/debug.md)",
+))
+@target_option
+@encoding_option
+@config_option
+@click.option("--stimulus", "stim_path", default=None, type=click.Path(dir_okay=False),
+              help="stimulus file (docs/stimulus.md): inputs, models, forces")
+@click.option("--scan-time", default=None, metavar="TIME", help="scan period (default 10ms)")
+@click.option("--engine", type=click.Choice(ENGINES), default=None, envvar=ENGINE_ENV,
+              help="engine of whole scans: compiled (default) or interp")
+@click.option("--checkpoint-every", type=click.IntRange(1), default=100, show_default=True,
+              help="scans between time-travel checkpoints (at most 64 kept)")
+@click.option("--dap", is_flag=True, help="serve the Debug Adapter Protocol on stdin/stdout")
+@click.option("--dap-port", type=click.IntRange(1, 65535), default=None, metavar="N",
+              help="serve the Debug Adapter Protocol on 127.0.0.1:N (one client)")
+@click.argument("program", nargs=-1, type=click.Path(), metavar="[FILE]...")
+def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint_every, dap, dap_port, program):
+    """Debug a program on the simulator: breakpoints, stepping, time travel (console or DAP).
+
+    The console reads commands (`help` lists them) from the terminal, or from a pipe for
+    scripts. With --dap or --dap-port the program comes in the client's launch request.
+    Exit 0: the session ended; 2: usage error or unreadable input.
+    """
+    scan_us = None
+    if scan_time is not None:
+        try:
+            scan_us = parse_time(scan_time)
+        except StimError as e:
+            raise click.BadParameter(e.message, param_hint="--scan-time") from None
+        if scan_us <= 0:
+            raise click.BadParameter("must be positive", param_hint="--scan-time")
+    config = get_config(config_path)
+    if dap or dap_port is not None:
+        from mlctool.debug.dap import serve_port, serve_stdio
+
+        defaults = {"target": target_name, "config": config, "engine": engine, "scanTime": scan_us,
+                    "checkpointEvery": checkpoint_every}
+        if dap_port is not None:
+            serve_port(dap_port, defaults)
+        else:
+            serve_stdio(defaults)
+        return
+    if not program:
+        raise click.UsageError("give the program FILE... (or --dap)")
+    from mlctool.debug.console import Console, interactive
+    from mlctool.debug.load import LoadError, load_session
+
+    target = get_target(target_name, config)
+    try:
+        session = load_session(list(program), stim_path, target, config, scan_us, engine, checkpoint_every)
+    except LoadError as e:
+        show(e.diagnostics, e.lines)
+        sys.exit(2)
+    interactive(Console(session, click.echo))

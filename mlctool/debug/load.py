@@ -1,0 +1,41 @@
+"""Program + stimulus -> a DebugSession, or the diagnostics that prevent one (shared by the
+console, the DAP server and the web monitor)."""
+
+from __future__ import annotations
+
+from mlctool.asm import program_from_paths
+from mlctool.config import Config
+from mlctool.debug.session import DebugSession
+from mlctool.diagnostics import Diagnostic
+from mlctool.sim.decode import unsimulated
+from mlctool.sim.run import DEFAULT_SCAN_US, build_models
+from mlctool.sim.stimulus import Stimulus, load_stimulus
+
+
+class LoadError(Exception):
+    def __init__(self, diagnostics: list[Diagnostic], lines: dict[str, list[str]]):
+        super().__init__("; ".join(f"{d.file}:{d.span.line}: {d.code} {d.message}" for d in diagnostics))
+        self.diagnostics = diagnostics
+        self.lines = lines
+
+
+def load_session(program: list[str], stim_path: str | None, target, config: Config | None = None,
+                 scan_us: int | None = None, engine: str | None = None,
+                 checkpoint_every: int = 100) -> DebugSession:
+    image, diags, lines = program_from_paths(list(program), target, config)
+    if image is None:
+        raise LoadError([d for d in diags if d.severity == "error"], lines)
+    refused = unsimulated(image, target)
+    if refused:
+        raise LoadError(refused, lines)
+    st, stim_diags = (load_stimulus(stim_path, target) if stim_path else (Stimulus("<none>", []), []))
+    if st is None:
+        raise LoadError(stim_diags, {})
+    models, model_diags = build_models(st, target)
+    bad = [d for d in stim_diags + model_diags if d.severity == "error"]
+    if bad:
+        raise LoadError(bad, {st.path: st.lines})
+    period = st.scan_us or scan_us or DEFAULT_SCAN_US
+    session = DebugSession(image, target, st, models, period, engine=engine, checkpoint_every=checkpoint_every)
+    session.lines = lines
+    return session
