@@ -58,7 +58,8 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
     if dap or dap_port is not None:
         from mlctool.debug.dap import serve_port, serve_stdio
 
-        defaults = {"target": target_name, "config": config, "engine": engine, "scanTime": scan_us,
+        model = click.get_current_context().meta.get("mlc.model")  # --model (cli/common.py)
+        defaults = {"target": target_name, "model": model, "config": config, "engine": engine, "scanTime": scan_us,
                     "checkpointEvery": checkpoint_every}
         if dap_port is not None:
             serve_port(dap_port, defaults)

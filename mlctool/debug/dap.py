@@ -166,10 +166,9 @@ class DapServer:
         self.event("initialized")
 
     def on_launch(self, req, args) -> None:
-        from mlctool.cli.common import get_target
         from mlctool.config import load_config
         from mlctool.debug.load import LoadError, load_session
-        from mlctool.targets.model import UnknownModel
+        from mlctool.targets import load_target
 
         program = args.get("program")
         if isinstance(program, str):
@@ -188,11 +187,13 @@ class DapServer:
                 config = load_config(None)
             except Exception:  # noqa: BLE001 - no project: defaults
                 config = None
+        data = config.data if config is not None else {}  # mlc.toml
+        name = args.get("target") or self.defaults.get("target") or getattr(config, "target", None) or "nc5"
+        model = args.get("model") or self.defaults.get("model") or data.get("model")
         try:
-            target = get_target(args.get("target") or self.defaults.get("target"), config,
-                                args.get("model")) if config is not None else _plain_target(args)
-        except (UnknownModel, Exception) as e:  # noqa: BLE001 - an unknown target or model
-            raise RequestError(f"target: {getattr(e, 'message', None) or e}") from None
+            target = load_target(str(name), str(model).upper() if model else None)
+        except Exception as e:  # noqa: BLE001 - an unknown target or model: the client is told
+            raise RequestError(f"target {name}: {getattr(e, 'message', None) or e}") from None
         try:
             self.session = load_session(program, stim, target, config, self.defaults.get("scanTime"),
                                         args.get("engine") or self.defaults.get("engine"),
@@ -462,12 +463,6 @@ def _is_device(s: DebugSession, text: str) -> bool:
         return True
     except DebugError:
         return False
-
-
-def _plain_target(args: dict):
-    from mlctool.targets import load_target
-
-    return load_target(args.get("target") or "nc5", args.get("model"))
 
 
 def serve_stdio(defaults: dict | None = None) -> None:
