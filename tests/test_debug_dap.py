@@ -162,3 +162,23 @@ def test_frame_reader_limits():
     write_frame(buf, {"a": "é"})
     assert read_frame(io.BytesIO(buf.getvalue())) == {"a": "é"}
     assert json.loads(buf.getvalue().split(b"\r\n\r\n", 1)[1]) == {"a": "é"}
+
+
+def test_launch_without_program_debugs_the_project():
+    """The editor extension's default configuration names only a stimulus: the program is
+    the project's (mlc.toml `sources`)."""
+    c = Client()
+    try:
+        project = SAMPLES / "project"
+        c.request("initialize", adapterID="mlc")
+        c.request("launch", cwd=str(project), stimulus="tests/pick_cycle.stim")
+        c.request("configurationDone")
+        assert c.event("stopped")["reason"] == "entry"
+        frame = c.request("stackTrace", threadId=1)["stackFrames"][0]
+        assert frame["source"]["path"] == str(project / "src" / "conveyor.il")
+        c.request("disconnect")
+        assert c.close() == 0
+    finally:
+        if c.p.poll() is None:
+            c.p.kill()
+        c.timer.cancel()

@@ -14,6 +14,7 @@ import json
 import os
 import socket
 import sys
+from pathlib import Path
 from typing import BinaryIO
 
 from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Stop
@@ -173,20 +174,24 @@ class DapServer:
         program = args.get("program")
         if isinstance(program, str):
             program = [program]
-        if not program or not all(isinstance(p, str) for p in program):
-            raise RequestError("launch needs `program`: a file or a list of files")
         cwd = args.get("cwd") if isinstance(args.get("cwd"), str) else os.getcwd()
+        config = self.defaults.get("config")
+        if config is None or (not program and config.root is None):
+            try:
+                config = load_config(Path(cwd))
+            except Exception:  # noqa: BLE001 - an unreadable mlc.toml: defaults
+                config = None
+        if not program and config is not None and config.root is not None:
+            # no program: the project's sources (mlc.toml `sources`), as the editor extension asks
+            program = [str(config.root / p) for p in config.data.get("sources") or []]
+        if not program or not all(isinstance(p, str) for p in program):
+            raise RequestError("launch needs `program`: a file or a list of files (or an mlc.toml "
+                               "with `sources`)")
         program = [os.path.join(cwd, p) for p in program]
         stim = args.get("stimulus")
         if stim is not None and not isinstance(stim, str):
             raise RequestError("`stimulus` must be a path")
         stim = os.path.join(cwd, stim) if stim else None
-        config = self.defaults.get("config")
-        if config is None:
-            try:
-                config = load_config(None)
-            except Exception:  # noqa: BLE001 - no project: defaults
-                config = None
         data = config.data if config is not None else {}  # mlc.toml
         name = args.get("target") or self.defaults.get("target") or getattr(config, "target", None) or "nc5"
         model = args.get("model") or self.defaults.get("model") or data.get("model")
