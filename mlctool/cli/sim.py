@@ -92,6 +92,8 @@ def _errors(diags: list[Diagnostic]) -> bool:
               help="compiled (default) or interp, the reference interpreter (docs/simulator.md)")
 @click.option("--jobs", "-j", type=click.IntRange(1, 64), default=1, show_default=True,
               help="worker processes for a batch (--stimulus 'tests/*.stim')")
+@click.option("--cluster", default=None, metavar="tcp://HOST:PORT",
+              help="run a batch's scenarios on this Dask scheduler's workers (docs/scale.md)")
 @click.option("--table", "tables", multiple=True, metavar="[SR=]FILE",
               help="load a register table with the program (target's own format; FBs: "
                    "R5000=home.pos or an image from mlc build)")
@@ -100,7 +102,7 @@ def _errors(diags: list[Diagnostic]) -> bool:
                    f"(at most {EDGE_LIMIT} edges; FBs: docs/fbs.md)")
 @click.argument("program", nargs=-1, required=True, type=click.Path(), metavar="FILE...")
 def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_path, watch,
-            as_json, junit_path, watchdog, report_path, engine, jobs, tables, pulse_window, program):
+            as_json, junit_path, watchdog, report_path, engine, jobs, cluster, tables, pulse_window, program):
     """Simulate the program of FILE... (sources, objects or a linked image) on virtual time.
 
     Exit 0: every expectation held; 1: an expectation failed, the program faulted or raised
@@ -108,6 +110,8 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     """
     if until is not None and scans is not None:
         raise click.UsageError("give --until or --scans, not both")
+    if cluster and not is_batch(stim_path):
+        raise click.UsageError("--cluster runs a batch: give --stimulus 'PATTERN' (e.g. 'tests/*.stim')")
     window = _window_option(pulse_window, vcd_path, stim_path)
     scan_us = _time_option(scan_time, "--scan-time")
     until_us = _time_option(until, "--until")
@@ -152,7 +156,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
             show(watch_diags, {})
             sys.exit(2)
         opts = Options(scan_us, until_us, scans, watch_views, watchdog, engine, preload)
-        sys.exit(batch_cmd(image, target, stim_path, opts, jobs, as_json, junit_path, program, lines, plan))
+        sys.exit(batch_cmd(image, target, stim_path, opts, jobs, cluster, as_json, junit_path, program, lines, plan))
 
     st, stim_diags = (load_stimulus(stim_path, target) if stim_path
                       else (Stimulus("<none>", []), []))

@@ -16,6 +16,7 @@ from mlctool.cli.common import show
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.fileio import Outputs
 from mlctool.sim.batch import Options, run_batch
+from mlctool.sim.cluster import ClusterError, cluster_diagnostic
 from mlctool.sim.output import summary, to_json
 
 GLOB_CHARS = "*?["
@@ -32,7 +33,7 @@ def expand(pattern: str) -> tuple[list[str], list[Diagnostic]]:
     return paths, []
 
 
-def batch_cmd(image, target, pattern: str, opts: Options, jobs: int, as_json: bool,
+def batch_cmd(image, target, pattern: str, opts: Options, jobs: int, cluster: str | None, as_json: bool,
               junit_path: str | None, program: tuple[str, ...], lines: dict[str, list[str]],
               plan: Outputs) -> int:
     """Run, report and return the exit status (0 all passed, 1 a scenario failed, 2 bad input)."""
@@ -42,7 +43,11 @@ def batch_cmd(image, target, pattern: str, opts: Options, jobs: int, as_json: bo
         return 2
     for p in paths:  # E606: the planned --junit is one of the stimulus files the pattern found
         plan.add_input(p)
-    scenarios, stats = run_batch(image, target, paths, opts, jobs)
+    try:
+        scenarios, stats = run_batch(image, target, paths, opts, jobs, cluster=cluster)
+    except ClusterError as e:
+        show([cluster_diagnostic(e)], {})
+        return 2
     bad_input = False
     docs = {}
     for sc in scenarios:

@@ -25,6 +25,7 @@ from mlctool.cli.common import (
 from mlctool.config import load_config
 from mlctool.diagnostics import MlcError, Span, diag
 from mlctool.sim import coverage as cov
+from mlctool.sim.cluster import ClusterError, cluster_diagnostic
 from mlctool.sim.junit import to_junit
 from mlctool.sim.output import ms, to_json
 from mlctool.sim.suite import (
@@ -67,6 +68,8 @@ def _enter_project(path: str | None):
 @max_wall_option
 @click.option("--jobs", "-j", type=click.IntRange(1, 64), default=1, show_default=True,
               help="run scenarios in N worker processes")
+@click.option("--cluster", default=None, metavar="tcp://HOST:PORT",
+              help="run the scenarios on this Dask scheduler's workers (docs/scale.md)")
 @click.option("--junit", "junit_path", default=None, metavar="FILE", help="write JUnit XML (path relative to the project)")
 @click.option("--coverage", "with_coverage", is_flag=True,
               help="record coverage; writes coverage.txt, coverage.json and coverage.xml (Cobertura)")
@@ -79,7 +82,7 @@ def _enter_project(path: str | None):
               help=f"folder for a failing scenario's waveform and report page "
                    f"(default: beside --junit, else {ARTIFACT_DIR})")
 @click.argument("path", required=False, type=click.Path(), metavar="[DIR]")
-def test_cmd(target_name, jobs, junit_path, with_coverage, coverage_dir, keywords, as_json, out_dir, path):
+def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir, keywords, as_json, out_dir, path):
     """Run the stimulus files of the project in DIR (default: the nearest mlc.toml at or above
     the current folder).
 
@@ -109,7 +112,11 @@ def test_cmd(target_name, jobs, junit_path, with_coverage, coverage_dir, keyword
     if image is None:
         show([d for d in diags if d.severity == "error"], lines)
         sys.exit(2)
-    scenarios = run_all(image, target, stims, sources, jobs, with_coverage)
+    try:
+        scenarios = run_all(image, target, stims, sources, jobs, with_coverage, cluster)
+    except ClusterError as e:
+        show([cluster_diagnostic(e)], {})
+        sys.exit(2)
 
     all_lines = dict(lines)
     for sc in scenarios:

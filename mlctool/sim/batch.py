@@ -724,11 +724,16 @@ def _take_lanes(group, outcomes, results: dict, rest: list, stats: BatchStats, s
 
 
 def run_batch(image: Image, target: Target, paths: list[str], opts: Options, jobs: int = 1,
-              lanes: bool = True) -> tuple[list[Scenario], BatchStats]:
-    """One Scenario per path, in the order given."""
+              lanes: bool = True, cluster: str | None = None,
+              loaded: dict[str, tuple[Stimulus | None, list]] | None = None) -> tuple[list[Scenario], BatchStats]:
+    """One Scenario per path, in the order given. `cluster`: a Dask scheduler's address, the
+    scenarios run there in chunks (mlctool/sim/cluster.py; ClusterError when it cannot)."""
+    if loaded is None:
+        loaded = {p: load_stimulus(p, target) for p in paths}
+    if cluster is not None:
+        return _run_on_cluster(cluster, image, target, paths, opts, lanes, loaded)
     stats = BatchStats()
     results: dict[str, Scenario] = {}
-    loaded = {p: load_stimulus(p, target) for p in paths}
     rest = []
     lp = wp = None
     if lanes and (opts.engine or "compiled") != "interp" and _lanes_target(target) and not opts.preload:
@@ -780,6 +785,26 @@ def run_batch(image: Image, target: Target, paths: list[str], opts: Options, job
         for p in rest:
             results[p] = run_one(image, target, p, opts, loaded[p])
     return [results[p] for p in paths], stats
+
+
+def _run_on_cluster(address: str, image: Image, target: Target, paths: list[str], opts: Options,
+                    lanes: bool, loaded: dict) -> tuple[list[Scenario], BatchStats]:
+    from mlctool.sim.cluster import map_chunks
+
+    parts = map_chunks(address, _run_chunk, (image, target, opts, lanes), [(p, loaded[p]) for p in paths])
+    stats = BatchStats()
+    scenarios = []
+    for part_scenarios, part_stats in parts:
+        scenarios += part_scenarios
+        for name in vars(stats):
+            setattr(stats, name, getattr(stats, name) + getattr(part_stats, name))
+    return scenarios, stats
+
+
+def _run_chunk(shared, chunk: list[tuple[str, tuple]]) -> tuple[list[Scenario], BatchStats]:
+    """A cluster worker's part of a batch: run as a local batch of these scenarios."""
+    image, target, opts, lanes = shared
+    return run_batch(image, target, [p for p, _ in chunk], opts, lanes=lanes, loaded=dict(chunk))
 
 
 def default_jobs() -> int:

@@ -80,15 +80,17 @@ def discover(config: Config) -> tuple[list[str], list[str], list[Diagnostic]]:
     return list(sources), stims, problems
 
 
-def run_scenario(image: Image, target: Target, stim_path: str, coverage: bool = False) -> Scenario:
+def run_scenario(image: Image, target: Target, stim_path: str, coverage: bool = False,
+                 loaded: tuple | None = None) -> Scenario:
+    """`loaded`: load_stimulus's result for stim_path, when it was read already."""
     start = time.perf_counter()
-    sc = _run_scenario(image, target, stim_path, coverage)
+    sc = _run_scenario(image, target, stim_path, coverage, loaded)
     sc.seconds = time.perf_counter() - start
     return sc
 
 
-def _run_scenario(image: Image, target: Target, stim_path: str, coverage: bool) -> Scenario:
-    st, diags = load_stimulus(stim_path, target)
+def _run_scenario(image: Image, target: Target, stim_path: str, coverage: bool, loaded: tuple | None) -> Scenario:
+    st, diags = loaded if loaded is not None else load_stimulus(stim_path, target)
     if st is None or any(d.severity == "error" for d in diags):
         return Scenario(stim_path, None, diags, st.lines if st else [])
     models, model_diags = build_models(st, target)
@@ -120,8 +122,22 @@ def _run_in_worker(args) -> Scenario:
     return run_scenario(image, target, stim, coverage)
 
 
+def _run_chunk(shared, chunk: list[tuple[str, tuple]]) -> list[Scenario]:
+    """A cluster worker's part of a suite (mlctool/sim/cluster.py)."""
+    image, target, coverage = shared
+    return [run_scenario(image, target, stim, coverage, loaded) for stim, loaded in chunk]
+
+
 def run_all(image: Image, target: Target, stims: list[str], sources: list[str], jobs: int = 1,
-            coverage: bool = False) -> list[Scenario]:
+            coverage: bool = False, cluster: str | None = None) -> list[Scenario]:
+    """The scenarios' outcomes in the order of `stims`: here, in `jobs` processes, or on the
+    Dask scheduler at `cluster` (ClusterError when it cannot be used)."""
+    if cluster is not None:
+        from mlctool.sim.cluster import map_chunks
+
+        items = [(s, load_stimulus(s, target)) for s in stims]
+        parts = map_chunks(cluster, _run_chunk, (image, target, coverage), items, per_thread=4)
+        return [sc for part in parts for sc in part]
     if jobs <= 1 or len(stims) <= 1:
         return [run_scenario(image, target, s, coverage) for s in stims]
     args = [(tuple(sources), target.name, os.getcwd(), s, coverage) for s in stims]

@@ -1,0 +1,99 @@
+"""`--cluster tcp://HOST:PORT` (mlctool/sim/cluster.py): `mlc test` and a `mlc sim` batch run
+on a Dask scheduler's workers give the local run's JSON, JUnit, coverage and exit status."""
+
+from __future__ import annotations
+
+import shutil
+import socket
+from pathlib import Path
+
+import pytest
+from test_sim_batch import PROGRAM, STIMULI
+
+from conftest import run_mlc, without_times
+from mlctool.sim import cluster
+
+distributed = pytest.importorskip("distributed")
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def scheduler():
+    """Two workers in this process, on loopback only (no dashboard)."""
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False, protocol="tcp",
+                                  host="127.0.0.1", dashboard_address=None) as lc:
+        yield lc
+
+
+def _executed(lc) -> list[int]:
+    """Tasks each worker has run so far: proof that the work went to the cluster, to both."""
+    return [w.state.executed_count for w in lc.workers.values()]
+
+
+def test_chunks_are_contiguous_and_cover_all():
+    items = list(range(10))
+    for n in (1, 3, 4, 10, 20):
+        parts = cluster.chunks(items, n)
+        assert [x for p in parts for x in p] == items
+        assert len(parts) == min(n, 10) and all(parts)
+        assert max(map(len, parts)) - min(map(len, parts)) <= 1
+
+
+@pytest.fixture()
+def batch_project(tmp_path):
+    (tmp_path / "p.il").write_text(PROGRAM.strip() + "\n")
+    d = tmp_path / "tests"
+    d.mkdir()
+    for name, text in STIMULI.items():
+        (d / name).write_text(text)
+    for k in range(9):  # more lane scenarios, so that each worker gets several
+        (d / f"h{k}.stim").write_text(f"0ms X0={k % 2} X2=1\n10ms expect M0={k % 2}\n")
+    return tmp_path
+
+
+def test_sim_batch_on_cluster_equals_local(batch_project, scheduler):
+    args = ["sim", "p.il", "--stimulus", "tests/*.stim", "--json"]
+    local = run_mlc(*args, "--junit", "local.xml", cwd=batch_project)
+    before = _executed(scheduler)
+    remote = run_mlc(*args, "--junit", "remote.xml", "--cluster", scheduler.scheduler_address, cwd=batch_project)
+    assert all(a > b for a, b in zip(_executed(scheduler), before, strict=True))
+    assert local.code == 1 and remote.code == local.code, remote.err
+    assert remote.out == local.out
+    assert without_times((batch_project / "remote.xml").read_bytes()) == \
+        without_times((batch_project / "local.xml").read_bytes())
+
+
+def test_mlc_test_on_cluster_equals_local(tmp_path, scheduler):
+    proj = tmp_path / "project"
+    shutil.copytree(ROOT / "samples" / "project", proj, ignore=shutil.ignore_patterns("build"))
+    args = ["test", "--json", "--coverage"]
+    local = run_mlc(*args, "--junit", "local.xml", "--coverage-dir", "cov_local", cwd=proj)
+    before = _executed(scheduler)
+    remote = run_mlc(*args, "--junit", "remote.xml", "--coverage-dir", "cov_remote",
+                     "--cluster", scheduler.scheduler_address, cwd=proj)
+    assert all(a > b for a, b in zip(_executed(scheduler), before, strict=True))
+    assert remote.code == local.code, remote.err
+    assert remote.out == local.out and local.out.lstrip().startswith("{")
+    assert without_times((proj / "remote.xml").read_bytes()) == without_times((proj / "local.xml").read_bytes())
+    assert (proj / "cov_remote" / "coverage.json").read_bytes() == (proj / "cov_local" / "coverage.json").read_bytes()
+
+
+def _closed_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_unreachable_scheduler_is_E118(batch_project, monkeypatch):
+    monkeypatch.setattr(cluster, "CONNECT_TIMEOUT_S", 1)
+    address = f"tcp://127.0.0.1:{_closed_port()}"
+    r = run_mlc("sim", "p.il", "--stimulus", "tests/*.stim", "--junit", "j.xml", "--cluster", address,
+                cwd=batch_project)
+    assert r.code == 2 and "E118" in r.err and "Traceback" not in r.err + r.out
+    assert not (batch_project / "j.xml").exists()
+
+
+def test_cluster_takes_a_batch(batch_project, scheduler):
+    r = run_mlc("sim", "p.il", "--stimulus", "tests/a_pass.stim", "--cluster", scheduler.scheduler_address, cwd=batch_project)
+    assert r.code == 2 and "--cluster runs a batch" in r.err
