@@ -5,17 +5,14 @@ from __future__ import annotations
 
 import shutil
 import socket
-from pathlib import Path
 
 import pytest
 from test_sim_batch import PROGRAM, STIMULI
 
-from conftest import run_mlc, without_times
+from conftest import ROOT, run_mlc, without_times
 from mlctool.sim import cluster
 
 distributed = pytest.importorskip("distributed")
-
-ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
