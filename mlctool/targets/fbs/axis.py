@@ -80,7 +80,7 @@ class Axis:
     clr: bool = False  # homing CLR output
     pulses_out: int = 0  # every pulse output (with compensation), for tests and traces
     # internal
-    state: str = "idle"  # idle | run | wait | home_pause
+    state: str = "idle"  # idle | run | wait | home_pause | home_clr (CLR on, 11.7 e)
     last_en: bool = False
     last_dir: int = 0
     dir: int = 1
@@ -93,7 +93,7 @@ class Axis:
     spd: int = 0  # the step's SPD value when it started (R4056 = 5AH: read live instead)
     soft_stop: bool = False  # M1991: stop and pause decelerate (set by the scan, per call)
     braking: bool = False  # EN went 0 with M1991: decelerating to a stop
-    home: str = ""  # homing phase: fast | creep | count | back
+    home: str = ""  # homing phase: fast | escape | creep | count | stopping | pause | back
     home_seen: int = 0
     prev_dog: bool = False
     prev_pg0: bool = False
@@ -128,7 +128,7 @@ class Axis:
     def stop(self) -> None:
         """EN = 0 without M1991, ABT, PSOFF: output stops at once."""
         self.state, self.act, self.ready, self.freq, self.home = "idle", False, True, 0.0, ""
-        self.braking = False
+        self.braking, self.clr, self.clr_us = False, False, 0
 
     def brake(self, dt_us: int) -> None:
         """M1991 On: a stop (EN = 0) or pause decelerates at the P12/P8 slope down to P5,
@@ -186,6 +186,8 @@ class Axis:
             delta = raw * scale - self.position
             direction = 1 if delta >= 0 else -1
             n = round(abs(delta))
+            if m.sign:  # DRVC ABS,+|-: "DRVC之運轉方向決定祇能由'+'或'−'決定" (docs/fbs-positioning.md)
+                direction = 1 if m.sign == "+" else -1
             if self.chain_follow:
                 direction = self.dir
         else:
@@ -220,15 +222,20 @@ class Axis:
 
     # ------------------------------------------------------------ time
     def tick(self, env: Env, dt_us: int) -> None:
-        if self.clr_us > 0:
+        if self.state == "home_clr":
             self.clr_us -= dt_us
-            self.clr = self.clr_us > 0
+            if self.clr_us <= 0:
+                self.clr, self.clr_us = False, 0
+                self.home_done(env)
+            return
         if self.state == "run":
             self.t_out += dt_us
             if self.home:
                 self.home_inputs(env)
                 if self.state != "run":
                     return
+            if self.home == "stopping":
+                return self.home_decel(dt_us)
             self.output(env, dt_us)
             cond = self.step.cond
             if self.to_go > 0 and cond is not None and self.state == "run" and not self.home:
@@ -375,10 +382,11 @@ class Axis:
         pg0 = env.bit("X", p.pg0) if p.pg0 is not None else False
         pg0_rise = pg0 and not self.prev_pg0
         self.prev_pg0 = pg0
+        if self.home == "stopping":
+            return  # MD1: decelerating after DOG; the pause starts at standstill
         if self.home == "fast" and rise:
             if mode == 1:
-                self.freq, self.state, self.t_wait = 0.0, "home_pause", 0
-                self.home = "pause"
+                self.home = "stopping"  # 11.7 MD1 b: decelerate at the P8 slope, then stop
                 return
             self.home = "count" if mode == 2 and not p.pg0_trailing else "creep"
             return
@@ -393,11 +401,35 @@ class Axis:
         if mode in (0, 1) and self.home in ("creep", "back") and fall:
             self.zero()
 
+    def home_decel(self, dt_us: int) -> None:
+        """MD1 at DOG (11.7 b): "from the current speed, decelerate to a stop with the slope
+        of the acceleration/deceleration time setting (parameter 8)"; the slope is P4 / P8
+        (P8 = 0: at once). At P5 or below the output stops and the 0.5 s pause begins."""
+        p = self.params
+        f = self.freq - (p.accel * dt_us / 1e6 if p.accel != INF else self.freq)
+        if f <= p.p5_start:
+            self.freq, self.acc, self.state, self.t_wait, self.home = 0.0, 0.0, "home_pause", 0, "pause"
+            return
+        self.freq = f
+        self.acc += f * dt_us / 1e6
+        n = int(self.acc)
+        self.acc -= n
+        if n:
+            self.emit(n)
+
     def zero(self) -> None:
-        """The zero point: stop, load P16, output CLR >= 20 ms (11.7)."""
+        """The zero point: stop, load P16; with P15-3 set, output CLR for > 20 ms and only
+        then is the return complete (11.7 d/e: "完成信號輸出後，才代表整個歸零動作完成")."""
         self.position = self.params.p16_origin
-        if self.params.clr is not None:
-            self.clr, self.clr_us = True, 20_000 + TICK_US
         self.home, self.to_go, self.freq, self.act = "", 0, 0.0, False
+        if self.params.clr is not None:
+            self.clr, self.clr_us, self.state = True, 20_000 + TICK_US, "home_clr"
+            return
+        self.home_done(None)
+
+    def home_done(self, env: Env | None) -> None:
+        """The return is complete: DN, the step's end number, then its transfer condition."""
         self.dn, self.end_step = True, self.wr0
         self.state, self.t_wait = "wait", 0
+        if env is not None:
+            self.check_wait(env)

@@ -289,14 +289,16 @@ class _Parser:
         if cu is None:
             return None
         coord, unit = cu
-        if coord == "ABS" and sign:
+        if coord == "ABS" and sign and kw.text != "DRVC":
+            # DRV's direction operand is "valid for relative coordinates" (11.6); the DRVC row
+            # prints `ABS，−` as a form (docs/fbs-positioning.md)
             self.at(sign_f, "F043", f"{kw.text} ABS takes a blank direction (the target decides it)")
             return None
         if kw.text == "DRVC" and coord == "ADR" and not sign:
             self.at(sign_f, "F043", "DRVC ADR needs a + or - direction: the first segment's direction "
                     "governs the whole chain")
             return None
-        travel = self.travel(fields[2], allow_signed=not sign, allow_blank=False)
+        travel = self.travel(fields[2], allow_signed=not sign or coord == "ABS", allow_blank=False)
         if travel is None:
             return None
         if kw.text == "DRVC" and travel.kind == "K" and travel.n == 0:

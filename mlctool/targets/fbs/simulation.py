@@ -321,12 +321,15 @@ def _param_table(w: list[int], n: int) -> tuple[Params | None, int]:
 
 
 def mpara(m: Machine, s) -> None:
-    """FUN141 MPARA Ps SR: executed whether EN is 0 or 1; an invalid parameter -> R4060+Ps."""
+    """FUN141 MPARA Ps SR: executed whether EN is 0 or 1; an invalid parameter -> R4060+Ps.
+    The result after it is its ERR output: 11.6 FUN141 note 4, "當參數值有錯誤時，輸出指示
+    〝ERR〞ON" (On while the table holds a wrong value, whatever EN is; docs/fbs.md)."""
     st = _state(m)
     p = s.ops[0].get(m) % AXES
     kind, n = s.ops[1].kind, s.ops[1].addr(m, 24)
     params, code = _param_table(m.words[kind], n)
     slot = st.slots[p]
+    m.acc = params is None
     if params is None:
         if m.words["R"][ERROR + p] != code:
             slot.axis.error = code

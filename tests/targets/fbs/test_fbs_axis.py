@@ -95,6 +95,17 @@ def test_drvc_three_segments_without_stopping():
     assert run(ax, env, 0.02, until=lambda a: a.wr0 == 1)
 
 
+def test_drvc_abs_sign_is_the_chain_direction():
+    """11.6 DRVC row (`ABS，−`): "DRVC 之運轉方向決定祇能由 '+' 或 '−' 決定"; the first segment
+    outputs |target - position| in the written direction, the chain follows it."""
+    env = Env()
+    ax = axis_for("001 SPD 5000\n DRVC ABS,-,100,Ps\n GOTO NEXT\n002 SPD 2000\n DRV ADR,+,50,Ps\n MEND\n",
+                  env, p8_accel_ms=100)
+    ax.position = 1000
+    assert run(ax, env, 5, until=lambda a: a.done_last)
+    assert ax.position == 1000 - 900 - 50 and ax.pulses_out == 950  # the second segment's + is void
+
+
 def test_jog_short_and_long_press():
     env = Env()
     ax = axis_for("man_jog_forward.pos", env)
@@ -193,7 +204,50 @@ def test_homing_md1_stops_waits_and_reverses():
     ax.position = 5000
     assert run(ax, env, 10, until=lambda a: a.done_last)
     assert ax.position == 0
-    assert 6000 <= ax.pulses_out <= 6000 + 10  # to the DOG edge at -1000 and back; inputs per 1 ms
+    # to the DOG edge at -1000 and back; inputs per 1 ms; ~3 Ps each way braking at P4/P8
+    assert 6000 <= ax.pulses_out <= 6000 + 20
+
+
+def test_homing_md1_decelerates_at_the_p8_slope():
+    """11.7 MD1 b: "碰到原點感知信號時(中斷處理)，由目前速度以加減速時間設定(參數8)之斜率減速停止"
+    (at DOG, decelerate from the current speed to a stop at the parameter-8 slope)."""
+    env = Env()
+    env.hook = dog_plant(-20000, -1000)
+    ax = axis_for("001 SPD 5000\n DRVZ MD1\n MEND\n", env, dog=0, p8_accel_ms=5000)
+    ax.position = 5000
+    slope = 460000 / 5.0  # P4 / P8 in Ps/s^2
+    run(ax, env, 10, scan_us=1000, until=lambda a: a.home == "stopping")
+    at_dog, t = ax.position, 0
+    while ax.home == "stopping":
+        ax.run(env, True, False, False, 1000)
+        t += 1000
+    overrun = at_dog - ax.position
+    expected = (5000 ** 2 - 141 ** 2) / (2 * slope)  # ~135 Ps from 5000 Ps/s down to P5
+    assert abs(t / 1e6 - (5000 - 141) / slope) <= 0.002  # ~53 ms, not within 1 ms
+    assert abs(overrun - expected) <= 10  # 1 ms steps; stopping at once would be ~5 Ps
+    assert ax.state == "home_pause" and ax.freq == 0
+    assert run(ax, env, 10, until=lambda a: a.done_last) and ax.position == 0
+
+
+def test_homing_completes_only_after_clr():
+    """11.7 (MD0, MD1, MD2) e: "找到零點位置時，會輸出一脈波寬度大於20mS之信號；完成信號輸出後，
+    才代表整個歸零動作完成" (the return is complete only after the CLR signal has been output)."""
+    for mode, extra in ((0, {}), (1, {}), (2, {"pg0": 4, "p17_count": 1})):
+        env = Env()
+        env.hook = dog_plant(-2000, -1000, pg0_every=100 if mode == 2 else None)
+        ax = axis_for(f"001 SPD 5000\n DRVZ MD{mode}\n MEND\n", env, dog=0, clr=8, p16_origin=7,
+                      p8_accel_ms=100, **extra)
+        ax.position = 5000
+        samples: list[tuple[bool, bool, bool]] = []
+
+        def record(a, samples=samples):
+            samples.append((a.clr, a.dn, a.done_last))
+            return a.done_last
+        assert run(ax, env, 10, scan_us=1000, until=record)
+        clr_on = [i for i, (c, _, _) in enumerate(samples) if c]
+        assert len(clr_on) >= 20, mode  # > 20 ms of 1 ms scans
+        assert not any(dn or last for _, dn, last in samples[: clr_on[-1] + 1]), mode
+        assert not ax.clr and ax.position == 7
 
 
 def test_homing_md2_counts_pg0():

@@ -260,3 +260,15 @@ def test_sr_must_fit_its_area():
     for bad in ("D3963", "R3830", "R4000", "X0", "R8050"):
         with pytest.raises(ImageError):
             parse_sr(bad, 38)
+
+
+def test_drvc_abs_takes_the_sign_the_row_prints():
+    """11.6 DRVC row: `DRVC ADR，+，XXXXXXXX，Ut 或 ABS，−，Rxxxx，Ps`, and "DRVC 之運轉方向決定祇能由
+    '+' 或 '−' 決定"; DRV's direction operand stays "相對值座標有效" (relative coordinates only)."""
+    chain = "001 SPD 1000\n DRVC ABS,{sign},{travel},Ut\n GOTO NEXT\n002 SPD 500\n DRV ADR,-,5,Ut\n MEND\n"
+    for sign, travel, value in (("-", "R10", Val("R", 10)), ("+", "-300", Val("K", -300)), ("", "300", Val("K", 300))):
+        prog, diags = parse(chain.format(sign=sign, travel=travel))
+        assert not diags, diags
+        assert prog.steps[0].motion == Motion("DRVC", "ABS", sign, (value,), "Ut")
+        assert decode(encode(prog)).steps[0].motion == prog.steps[0].motion  # the sign round-trips
+    assert codes("001 SPD 1\n DRV ABS,-,1,Ps\n MEND\n") == [("F043", 2, 10)]

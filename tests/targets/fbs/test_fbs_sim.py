@@ -163,6 +163,22 @@ def test_errors_go_to_r4060_and_the_err_flag():
                   {"R5000": "001 SPD 1000\n DRV ADR,+,1,Ps\n MEND\n"}))
 
 
+def test_mpara_result_is_its_err_output():
+    """11.6 FUN141 note 4: "當參數值有錯誤時，輸出指示〝ERR〞ON，且錯誤代碼會出現在錯誤碼暫存器"
+    (a wrong parameter value turns the ERR output On); note 3: it runs whatever EN is."""
+    il = PARAMS.replace("MPARA K0 R2000", "MPARA K0 R2000\nOUT M30") + """
+LD M1
+MOV K0 R2001
+END
+"""
+    # the table is fine: ERR Off although EN (M1924) is On only in the first scan
+    stim = "scan 10ms\n0ms expect M30=0\n50ms expect M30=0 R4060=0\n60ms M1=1\n100ms expect M30=1 R4060=2"
+    assert ok(run(il, stim, {}))
+    # EN Off for good: still executed, ERR On for P1 = 0
+    bad = il.replace("LD M1924\nMPARA", "LD M2\nMPARA").replace("LD M1\n", "LD M1924\n")
+    assert ok(run(bad, "scan 10ms\n50ms expect M30=1 R4060=2", {}))
+
+
 def test_cli_sample_with_vcd_of_the_axis(tmp_path):
     vcd = tmp_path / "axis.vcd"
     r = mlc("sim", "--target", "fbs", str(SAMPLES / "home_and_run.il"),
