@@ -626,7 +626,7 @@ def goals(med: dict[str, float], ref: str, wanted) -> None:
     parts = [f"{med[ref] / med[peer]:.1f}x {peer} (goal >= {g}x)"
              for peer, g in wanted if peer in med]
     if parts:
-        print("  mlc compiled: " + "; ".join(parts))
+        print("  goals: the compiled engine is " + "; ".join(parts))
 
 
 def bench_bool1000() -> None:
