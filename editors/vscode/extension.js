@@ -74,7 +74,8 @@ function startClient(context) {
   const serverOptions = { command, args: ["lsp"], transport: TransportKind.stdio };
   const clientOptions = {
     documentSelector: [{ scheme: "file", language: "il" }],
-    synchronize: { fileEvents: vscode.workspace.createFileSystemWatcher("**/mlc.toml") },
+    // mlc.toml and modules changed on disk: the server reads the projects again
+    synchronize: { fileEvents: vscode.workspace.createFileSystemWatcher("**/{mlc.toml,*.il}") },
     outputChannel: output,
   };
   client = new LanguageClient("mlc", "mlc", serverOptions, clientOptions);

@@ -119,6 +119,16 @@ def did_save(ls: MlcServer, params: lsp.DidSaveTextDocumentParams) -> None:
                 ls.publish(open_uri)
 
 
+@server.feature(lsp.WORKSPACE_DID_CHANGE_WATCHED_FILES)
+def watched_files_changed(ls: MlcServer, params: lsp.DidChangeWatchedFilesParams) -> None:
+    """mlc.toml or a module changed on disk (a git checkout, another editor): read the
+    projects again and publish the open files' diagnostics anew."""
+    ls.projects.reload()
+    for open_uri in list(ls.workspace.text_documents):
+        if _is_il(open_uri):
+            ls.publish(open_uri)
+
+
 @server.feature(lsp.TEXT_DOCUMENT_DID_CLOSE)
 def did_close(ls: MlcServer, params: lsp.DidCloseTextDocumentParams) -> None:
     uri = params.text_document.uri

@@ -267,3 +267,26 @@ async def test_folding_and_step_address_hints(client: LanguageClient, project: P
     assert by_line[p10] == "0"
     addresses = [int(by_line[k]) for k in sorted(by_line)]
     assert addresses == sorted(addresses) and addresses[-1] > 10
+
+
+async def test_a_module_changed_on_disk_is_read_again(client: LanguageClient, project: Path):
+    conveyor = _uri(project, "conveyor.il")
+    text = _text(project, "conveyor.il")
+    assert await _show(client, conveyor, text) == []
+    lib = project / "src" / "pickplace.il"
+    if _versions.pop(lib.as_uri(), None):  # an earlier test opened it: the disk counts once closed
+        client.text_document_did_close(lsp.DidCloseTextDocumentParams(lsp.TextDocumentIdentifier(lib.as_uri())))
+    before = lib.read_text()
+    try:
+        lib.write_text(before.replace(".export P10 P11", ".export P11"))  # not open in the editor
+        client.workspace_did_change_watched_files(lsp.DidChangeWatchedFilesParams(
+            [lsp.FileEvent(lib.as_uri(), lsp.FileChangeType.Changed)]))
+        for _ in range(3000):
+            if client.diagnostics.get(conveyor):
+                break
+            await asyncio.sleep(0.01)
+        assert client.diagnostics[conveyor], "the CALL P10 of conveyor.il lost its label on disk"
+    finally:
+        lib.write_text(before)
+        client.workspace_did_change_watched_files(lsp.DidChangeWatchedFilesParams(
+            [lsp.FileEvent(lib.as_uri(), lsp.FileChangeType.Changed)]))
