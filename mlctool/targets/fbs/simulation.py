@@ -27,7 +27,7 @@ from mlctool.targets.fbs.axis import TICK_US, Axis, Params
 from mlctool.targets.fbs.files import table_preload
 from mlctool.targets.fbs.interp import Group
 from mlctool.targets.fbs.model import PosProgram, tables
-from mlctool.targets.fbs.table import TableError, decode
+from mlctool.targets.fbs.table import TableError, decode, execution_error
 
 AXES = 4
 GROUPS = 2
@@ -277,8 +277,12 @@ def hspso(m: Machine, s) -> None:
     if rising and not abt and a.state == "idle":
         sr_kind, sr = s.ops[1].kind, s.ops[1].addr(m, 2)
         program = _load_table(m, sr_kind, sr)
+        code = execution_error(program) if program is not None and program.dialect == "hspso" else 0
         if program is None or program.dialect != "hspso":
             a.error = 34  # not a FUN140 table: "不合法定位程式"
+            a.last_en = True
+        elif code:
+            a.error = code  # a table written at run time breaks a build rule (41, 42, 43, 34)
             a.last_en = True
         else:
             a.program = program

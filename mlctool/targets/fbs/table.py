@@ -194,6 +194,47 @@ def decode(words: list[int]) -> PosProgram:
     return PosProgram(d.name, tuple(steps))
 
 
+def execution_error(program: PosProgram) -> int:
+    """The error code FUN140 raises when it executes a table that breaks the rules the
+    build checks (a table the PLC program wrote at run time): the "執行 FUN140 與 執行 FUN147 時
+    可能之錯誤碼" list of 11.6, with the build's codes (F034 -> 34, F041 -> 41, F042 -> 42,
+    F043 -> 43). 0 when the table is runnable. Decisions in docs/fbs.md."""
+    d = tables().dialects[program.dialect]
+    steps, n = program.steps, len(program.steps)
+
+    def nxt(k: int) -> int | None:
+        s = steps[k - 1]
+        if s.motion.op != "DRVC" or s.goto is None or s.goto.is_reg or s.cond or s.mend:
+            return None
+        j = k + 1 if s.goto.kind == "NEXT" else s.goto.n
+        return j if j <= n else None
+
+    for k, s in enumerate(steps, start=1):
+        if s.goto is not None and s.goto.kind == "K" and not 1 <= s.goto.n <= n:
+            return 34
+        if s.motion.op != "DRVC":
+            continue
+        j = nxt(k)
+        if j is None:
+            return 43  # a DRVC step must continue into a next segment
+        follow = steps[j - 1].motion
+        if follow.op == "DRVZ":
+            return 42
+        if follow.coord == "ABS":
+            return 41
+    entered = {j for k in range(1, n + 1) if (j := nxt(k)) is not None}
+    for k in range(1, n + 1):
+        if steps[k - 1].motion.op != "DRVC" or k in entered:
+            continue
+        seen, j, segs = set(), k, 1
+        while (j2 := nxt(j)) is not None and j2 not in seen:
+            seen.add(j)
+            j, segs = j2, segs + 1
+        if segs > d.max_segments:
+            return 43
+    return 0
+
+
 # ---------------------------------------------------------------- text
 
 

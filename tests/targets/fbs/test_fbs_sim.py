@@ -271,3 +271,26 @@ def test_cli_tables_with_a_batch_of_scenarios_match_single_runs(tmp_path):
     without = mlc("sim", "--target", "fbs", str(SAMPLES / "home_and_run.il"),
                   "--stimulus", str(tmp_path / "*.stim"))
     assert without.returncode == 1  # no tables: the axis never moves, the expectations fail
+
+
+def test_a_table_written_at_run_time_is_checked_when_fun140_executes():
+    """11.6 error list, "執行 FUN140 與 執行 FUN147 時 可能之錯誤碼": 41 "DRVC 內不允許 ABS 定址",
+    42 "DRVC 不可銜接 DRVZ 命令"; a table the program MOVs into place gets the build's codes."""
+    from dataclasses import replace
+
+    from mlctool.targets.fbs.lang import parse_program
+    from mlctool.targets.fbs.model import Motion, Val, tables
+    from mlctool.targets.fbs.table import encode
+
+    text = "001 SPD 1000\n DRVC ADR,+,100,Ps\n GOTO NEXT\n002 SPD 1000\n DRV ADR,+,50,Ps\n MEND\n"
+    good, diags = parse_program("t.pos", text, tables().dialects["hspso"])
+    assert not diags
+    for follow, code in ((Motion("DRV", "ABS", "", (Val("K", 50),), "Ps"), 41), (Motion("DRVZ", mode=0), 42)):
+        bad = replace(good, steps=(good.steps[0], replace(good.steps[1], motion=follow)))
+        movs = "".join(f"MOV K{w - 65536 if w > 32767 else w} R{5000 + i}\n" for i, w in enumerate(encode(bad)))
+        il = AXIS.replace("MPARA K0 R2000\n", "MPARA K0 R2000\nLD M1924\n" + movs)
+        stim = f"scan 10ms\n20ms M0=1\n100ms expect R4060={code} R4088:d=0 M1992=1"
+        assert ok(run(il, stim, {}))
+    movs = "".join(f"MOV K{w - 65536 if w > 32767 else w} R{5000 + i}\n" for i, w in enumerate(encode(good)))
+    il = AXIS.replace("MPARA K0 R2000\n", "MPARA K0 R2000\nLD M1924\n" + movs)
+    assert ok(run(il, "scan 10ms\n20ms M0=1\n2s expect R4060=0 R4088:d=150", {}))
