@@ -25,6 +25,7 @@ from __future__ import annotations
 import copy
 import math
 import re
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -122,6 +123,7 @@ class DebugSession:
         self._memo_seed = {id(x): x for x in (target, image, self.prog, *self.steps)}
         self._layouts = 1 << 30
         self.checkpoints: dict[int, dict] = {}
+        self._checkpointed_at = time.perf_counter()
         self._checkpoint()
         # `continue` with nothing firing stops where the stimulus ends (its `run`, else its last line)
         self.end_scan = plan_scans(stimulus, period_us, None, None)
@@ -186,7 +188,14 @@ class DebugSession:
         k = self.scan
         if k % self.checkpoint_every or k in self.checkpoints:
             return
+        started = time.perf_counter()
         self.checkpoints[k] = self._snapshot()
+        now = time.perf_counter()
+        # a checkpoint costing more than 5 % of the run since the last one: take them half as
+        # often (going back then replays at most ~20 checkpoint costs; results never depend on it)
+        if now - started > 0.05 * (started - self._checkpointed_at) and k:
+            self.checkpoint_every *= 2
+        self._checkpointed_at = now
         if len(self.checkpoints) > self.max_checkpoints:  # thin out: keep scan 0 and every other
             self.checkpoint_every *= 2
             for s in [s for s in self.checkpoints if s % self.checkpoint_every]:
