@@ -426,8 +426,11 @@ def mhspo(m: Machine, s) -> None:
     _advance_group(m, st, gs)
     if (rising or not grp.last_en) and en and not abt and grp.state == "idle":
         program = _load_table(m, s.ops[1].kind, s.ops[1].addr(m, 2))
+        code = execution_error(program) if program is not None and program.dialect == "mhspo" else 0
         if program is None or program.dialect != "mhspo":
             grp.error, grp.last_en = 34, True
+        elif code:
+            grp.error, grp.last_en = code, True  # a table written at run time breaks a build rule
         else:
             grp.program = program
             wr0 = m.words[gs.wr[0]][gs.wr[1]]

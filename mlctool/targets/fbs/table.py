@@ -195,12 +195,14 @@ def decode(words: list[int]) -> PosProgram:
 
 
 def execution_error(program: PosProgram) -> int:
-    """The error code FUN140 raises when it executes a table that breaks the rules the
+    """The error code FUN140 (or FUN147) raises when it executes a table that breaks the rules the
     build checks (a table the PLC program wrote at run time): the "執行 FUN140 與 執行 FUN147 時
     可能之錯誤碼" list of 11.6, with the build's codes (F034 -> 34, F041 -> 41, F042 -> 42,
     F043 -> 43). 0 when the table is runnable. Decisions in docs/fbs.md."""
     d = tables().dialects[program.dialect]
     steps, n = program.steps, len(program.steps)
+    if program.dialect == "mhspo":
+        return _mhspo_execution_error(program, d)
 
     def nxt(k: int) -> int | None:
         s = steps[k - 1]
@@ -232,6 +234,27 @@ def execution_error(program: PosProgram) -> int:
             j, segs = j2, segs + 1
         if segs > d.max_segments:
             return 43
+    return 0
+
+
+def _mhspo_execution_error(program: PosProgram, d) -> int:
+    """FUN147's share of the same 11.6 list: the build's checks of a FUN147 program with
+    constant operands (register operands are checked by the interpolation when it reads
+    them): 34 a constant GOTO beyond the last step (F034), 33 every axis travel blank
+    (F033), 31/37 a constant SPD of 0 / over the maximum (F031/F037), 40 a constant travel
+    outside +-travel_max (F040). 0 when the table is runnable."""
+    n = len(program.steps)
+    for s in program.steps:
+        if s.goto is not None and s.goto.kind == "K" and not 1 <= s.goto.n <= n:
+            return 34
+        if s.speed.kind == "K" and s.speed.n == 0:
+            return 31
+        if s.speed.kind == "K" and s.speed.n > d.speed_max:
+            return 37
+        if all(v.kind == "" for v in s.motion.travel):
+            return 33
+        if any(v.kind == "K" and abs(v.n) > d.travel_max for v in s.motion.travel):
+            return 40
     return 0
 
 

@@ -294,3 +294,33 @@ def test_a_table_written_at_run_time_is_checked_when_fun140_executes():
     movs = "".join(f"MOV K{w - 65536 if w > 32767 else w} R{5000 + i}\n" for i, w in enumerate(encode(good)))
     il = AXIS.replace("MPARA K0 R2000\n", "MPARA K0 R2000\nLD M1924\n" + movs)
     assert ok(run(il, "scan 10ms\n20ms M0=1\n2s expect R4060=0 R4088:d=150", {}))
+
+
+def test_a_table_written_at_run_time_is_checked_when_fun147_executes():
+    """11.6 error list, "執行 FUN140 與 執行 FUN147 時 可能之錯誤碼": 33 "行程設定值錯誤",
+    34 "不合法定位程式"; a FUN147 table the program MOVs into place gets the build's codes
+    (F033 every axis blank, F034 GOTO beyond the last step) in D4060+Gp when FUN147 executes,
+    before any axis moves (the GOTO used to be found only after step 1 had run)."""
+    from dataclasses import replace
+
+    from mlctool.targets.fbs.lang import parse_program
+    from mlctool.targets.fbs.model import BLANK, Val, tables
+    from mlctool.targets.fbs.table import encode
+
+    text = "001 SPD 1000\n LIN ADR,1000,500, , ,Ps\n MEND\n"
+    good, diags = parse_program("t.mpos", text, tables().dialects["mhspo"])
+    assert not diags
+    step = good.steps[0]
+    blank = replace(step.motion, travel=(BLANK,) * 4)
+    cases = ((replace(step, motion=blank), 33), (replace(step, goto=Val("K", 2), mend=False), 34))
+
+    def il_writing(program):
+        movs = "".join(f"MOV K{w - 65536 if w > 32767 else w} R{5100 + i}\n" for i, w in enumerate(encode(program)))
+        return AXIS.replace("END", "LD M1924\n" + movs + "LD M1\nLD M12\nLD M13\nMHSPO K0 R5100 R2200\nEND")
+
+    tables_ = {"R5000": "001 SPD 1000\n DRV ADR,+,0,Ps\n MEND\n"}
+    for bad_step, code in cases:
+        stim = f"scan 10ms\n100ms M1=1\n2s expect D4060={code} R4088:d=0 R4090:d=0"
+        assert ok(run(il_writing(replace(good, steps=(bad_step,))), stim, tables_))
+    stim = "scan 10ms\n100ms M1=1\n2s expect D4060=0 R4088:d=1000 R4090:d=500"
+    assert ok(run(il_writing(good), stim, tables_))
