@@ -65,6 +65,16 @@ def _is_table(v) -> bool:
     return isinstance(v, dict)
 
 
+# FATEK FBs: the pulse output mode of Ps0-Ps3, as the manual spells them (11.6: "務必設定
+# Pulse Output 之工作模式 ... 為 U/D，P/R 或 A/B 等三種模式之一"); "" = not set (the Y pins
+# stay ordinary outputs). Decision in docs/fbs.md.
+PULSE_MODES = ("U/D", "P/R", "A/B", "")
+
+
+def _is_pulse_modes(v) -> bool:
+    return isinstance(v, list) and 1 <= len(v) <= 4 and all(m in PULSE_MODES for m in v)
+
+
 # key -> (test of the value, what the value must be); docs/project.md lists them
 KEYS = {
     "target": (_is_str, 'a target name string (`target = "vs"`)'),
@@ -78,6 +88,8 @@ KEYS = {
     "name": (_is_str, "a string"),
     "encoding": (_is_str, 'an encoding name string (`encoding = "cp950"`)'),
     "symbols": (_is_table, 'a table of NAME = "OPERAND" (`[symbols]`)'),
+    "pulse_modes": (_is_pulse_modes, 'a list of 1-4 pulse output modes for Ps0-Ps3, each "U/D", "P/R", '
+                    '"A/B" or "" (`pulse_modes = ["A/B", "U/D"]`, fbs target)'),
     "severity": (_is_table, 'a table of CODE = "error" | "warning" | "off" (`[severity]`)'),
 }
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import _thread
+import dataclasses
 import fnmatch
 import os
 import signal
@@ -190,7 +191,7 @@ def get_target(name: str | None, config: Config, model: str | None = None) -> Ta
     ctx = click.get_current_context(silent=True)
     model = model or (ctx.meta.get(_MODEL_KEY) if ctx else None) or config.data.get("model")
     try:
-        return load_target(name, str(model).upper() if model else None)
+        return with_pulse_modes(load_target(name, str(model).upper() if model else None), config)
     except KeyError:
         from mlctool.suggest import did_you_mean
 
@@ -199,6 +200,18 @@ def get_target(name: str | None, config: Config, model: str | None = None) -> Ta
                             f"{', '.join(names)})" + did_you_mean(name, names, "'", 0.5))) from None
     except UnknownModel as e:
         raise MlcError(diag("<command line>", Span.at(1), "E110", str(e))) from None
+
+
+def with_pulse_modes(target: Target, config: Config) -> Target:
+    """The target with mlc.toml `pulse_modes` (FBs: the axes' pulse output mode, set in the
+    programming tool on the real PLC) over its packaged default; axes not listed keep it.
+    Targets without pulse outputs are unchanged."""
+    modes = config.data.get("pulse_modes")
+    packaged = target.settings.get("pulse_modes")
+    if not modes or packaged is None:
+        return target
+    merged = [m.replace("/", "") for m in modes] + list(packaged)[len(modes):]
+    return dataclasses.replace(target, settings={**target.settings, "pulse_modes": merged})
 
 
 def show(diags: list[Diagnostic], lines: dict[str, list[str]]) -> None:

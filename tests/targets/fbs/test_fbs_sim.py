@@ -324,3 +324,29 @@ def test_a_table_written_at_run_time_is_checked_when_fun147_executes():
         assert ok(run(il_writing(replace(good, steps=(bad_step,))), stim, tables_))
     stim = "scan 10ms\n100ms M1=1\n2s expect D4060=0 R4088:d=1000 R4090:d=500"
     assert ok(run(il_writing(good), stim, tables_))
+
+
+def test_mlc_toml_pulse_modes_set_the_axes_output_mode(tmp_path):
+    """11.6: "務必設定 Pulse Output 之工作模式（不設定時，Y0～Y7 當作一般輸出）為 U/D，P/R 或 A/B
+    等三種模式之一" — "P/R 模式：Y0 送出脈波。Y1 送出方向信號；ON=上數，OFF=下數" and
+    "U/D 模式：Y0 送出上數脈波。Y1 送出下數脈波". The mode is a project setting (mlc.toml
+    `pulse_modes`, Ps0 first); while Ps0 pulses forward, Y1 is On in P/R and Off in U/D."""
+    from conftest import run_mlc
+
+    (tmp_path / "t.il").write_text(AXIS.strip() + "\n", "utf-8")
+    (tmp_path / "t.pos").write_text("001 SPD 1000\n DRV ADR,+,2000,Ps\n MEND\n", "utf-8")
+
+    def sim(toml: str, expect: str):
+        (tmp_path / "mlc.toml").write_text('target = "fbs"\n' + toml, "utf-8")
+        (tmp_path / "t.stim").write_text(f"scan 10ms\n0ms M0=1\n500ms expect {expect}\n", "utf-8")
+        return run_mlc("sim", "t.il", "--table", "R5000=t.pos", "--stimulus", "t.stim", cwd=tmp_path)
+
+    r = sim('pulse_modes = ["P/R"]\n', "Y0=1 Y1=1")
+    assert r.code == 0, r.out + r.err
+    r = sim("", "Y0=1 Y1=0")  # the packaged default: U/D
+    assert r.code == 0, r.out + r.err
+    r = sim('pulse_modes = ["U/D", "P/R"]\n', "Y0=1 Y1=0")
+    assert r.code == 0, r.out + r.err
+    assert sim('pulse_modes = ["P/R"]\n', "Y0=1 Y1=0").code == 1  # the expectation can fail
+    r = sim('pulse_modes = ["PR"]\n', "Y0=1")
+    assert r.code == 2 and "E110" in r.err and "pulse_modes" in r.err and "Traceback" not in r.err
