@@ -32,9 +32,8 @@ from dataclasses import dataclass, field
 from mlctool.debug.expr import Expr, ExprError, resolve_device
 from mlctool.devices import ModelIO
 from mlctool.program import Image
-from mlctool.sim.pulses import drive_inputs
 from mlctool.sim.run import Simulation, plan_scans
-from mlctool.sim.scan import DEFAULT_WATCHDOG, END_SCAN, Fault, end_of_scan, system_relays
+from mlctool.sim.scan import DEFAULT_WATCHDOG, END_SCAN, Fault, begin_scan, end_of_scan
 from mlctool.sim.state import DeviceView, Machine, SimFault
 from mlctool.sim.stimulus import StimError, Stimulus, parse_value
 
@@ -251,32 +250,11 @@ class DebugSession:
     # -- execution ----------------------------------------------------------------------
     def _begin_scan(self) -> None:
         """What Simulation.run does before a scan, then the scan's own prelude (run_scan)."""
-        sim, m, k = self.sim, self.m, self.scan
-        m.now_us = k * self.period
-        if sim.before_scan:
-            sim.before_scan(m)
-        for model in sim.models:
-            model.step(sim.io, m.now_us, self.period)
-        events = sim.by_scan.get(k, ())
-        if sim.irq is not None:
-            sim.irq.before_scan(sim, k, events)
-        else:
-            for e in events:
-                if e.kind not in ("expect", "alarm"):
-                    sim.apply(e)
-        if m.pulse_trains:
-            drive_inputs(m)
-        sim.apply_forces()
+        self.sim.catch_up(self.scan)
+        self.sim.apply_inputs(self.scan)
 
     def _scan_prelude(self) -> None:
-        m = self.m
-        m.t_seen[:] = bytes(len(m.t_seen))
-        m.acc = False
-        m.blocks.clear()
-        m.stack.clear()
-        m.calls = []
-        m.fors = []
-        system_relays(m)
+        begin_scan(self.m)
         self.pc = 0
         self._wd = 0
         self.n = 0

@@ -306,6 +306,30 @@ class Simulation:
         return Failure(e.line, c.col, k * self.period, k, c.view.name, c.expected_text(),
                        actual, self.writer_of(c.view), c.text)
 
+    def catch_up(self, k: int) -> None:
+        """Virtual time moves to scan k: the target's hardware and the device models catch up
+        to it, before the new inputs."""
+        m = self.m
+        m.now_us = k * self.period
+        if self.before_scan:
+            self.before_scan(m)
+        for model in self.models:
+            model.step(self.io, m.now_us, self.period)
+
+    def apply_inputs(self, k: int) -> None:
+        """Scan k's stimulus lines (in time order with the interrupt routines they request),
+        pulse trains and forces, as the scan will read them."""
+        events = self.by_scan.get(k, ())
+        if self.irq is not None:
+            self.irq.before_scan(self, k, events)
+        else:
+            for e in events:
+                if e.kind not in ("expect", "alarm"):
+                    self.apply(e)
+        if self.m.pulse_trains:
+            drive_inputs(self.m)
+        self.apply_forces()
+
     def run(self, n_scans: int, progress: Callable[[int], None] | None = None) -> RunResult:
         m = self.m
         outcomes: list[ExpectOutcome] = []
@@ -321,22 +345,9 @@ class Simulation:
         scans_done = 0
         checked_at = time.perf_counter()
         for k in range(n_scans):
-            m.now_us = k * self.period
-            if self.before_scan:  # target hardware catches up to now, before the new inputs
-                self.before_scan(m)
-            for model in self.models:
-                model.step(self.io, m.now_us, self.period)
-            events = self.by_scan.get(k, ())
+            self.catch_up(k)
             try:
-                if self.irq is not None:  # stimulus lines in time order with the routines they request
-                    self.irq.before_scan(self, k, events)
-                else:
-                    for e in events:
-                        if e.kind not in ("expect", "alarm"):
-                            self.apply(e)
-                if m.pulse_trains:
-                    drive_inputs(m)
-                self.apply_forces()
+                self.apply_inputs(k)
                 self.scan(self.watchdog)
             except Fault as f:
                 fault = self._fault(f, k)
@@ -370,7 +381,7 @@ class Simulation:
                     trace.add(m.now_us, changes)
             if fault:
                 break
-            for e in events:
+            for e in self.by_scan.get(k, ()):
                 if e.kind in ("expect", "alarm"):
                     outcomes.append(self.check(e, k))
                     now = time.perf_counter()

@@ -105,8 +105,9 @@ def load_program(image: Image, target, probe=None) -> Program:
     return prog
 
 
-def run_scan(prog: Program, m: Machine, watchdog: int = DEFAULT_WATCHDOG) -> None:
-    """Execute one scan starting at virtual time m.now_us. Raises Fault on fatal faults."""
+def begin_scan(m: Machine) -> None:
+    """A scan's prelude: the per-scan evaluation state cleared, the system relays set (also
+    what the debugger does before it steps into a scan)."""
     m.t_seen[:] = bytes(len(m.t_seen))  # in place: only power_cycle replaces containers
     m.acc = False
     m.blocks.clear()
@@ -114,6 +115,11 @@ def run_scan(prog: Program, m: Machine, watchdog: int = DEFAULT_WATCHDOG) -> Non
     m.calls = []
     m.fors = []
     system_relays(m)
+
+
+def run_scan(prog: Program, m: Machine, watchdog: int = DEFAULT_WATCHDOG) -> None:
+    """Execute one scan starting at virtual time m.now_us. Raises Fault on fatal faults."""
+    begin_scan(m)
     run_steps(prog, m, 0, 0, watchdog)
     end_of_scan(m)
 
