@@ -25,7 +25,7 @@ IN_PROGRESS = {
     "FNC 050-149",
     "FNC 150-316",
 }
-TEST_CELL = re.compile(r"`(tests/[\w/.-]+\.py)::(\w+)(?:\[[^\]]*\])?`")
+TEST_CELL = re.compile(r"`(tests/[\w/.-]+\.py)::(\w+)(?:\[([^\]]*)\])?`")
 
 
 def audit_rows():
@@ -53,10 +53,13 @@ def test_every_row_has_six_cells_and_a_test_that_exists():
         assert len(cells) == 6, f"{section}: row {cells} has {len(cells)} cells, not 6"
         tests = TEST_CELL.findall(cells[5])
         assert tests, f"{section}: row {cells[:3]} names no test as `path::name`"
-        for path, name in tests:
+        for path, name, case in tests:
             source = ROOT / path
-            if not source.is_file() or not re.search(rf"^\s*(async )?def {name}\(", source.read_text(encoding="utf-8"), re.M):
+            text = source.read_text(encoding="utf-8") if source.is_file() else ""
+            if not re.search(rf"^\s*(async )?def {name}\(", text, re.M):
                 missing.append(f"{path}::{name}")
+            elif case and f'"{case}"' not in text:  # a parametrized case: its id is written in the file
+                missing.append(f"{path}::{name}[{case}]")
     assert not missing, f"rows name tests that do not exist: {missing}"
 
 
