@@ -3,15 +3,19 @@ manual (../shared/notes/vs_instructions.json) plus the rules below, each marked 
 
 Run once by hand when the rules change; the generated TOML is the reviewed artefact.
     python3 tools/gen_vs_instructions.py > mlctool/targets/vs/instructions.toml
+    (from a worktree: VS_NOTES=/work/shared/notes/vs_instructions.json python3 tools/...)
 """
 
 from __future__ import annotations
 
 import json
+import os
 import sys
 from pathlib import Path
 
-NOTES = Path(__file__).resolve().parents[2] / "shared" / "notes" / "vs_instructions.json"
+# ../shared/notes beside the checkout (/work/main -> /work/shared); a worktree elsewhere names
+# it with VS_NOTES=/path/to/vs_instructions.json.
+NOTES = Path(os.environ.get("VS_NOTES") or Path(__file__).resolve().parents[2] / "shared" / "notes" / "vs_instructions.json")
 
 # Operand device kinds by role. SOURCE: general operand rules of 5-1/5-2 (the per-page
 # device matrices were lost in the text extraction): K/H are sources only; T/C mean present
@@ -57,6 +61,9 @@ CMP3 = [op("S1", WS), op("S2", WS), op("D", BD, "w", bits=3)]
 OPERANDS = {
     "CJ": [op("S", "P")], "CALL": [op("S", "P")],
     "FOR": [op("S", WS)],
+    # 16x16 -> 32-bit product / quotient + remainder in (D, D+1); 32-bit: four words (6-4 notes)
+    "MUL": [op("S1", WS), op("S2", WS), op("D", WD, "w", words=[2, 4])],
+    "DIV": [op("S1", WS), op("S2", WS), op("D", WD, "w", words=[2, 4])],
     "CMP": CMP3, "ZCP": [op("S1", WS), op("S2", WS), op("S", WS), op("D", BD, "w", bits=3)],
     "SMOV": [op("S", WS), n("m1", 1, 4, kinds="K H"), n("m2", 1, 4, kinds="K H"), op("D", WD, "w"),
              n("n", 1, 4, kinds="K H")],
@@ -121,8 +128,8 @@ OPERANDS = {
     "PID": [op("S1", "D R"), op("S2", "D R"), op("S3", "D R", "rw"), op("D", "D R", "w")],
     "LINK": [op("S1", "Q"), op("S2", "D R", "rw"), n(lo=1, hi=5, kinds="K H")],
     "MBUS": [op("S1", "Q"), op("S2", "D R", "rw"), n(lo=1, hi=5, kinds="K H")],
-    "DBRD": [op("S", WS), op("D", "D R", "w"), n(lo=1, hi=32767)],
-    "DBWR": [op("S", "D R"), op("D", WS), n(lo=1, hi=32767)],
+    "DBRD": [op("S", WS, range=[0, 655359], words=[2, 2]), op("D", "D R", "w"), n(lo=1, hi=32767)],
+    "DBWR": [op("S", "D R"), op("D", WS, range=[0, 655359], words=[2, 2]), n(lo=1, hi=32767)],
     "TPID": [op("S1", "D R"), op("S2", "D R"), op("S3", "D R"), op("S4", "D R", "rw"), n(lo=1, hi=16, kinds="K H")],
     "DTRD": [op("S1", "Q"), op("S2", WS), op("D", WD, "w"), n()],
     "ZPUSH": [op("D", "D R", "rw")], "ZPOP": [op("D", "D R", "rw")],
@@ -144,7 +151,8 @@ OPERANDS = {
     "CRC": [op("S", "KnX KnY KnM KnS T C D R"), op("D", WD, "w"), n(lo=1, hi=256)],
     "DHSCT": [op("S1", "D R"), n("m", 1, 16, kinds="K H"), op("S2", "C", ranges=HSC), op("D", BD, "w"),
               n(lo=1, hi=16, kinds="K H")],
-    "DTBL": [op("S1", "Q"), op("S2", "D R", "rw"), op("D1", "Y", "w", ranges=Y03), op("D2", BD, "w")],
+    "TBL": [op("S1", "Q"), op("S2", "D R", "rw", words=[4, 4]), op("D1", "Y", "w", ranges=Y03),
+            op("D2", BD, "w", ranges={"Y": [[0, 7]]})],
     "DABS": [op("S", BS), op("D1", BD, "w"), op("D2", "D R", "w")],
     "MPG": [n("S1", 0, 3), op("S2", "D R", "rw", words=[3, 6]), op("D1", "Y", "w", ranges=Y03), op("D2", BD, "w")],
     "LIR": [op("S", "D R", words=[9, 18]), op("D", "K H", range=[0, 1])],
@@ -179,6 +187,8 @@ OPS = {
     "BKCMP<=": "bkcmp_le", "BKCMP>=": "bkcmp_ge",
 }
 CMP_OPS = {"=": "cmp_eq", ">": "cmp_gt", "<": "cmp_lt", "<>": "cmp_ne", "<=": "cmp_le", ">=": "cmp_ge"}
+# operand sources other than the default (kinds of MUL/DIV from 5-1/5-2, only D's words from the note)
+SOURCES = {"TBL": "page note (S1 table Q0-Q31 or name, S2 4 words, D1 Y0-Y3, D2 Y0-Y7)", "MUL": GENERAL, "DIV": GENERAL}
 ONCE = {"MTR", "HKY", "DSW", "SEGL", "PR", "SORT", "DHSCT", "DABS"}  # "只能使用一次" (vs_reading.md 3)
 FREE = {"SRET", "IRET", "EI", "DI", "FEND", "FOR", "NEXT", "WDT"}
 
@@ -226,14 +236,14 @@ def entry(x: dict) -> list[str]:
         cls = {"LD": "load", "AND": "and", "OR": "or"}[stem]
         opname = CMP_OPS[rel]
         names = [name, f"{stem}D{rel}"]  # 32-bit spelling LDD>= (FX); DLD>= gets a hint
-    elif bits == "32 only" or name == "DTBL":
-        names = ["", name]
+    elif bits == "32 only" or name == "TBL":  # TBL is written DTBL only (8-3 FNC 312)
+        names = ["", "DTBL" if name == "TBL" else name]
     elif bits in ("16/32", "16/32?"):
         names = [name, "D" + name]
     else:
         names = [name, ""]
     ops = OPERANDS.get(name) or OPERANDS.get(name.lstrip("D") if bits == "32 only" else name)
-    source = "page note" if ops else GENERAL
+    source = SOURCES.get(name, "page note" if ops else GENERAL)
     if ops is None:
         ops = default_operands(x["operands"], floaty, stringy)
     lines = ["[[instr]]", f"names = {toml_value(names)}", f"api = {x['fnc']}", f"class = {q(cls)}",
