@@ -452,3 +452,105 @@ def step_addresses(a: Analysis, path: str, first: int, last: int) -> list[tuple[
         if m.path == path:
             return [(i.line, i.addr) for i in m.instrs if first <= i.line <= last]
     return []
+
+
+# ------------------------------------------------------------------------- semantic tokens
+# The legend (server.py sends it once): standard LSP token types where one fits, so every
+# theme colours them; the device's kind rides on modifiers (editors/vscode maps them to scopes).
+TOKEN_TYPES = ("keyword", "macro", "variable", "number", "string", "label", "comment")
+TOKEN_MODIFIERS = ("declaration", "bit", "word", "timer", "counter", "pointer", "input", "latched",
+                   "symbol", "interrupt")
+_COMMENT_START = re.compile(r";|//")
+
+
+@dataclass(frozen=True, slots=True)
+class Token:
+    line: int  # 1-based
+    col: int  # 1-based
+    length: int
+    type: str  # one of TOKEN_TYPES
+    modifiers: tuple[str, ...] = ()
+
+
+def semantic_tokens(a: Analysis, path: str) -> list[Token]:
+    """The file's words by what they are: instruction (keyword), directive (macro), device
+    (variable, with its kind: bit/word/timer/counter, input, latched), constant (number,
+    string), label or interrupt pointer (label), `.define` symbol (what it stands for, with the
+    `symbol` modifier), comment; in line and column order."""
+    parsed = a.index.parsed.get(path)
+    target = a.project.target
+    if parsed is None:
+        return []
+    by_line = {st.line: st for st in parsed.statements}
+    seen: dict[str, tuple[str, tuple[str, ...]] | None] = {}  # operand text -> its token kind
+
+    def operand(text: str) -> tuple[str, tuple[str, ...]] | None:
+        key = text.upper()
+        if key not in seen:
+            seen[key] = _operand_token(a, path, text) if target is not None else None
+        return seen[key]
+
+    out: list[Token] = []
+    for number, raw in enumerate(parsed.lines, 1):
+        st = by_line.get(number)
+        code_end = 1
+        if st is not None:
+            if st.step is not None:
+                out.append(Token(number, st.step.col, len(st.step.text), "number"))
+            name = st.name
+            operands = st.operands
+            if st.kind == "directive":
+                out.append(Token(number, name.col, len(name.text), "macro"))
+                if name.text.lower() == ".define" and operands:
+                    first = operands[0]
+                    kind = operand(operands[1].text) if len(operands) > 1 else None
+                    mods = (kind[1] if kind else ()) + ("symbol", "declaration")
+                    out.append(Token(number, first.col, len(first.text), kind[0] if kind else "variable", mods))
+                    operands = operands[1:]
+            elif st.kind == "label" or (LABEL.fullmatch(name.text) and not operands):
+                out.append(Token(number, name.col, len(name.text), "label", ("declaration",)))
+            elif target is not None and _pointer(target, name.text) and not operands:
+                out.append(Token(number, name.col, len(name.text), "label", ("declaration", "interrupt")))
+            else:
+                out.append(Token(number, name.col, len(name.text), "keyword"))
+            for w in operands:
+                kind = operand(w.text)
+                if kind is not None:
+                    out.append(Token(number, w.col, len(w.text), *kind))
+            last = st.operands[-1] if st.operands else name
+            code_end = last.end_col
+        m = _COMMENT_START.search(raw, code_end - 1)
+        if m is not None:
+            out.append(Token(number, m.start() + 1, len(raw.rstrip()) - m.start(), "comment"))
+    return out
+
+
+def _pointer(target: Target, text: str):
+    from mlctool.check.interrupts import pointer_named
+
+    return pointer_named(text, target)
+
+
+def _operand_token(a: Analysis, path: str, text: str) -> tuple[str, tuple[str, ...]] | None:
+    target = a.project.target
+    if _pointer(target, text):
+        return "label", ("interrupt",)
+    sym = resolve_symbol(a, path, text)
+    if sym is None and _is_label(a, path, text):
+        return "label", ()
+    try:
+        op = parse_operand(sym[0] if sym else text, target.operand_syntax)
+    except OperandSyntaxError:
+        return None  # undefined: the diagnostic says so; the grammar colours it
+    extra = ("symbol",) if sym else ()
+    if op.is_const:
+        return ("string" if op.kind == "$" else "number"), extra
+    dev = target.devices.get(op.device)
+    if dev is None:
+        return None
+    if dev.kind == "pointer":
+        return "label", extra
+    area = dev.area(op.number)
+    mods = (dev.kind,) + (("input",) if dev.input else ()) + (("latched",) if area is not None and area.latched
+                                                            else ())
+    return "variable", mods + extra

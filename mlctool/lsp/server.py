@@ -270,5 +270,29 @@ def inlay_hint(ls: MlcServer, params: lsp.InlayHintParams) -> list[lsp.InlayHint
     return [lsp.InlayHint(lsp.Position(line - 1, 0), f"{addr}", padding_right=True) for line, addr in found]
 
 
+SEMANTIC_LEGEND = lsp.SemanticTokensLegend(token_types=list(features.TOKEN_TYPES),
+                                           token_modifiers=list(features.TOKEN_MODIFIERS))
+
+
+@server.feature(lsp.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL, SEMANTIC_LEGEND)
+def semantic_tokens_full(ls: MlcServer, params: lsp.SemanticTokensParams) -> lsp.SemanticTokens:
+    """The whole document, encoded as the protocol asks: five integers per token (line and
+    start relative to the previous token, length, type index, modifier bits)."""
+    uri = params.text_document.uri
+    if not _is_il(uri):
+        return lsp.SemanticTokens(data=[])
+    a = ls.analysis(uri)
+    types = {t: k for k, t in enumerate(features.TOKEN_TYPES)}
+    bits = {m: 1 << k for k, m in enumerate(features.TOKEN_MODIFIERS)}
+    data: list[int] = []
+    prev_line, prev_col = 0, 0
+    for t in features.semantic_tokens(a, path_of(uri)):
+        line, col = t.line - 1, t.col - 1
+        data += [line - prev_line, col - prev_col if line == prev_line else col, t.length, types[t.type],
+                 sum(bits[m] for m in set(t.modifiers))]
+        prev_line, prev_col = line, col
+    return lsp.SemanticTokens(data=data)
+
+
 def main() -> None:
     server.start_io()

@@ -38,8 +38,9 @@ async def client(lsp_client: LanguageClient, project: Path):
 
     handlers[lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS] = diagnostics
 
-    await lsp_client.initialize_session(lsp.InitializeParams(
+    result = await lsp_client.initialize_session(lsp.InitializeParams(
         capabilities=lsp.ClientCapabilities(), root_uri=project.as_uri()))
+    _capabilities.append(result.capabilities)
     yield
     await lsp_client.shutdown_session()
 
@@ -48,6 +49,7 @@ def _uri(project: Path, name: str) -> str:
     return (project / "src" / name).as_uri()
 
 
+_capabilities: list[lsp.ServerCapabilities] = []  # the server's answer to initialize
 _versions: dict[str, int] = {}  # uri -> the version last sent
 _published: dict[str, int | None] = {}  # uri -> the version of the diagnostics last received
 
@@ -290,3 +292,45 @@ async def test_a_module_changed_on_disk_is_read_again(client: LanguageClient, pr
         lib.write_text(before)
         client.workspace_did_change_watched_files(lsp.DidChangeWatchedFilesParams(
             [lsp.FileEvent(lib.as_uri(), lsp.FileChangeType.Changed)]))
+
+
+def _decode_tokens(data: list[int], legend: lsp.SemanticTokensLegend, text: str) -> list[tuple[int, str, str, set]]:
+    """The protocol's five integers per token -> (line, word, type, modifiers)."""
+    lines = text.split("\n")
+    out, line, col = [], 0, 0
+    for k in range(0, len(data), 5):
+        dline, dcol, length, type_, mods = data[k:k + 5]
+        line += dline
+        col = col + dcol if dline == 0 else dcol
+        names = {m for b, m in enumerate(legend.token_modifiers) if mods >> b & 1}
+        out.append((line, lines[line][col:col + length], legend.token_types[type_], names))
+    return out
+
+
+async def test_semantic_tokens(client: LanguageClient, project: Path):
+    uri = _uri(project, "conveyor.il")
+    text = _text(project, "conveyor.il")
+    await _show(client, uri, text)
+    legend = _capabilities[-1].semantic_tokens_provider.legend
+    got = await client.text_document_semantic_tokens_full_async(lsp.SemanticTokensParams(
+        lsp.TextDocumentIdentifier(uri)))
+    tokens = _decode_tokens(got.data, legend, text)
+    by_line: dict[int, list] = {}
+    for line, word, type_, mods in tokens:
+        by_line.setdefault(line, []).append((word, type_, mods))
+    # a .define: the directive, the symbol declared (as the input it names), the device, the comment
+    assert by_line[_line_of(text, ".define START")] == [
+        (".define", "macro", set()), ("START", "variable", {"bit", "input", "symbol", "declaration"}),
+        ("X0", "variable", {"bit", "input"}), ("; start push button (normally open)", "comment", set())]
+    assert by_line[_line_of(text, "TMR     T0 K5")] == [
+        ("TMR", "keyword", set()), ("T0", "variable", {"timer"}), ("K5", "number", set())]
+    assert by_line[_line_of(text, "CNT     BATCH K20")] == [
+        ("CNT", "keyword", set()), ("BATCH", "variable", {"counter", "symbol"}), ("K20", "number", set())]
+    assert by_line[_line_of(text, "MOV     PICKED D100")][1:] == [
+        ("PICKED", "variable", {"word", "symbol"}), ("D100", "variable", {"word"})]
+    assert by_line[_line_of(text, "CALL    P10")][1] == ("P10", "label", set())
+    assert by_line[_line_of(text, "P1:")] == [("P1", "label", {"declaration"})]
+    assert by_line[0] == [(text.split("\n")[0], "comment", set())]
+    # in document order: no token goes back (the encoding is relative to the previous one)
+    deltas = [(got.data[k], got.data[k + 1]) for k in range(5, len(got.data), 5)]
+    assert all(d_line >= 0 and (d_line > 0 or d_col > 0) for d_line, d_col in deltas)
