@@ -38,6 +38,11 @@ class ModelIO:
         for signal, value in values.items():
             self._m.signals[(kind, NAMES.index(signal))] = int(value)
 
+    def set_pulse_mode(self, axis: int, mode: str) -> None:
+        """The pulse output mode ("UD", "PR", "AB") of pulse axis `axis` for this run, over the
+        project's setting; a target with pulse axes reads Machine.ext["pulse_modes"]."""
+        self._m.ext.setdefault("pulse_modes", {})[axis] = mode
+
     def serial_port(self, name: str):
         """The PLC's serial port `name` (CP1...), for models on a Modbus link (sim/seriallink.py)."""
         from mlctool.sim.seriallink import port  # only models on a link need it

@@ -34,8 +34,15 @@ KINDS: dict[str, dict[str, tuple[str, str]]] = {
         "inp": ("bit", "in position (1001H)"),
         "pushing": ("bit", "torque limit reached (1004H TrqLmtStatus, TRQ_LMT)"),
     },
+    "stepper": {  # mlctool/devices/stepper.py, FBs manual 11.5.1
+        "freq": ("d", "pulse frequency of the axis, Ps/s (DR4080+2Ps)"),
+        "pulses": ("d", "position of the axis, pulses (DR4088+2Ps)"),
+        "rpm": ("d", "shaft speed, 0.01 rpm: 60 x f / n (11.5.1), negative while the position falls"),
+        "angle": ("d", "shaft angle, 0.01 deg, 0..35999"),
+        "travel": ("d", "travel, um: pulses x um_per_rev / pulses_per_rev (MPARA parameters 1, 2)"),
+    },
 }
-DEFAULT_PREFIX = {"xc100": "XC"}  # an unnamed model is XC1, XC2 ... in stimulus order
+DEFAULT_PREFIX = {"xc100": "XC", "stepper": "MOT"}  # an unnamed model is XC1, XC2 ... in stimulus order
 NAMES: tuple[str, ...] = tuple(sorted({s for table in KINDS.values() for s in table}))
 VIEWS: dict[str, str] = {s: v for table in KINDS.values() for s, (v, _) in table.items()}
 SIGNAL_NAME = re.compile(r"(?P<model>[A-Z][A-Z0-9_]*)\.(?P<signal>[A-Z_]+)")

@@ -209,6 +209,8 @@ def _pins(m: Machine, p: int, slot: Slot) -> None:
 def before_scan(m: Machine) -> None:
     """Every axis runs to the scan's start time (hardware keeps going between scans)."""
     st = _state(m)
+    for p, mode in m.ext.get("pulse_modes", {}).items():  # a stimulus `model stepper mode=`
+        st.slots[p].pin_mode = mode
     trace = m.pin_window
     if trace is not None and not st.window_open and m.now_us >= trace.from_us:
         st.window_open = True  # the pins of the axes in use go to rest at the window's start

@@ -19,33 +19,7 @@ from mlctool.targets.fbs.files import table_preload
 FBS = load_target("fbs")
 SAMPLES = Path(__file__).resolve().parents[3] / "samples" / "fbs"
 
-# FUN141 table in R2000 (motor unit, 1 Ut = 1 Ps with P3 = 3, P4 100 kHz, P5 500 Hz, P8 100 ms,
-# DOG X4), then one HSPSO on Ps0 with EN M0, PAU M10, ABT M11; table at R5000, WR R2100.
-PARAMS = """
-LD M1924
-MOV K1 R2000
-MOV K2000 R2001
-DMOV K2000 R2002
-MOV K3 R2004
-DMOV K100000 R2005
-DMOV K500 R2007
-MOV K1000 R2009
-MOV K100 R2011
-MOV K256 R2012
-MOV K-252 R2019
-MOV K-1 R2020
-MOV K1 R2023
-LD M1924
-MPARA K0 R2000
-"""
-AXIS = PARAMS + """
-LD M0
-LD M10
-LD M11
-HSPSO K0 R5000 R2100
-OUT M20
-END
-"""
+from fbskit import AXIS, PARAMS  # noqa: E402
 
 
 def run(il: str, stim: str, tables: dict[str, str], trace: bool = False):
