@@ -12,7 +12,14 @@ import math
 from mlctool.sim import semantics as base
 from mlctool.sim.operands import WordRef
 from mlctool.sim.state import Machine, SimFault, bits_f32, f32_bits, s16, s32, to_f32
-from mlctool.targets.vs.common import set_flags  # M9020 zero / M9021 borrow / M9022 carry
+from mlctool.targets.vs.common import (  # set_flags: M9020 zero / M9021 borrow / M9022 carry
+    count,
+    op_error,
+    read_block,
+    relay,
+    set_flags,
+    write_block,
+)
 
 # ------------------------------------------------------------------ step ladder (4-6-1)
 
@@ -140,21 +147,41 @@ def zcp(m: Machine, s) -> None:
 
 @base._on
 def xch(m: Machine, s) -> None:
-    a, b = s.ops[0].get(m), s.ops[1].get(m)
-    s.ops[0].set(m, b)
-    s.ops[1].set(m, a)
+    """XCH D1 D2 exchanges the two (FNC 17); M9160 On makes it SWAP (2-14-1 "指定XCH指令執行
+    SWAP功能"). DECISION: as FX's M8160, the bytes of each word of D1 are exchanged when D1
+    and D2 are one device; two different devices are an operation error (6705)."""
+    d1, d2 = s.ops
+    if relay(m, "xch_swap"):
+        if d1.text != d2.text:
+            op_error(m, s, f"M9160 On (SWAP) needs D1 = D2, not {d1.text} and {d2.text}", code=6705)
+            return
+        _swap(m, s)
+        return
+    a, b = d1.get(m), d2.get(m)
+    d1.set(m, b)
+    d2.set(m, a)
 
 
 @base._on
 def bmov(m: Machine, s) -> None:
-    """BMOV S D n: n words; overlapping blocks copied in the safe order (FNC 15)."""
-    n = s.ops[2].get(m)
-    src, a = _words(m, s.ops[0], n)
-    dst, b = _words(m, s.ops[1], n)
-    block = src[a:a + n]
-    dst[b:b + n] = block
-    for k in range(n):
-        m.writer[(s.ops[1].kind, b + k)] = m.pc
+    """BMOV S D n: n words or Kn groups; overlapping blocks copied in the order that keeps
+    S (the whole block is read before it is written); M9024 On turns the direction round,
+    D -> S (FNC 15, 2-14-1)."""
+    src, dst = s.ops[0], s.ops[1]
+    n = count(m, s.ops[2])
+    if not 1 <= n <= 512:
+        op_error(m, s, f"n = {n} is outside 1-512")
+        return
+    if relay(m, "bmov_reverse"):
+        src, dst = dst, src
+    if isinstance(src, WordRef) and isinstance(dst, WordRef) and src.kind != "C" and dst.kind != "C":
+        words_s, a = _words(m, src, n)
+        words_d, b = _words(m, dst, n)
+        words_d[b:b + n] = words_s[a:a + n]
+        for k in range(n):
+            m.writer[(dst.kind, b + k)] = m.pc
+        return
+    write_block(m, dst, read_block(m, src, n, 16), 16)
 
 
 @base._on
@@ -172,13 +199,15 @@ def fill(m: Machine, s) -> None:
         m.writer[(s.ops[1].kind, b + k)] = m.pc
 
 
-@base._on
-def swap(m: Machine, s) -> None:
-    """SWAP S: the bytes of each word exchanged (FNC 147)."""
+def _swap(m: Machine, s) -> None:
     v = s.ops[0].get(m) & (0xFFFFFFFF if s.width == 32 else 0xFFFF)
     words = [(v >> (16 * k)) & 0xFFFF for k in range(s.width // 16)]
     r = sum((((w & 0xFF) << 8) | (w >> 8)) << (16 * k) for k, w in enumerate(words))
     s.ops[0].set(m, r)
+
+
+swap = base._on(_swap)
+swap.__doc__ = "SWAP S: the bytes of each word exchanged (FNC 147)."
 
 
 def _pair(m: Machine, ref) -> tuple[list, int]:
