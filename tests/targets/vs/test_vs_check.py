@@ -231,3 +231,19 @@ def test_w217_foreign_specials_read_but_never_written(tmp_path):
     assert "M8000 is read but never written" in found[0] and "M9000" in found[0]
     assert "M1002" in found[1] and "M9002" in found[1] and "D8010" in found[2] and "D9010" in found[2]
     assert "M8100" not in r.err.split("W217")[-1].split("\n")[0] and "M1500" not in r.err
+
+
+def test_w217_foreign_special_settings_written_but_never_read(tmp_path):
+    """The FX Modbus-slave set-up of public GX Works2 listings, `LD M8002 / MOV H0C87 D8120 /
+    MOV K1 D8121`: port format and station written for the CPU, never read by the program.
+    On the VS D8120 is an ordinary register, so the port is never set: W217 at each write.
+    A register of the range the program also reads is ordinary use: no warning."""
+    from conftest import run_mlc
+
+    (tmp_path / "p.il").write_text("LD M9002\nMOV H0C87 D8120\nMOV K1 D8121\nMOV K5 D8200\n"
+                                   "LD X0\nMOV D8200 D0\nEND\n", "utf-8")
+    r = run_mlc("check", "--target", "vs", "p.il", cwd=tmp_path)
+    found = [line for line in r.err.splitlines() if "W217" in line]
+    assert [f.split(":")[1] for f in found] == ["2", "3"], r.err
+    assert "D8120 is written but never read" in found[0] and "no known counterpart" in found[0]
+    assert "D8121" in found[1] and "D8200" not in r.err
