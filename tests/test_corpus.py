@@ -101,3 +101,20 @@ def test_device_comments(tmp_path, comments, export, line):
     if comments == "COMMENT.csv":  # a comment on M8000 follows it to M9000
         assert "; M9000  RUN" in il.splitlines()
     assert run_mlc("check", "--target", "vs", "p.il", cwd=tmp_path).code == 0
+
+
+def test_mrd_then_compare_blocks_joined_by_orb_and_anb(tmp_path):
+    """A stack form seen in a public IL listing: MPS / AND= / MRD / LD= / LD= / ANI / ORB / ANB /
+    MPP / AND=. It checks clean on vs and nc5, draws as one rung of three branches, and runs:
+    the MRD branch fires for D10 = 545 (first compare) and for 551 only while M5 is Off."""
+    il, stim = CORPUS / "mrd_compare_blocks.il", CORPUS / "mrd_compare_blocks.stim"
+    for target in ("vs", "nc5"):
+        r = run_mlc("check", "--target", target, str(il))
+        assert r.code == 0, r.out + r.err
+    r = run_mlc("ladder", "--target", "vs", "--term", str(il))
+    assert r.code == 0 and r.out.count("MOV K") == 4 and "[K551=D10]" in r.out, r.out
+    r = run_mlc("sim", "--target", "vs", str(il), "--stimulus", str(stim))
+    assert r.code == 0 and "3 passed, 0 failed" in r.out + r.err, r.out + r.err
+    broken = tmp_path / "s.stim"
+    broken.write_text(stim.read_text("utf-8").replace("D12=1500", "D12=0"), "utf-8")
+    assert run_mlc("sim", "--target", "vs", str(il), "--stimulus", str(broken)).code == 1
