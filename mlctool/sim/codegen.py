@@ -48,3 +48,63 @@ _CONST_EXPR = re.compile(r"[0-9()+\-*&|^~<> ]+")
 def _fold(expr: str) -> int | None:
     """The value of an expression of integer literals (known words folded in), or None."""
     return eval(expr, {"__builtins__": {}}) if _CONST_EXPR.fullmatch(expr) else None  # noqa: S307
+
+
+# ---------------------------------------------------------------------------- rung results
+# A rung result under construction is a tree of pure expressions: a leaf is the text of an
+# expression without side effects (a device read, a compare, a local), a node is
+# ("not", x), ("and", (x, ...)) or ("or", (x, ...)). It is rendered as one short-circuit
+# Python boolean expression, the cheaper operands of each AND/OR first: reordering and
+# skipping pure reads changes no state, and every consumer of a rung result (bit stores,
+# `if a:`, m.acc, the edge memories) uses its truth value only (0/1/False/True alike).
+
+_IDENT = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
+_SUBSCRIPT = re.compile(r"[A-Za-z_][A-Za-z_0-9]*\[[0-9]+\]")
+
+
+def r_not(x):
+    return x[1] if type(x) is tuple and x[0] == "not" else ("not", x)
+
+
+def r_join(op: str, x, y):
+    """x AND y / x OR y, flattened into one n-ary node."""
+    parts = []
+    for z in (x, y):
+        if type(z) is tuple and z[0] == op:
+            parts.extend(z[1])
+        else:
+            parts.append(z)
+    return (op, tuple(parts))
+
+
+def r_cost(x) -> int:
+    """Rough evaluation cost: locals 1, constant subscripts 2, anything else 4."""
+    if type(x) is str:
+        return 1 if _IDENT.fullmatch(x) else 2 if _SUBSCRIPT.fullmatch(x) else 4
+    if x[0] == "not":
+        return r_cost(x[1])
+    return sum(r_cost(c) for c in x[1])
+
+
+def r_size(x) -> int:
+    """Leaves and nesting of a tree (the generator settles large ones into `a`)."""
+    if type(x) is str:
+        return 1
+    if x[0] == "not":
+        return 1 + r_size(x[1])
+    return 1 + sum(r_size(c) for c in x[1])
+
+
+def r_text(x, inside: str = "") -> str:
+    """The Python text of a tree; `inside`: the operator of the enclosing node (parentheses
+    where Python's precedence, not > and > or, would regroup)."""
+    if type(x) is str:
+        return x
+    op = x[0]
+    if op == "not":
+        return f"not {r_text(x[1], 'not')}"
+    parts = sorted(x[1], key=r_cost)  # stable: equal costs keep the program's order
+    text = f" {op} ".join(r_text(c, op) for c in parts)
+    if inside == "not" or inside == "and" and op == "or":
+        return f"({text})"
+    return text

@@ -50,13 +50,17 @@ from mlctool.sim.codegen import (
     _s16,
     _s32,
     _word,
+    r_join,
+    r_not,
+    r_size,
+    r_text,
 )
 from mlctool.sim.compile_ops import OpsCode
 from mlctool.sim.decode import FLOW_OPS, Program, Step
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, GroupRef
 from mlctool.sim.state import s16, s32
 
-COMPILER_VERSION = "7"
+COMPILER_VERSION = "8"
 
 
 class Code:
@@ -203,12 +207,12 @@ class _Gen(OpsCode):
         self.blocks: list[str] = []  # symbolic ANB/ORB block stack: names of locals
         self.stack: list[str] = []  # symbolic MPS stack
         self.tmp = 0
-        self.acc: str | None = None  # the rung result when not (yet) in `a`
-        self.depth = 0
+        self.acc = None  # the rung result (a codegen.r_* tree) when not (yet) in `a`
         self.emit("a = m.acc" if self.acc_live else "a = False", first)
         ended = False
-        for s in block:
+        for k, s in enumerate(block):
             op = s.ins.spec.op
+            self.next_step = block[k + 1] if k + 1 < len(block) else None
             if op in FLOW_OPS:
                 self.flow(s, j)
                 ended = True
@@ -567,11 +571,11 @@ class _Gen(OpsCode):
         if op == "contact":
             return b
         if op == "contact_not":
-            return f"({b} ^ 1)"
+            return ("not", b)
         e = self.use("bE")
         c, p = self.new_tmp("c"), self.new_tmp("e")
         self.emit(f"{c} = {b}; {p} = {e}[{i}]; {e}[{i}] = {c}", i)
-        return f"({c} & ({p} ^ 1))" if op == "contact_rise" else f"({p} & ({c} ^ 1))"
+        return ("and", (c, ("not", p))) if op == "contact_rise" else ("and", (p, ("not", c)))
 
     def compare_const(self, s: Step) -> str | None:
         """A register compared with a constant, without making the register's value signed:
@@ -591,29 +595,28 @@ class _Gen(OpsCode):
         left, right = (c, reg) if consts[0] else (reg, c)
         return f"({left} {_CMP[s.ins.spec.op]} {right})"
 
-    # -- the rung result: an expression (`self.acc`) until something needs it in `a`
-    def cur(self) -> str:
+    # -- the rung result: a tree of pure expressions (`self.acc`, codegen.r_*) until something
+    # needs it in `a`
+    def cur(self):
         return self.acc if self.acc is not None else "a"
 
-    def set_acc(self, expr: str, i: int) -> None:
-        self.acc = expr
-        self.depth += 1
-        if self.depth > 24:  # keep expressions shallow
+    def set_acc(self, tree, i: int) -> None:
+        self.acc = tree
+        if r_size(tree) > 48:  # keep expressions shallow
             self.settle(i)
 
     def settle(self, i: int) -> None:
         if self.acc is not None:
-            self.emit(f"a = {self.acc}", i)
+            self.emit(f"a = {r_text(self.acc)}", i)
             self.acc = None
-        self.depth = 0
 
     def rung(self, s: Step) -> None:
         spec = s.ins.spec
         op, cls, i = spec.op, spec.cls, s.index
         if op in ("result_rise", "result_fall"):  # MEP/MEF (VS 3-3): the edge of the result so far
             e, c, p = self.use("bE"), self.new_tmp("c"), self.new_tmp("e")
-            self.emit(f"{c} = {self.cur()}; {p} = {e}[{i}]; {e}[{i}] = {c}", i)
-            self.acc, self.depth = (f"({c} & ({p} ^ 1))" if op == "result_rise" else f"({p} & ({c} ^ 1))"), 0
+            self.emit(f"{c} = {r_text(self.cur())}; {p} = {e}[{i}]; {e}[{i}] = {c}", i)
+            self.acc = ("and", (c, ("not", p))) if op == "result_rise" else ("and", (p, ("not", c)))
         elif cls in ("load", "and", "or"):
             c = self.contact(s)
             if c is None:
@@ -622,36 +625,30 @@ class _Gen(OpsCode):
                 if s.new_rung:
                     self.blocks.clear()
                     self.stack.clear()
-                    self.acc, self.depth = None, 0
+                    self.acc = None
                 else:
                     k = self.new_tmp("k")
-                    self.emit(f"{k} = {self.cur()}", i)
+                    self.emit(f"{k} = {r_text(self.cur())}", i)
                     self.blocks.append(k)
-                    self.depth = 0
                 self.set_acc(c, i)
-            elif cls == "and":
-                self.set_acc(f"({self.cur()} & {c})", i)
             else:
-                self.set_acc(f"({self.cur()} | {c})", i)
-        elif op == "anb":
+                self.set_acc(r_join(cls, self.cur(), c), i)
+        elif op in ("anb", "orb"):
             if self.blocks:
-                self.set_acc(f"({self.blocks.pop()} & {self.cur()})", i)
-        elif op == "orb":
-            if self.blocks:
-                self.set_acc(f"({self.blocks.pop()} | {self.cur()})", i)
+                self.set_acc(r_join("and" if op == "anb" else "or", self.blocks.pop(), self.cur()), i)
         elif op == "mps":
             k = self.new_tmp("p")
-            self.emit(f"{k} = {self.cur()}", i)
+            self.emit(f"{k} = {r_text(self.cur())}", i)
             self.stack.append(k)
-            self.acc, self.depth = k, 0
+            self.acc = k
         elif op == "mrd":
             if self.stack:
-                self.acc, self.depth = self.stack[-1], 0
+                self.acc = self.stack[-1]
         elif op == "mpp":
             if self.stack:
-                self.acc, self.depth = self.stack.pop(), 0
+                self.acc = self.stack.pop()
         else:  # inv
-            self.set_acc(f"({self.cur()} ^ 1)", i)
+            self.set_acc(r_not(self.cur()), i)
 
     def instr(self, s: Step) -> None:
         spec = s.ins.spec
@@ -679,8 +676,11 @@ class _Gen(OpsCode):
         if op == "out" and _bit_simple(s.ops[0]) and s.ops[0].kind in ("Y", "M", "A"):
             dst = self.bit(s.ops[0])
             if self.acc is not None:
-                self.emit(f"{dst} = a = {self.acc}", i)
-                self.acc, self.depth = None, 0
+                # the rung result is not kept when the next step starts a new rung
+                nxt = self.next_step
+                dead = nxt is not None and nxt.ins.spec.cls == "load" and nxt.new_rung
+                self.emit(f"{dst} = {'' if dead else 'a = '}{r_text(self.acc)}", i)
+                self.acc = None
             else:
                 self.emit(f"{dst} = a", i)
             self.defer_writer((s.ops[0].kind, s.ops[0].num), i)
