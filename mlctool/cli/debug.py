@@ -22,8 +22,8 @@ from mlctool.sim.stimulus import StimError, parse_time
 
 @main_group.command("debug", epilog=examples(
     "mlc debug prog.il --stimulus s.stim        # the console: step, break, back, rung ...",
-    "mlc debug prog.il --stimulus s.stim < commands.txt   # scripted: one command a line",
     "mlc debug --dap                            # a DAP server on stdio (VS Code: docs/debug.md)",
+    "mlc debug prog.il --web --port 8080        # the live ladder monitor: http://127.0.0.1:8080/",
 ))
 @target_option
 @encoding_option
@@ -38,13 +38,19 @@ from mlctool.sim.stimulus import StimError, parse_time
 @click.option("--dap", is_flag=True, help="serve the Debug Adapter Protocol on stdin/stdout")
 @click.option("--dap-port", type=click.IntRange(1, 65535), default=None, metavar="N",
               help="serve the Debug Adapter Protocol on 127.0.0.1:N (one client)")
+@click.option("--web", is_flag=True,
+              help="serve the live ladder monitor (power flow, values, force by clicking) on 127.0.0.1")
+@click.option("--port", type=click.IntRange(0, 65535), default=None, metavar="N",
+              help="the --web monitor's port (default: a free one; the URL is printed)")
 @click.argument("program", nargs=-1, type=click.Path(), metavar="[FILE]...")
-def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint_every, dap, dap_port, program):
+def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint_every, dap, dap_port, web, port,
+              program):
     """Debug a program on the simulator: breakpoints, stepping, time travel (console or DAP).
 
     The console reads commands (`help` lists them) from the terminal, or from a pipe for
     scripts. With --dap or --dap-port the program comes in the client's launch request.
-    Exit 0: the session ended; 2: usage error or unreadable input.
+    With --web the ladder is served as a live monitor page until Ctrl-C.
+    Exit 0: the session ended; 2: usage error, unreadable input or a port in use.
     """
     scan_us = None
     if scan_time is not None:
@@ -54,6 +60,10 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
             raise click.BadParameter(e.message, param_hint="--scan-time") from None
         if scan_us <= 0:
             raise click.BadParameter("must be positive", param_hint="--scan-time")
+    if web and (dap or dap_port is not None):
+        raise click.UsageError("--web and --dap/--dap-port are different front ends: give one")
+    if port is not None and not web:
+        raise click.UsageError("--port is the --web monitor's port (the DAP server's is --dap-port)")
     config = get_config(config_path)
     if dap or dap_port is not None:
         from mlctool.debug.dap import serve_port, serve_stdio
@@ -77,4 +87,13 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
     except LoadError as e:
         show(e.diagnostics, e.lines)
         sys.exit(2)
+    if web:
+        from mlctool.debug.web import serve
+
+        try:
+            serve(session, port or 0, lambda text: click.echo(text))
+        except OSError as e:  # the port is taken (or not ours to take)
+            click.echo(f"mlc debug: cannot serve on 127.0.0.1:{port}: {e.strerror or e}", err=True)
+            sys.exit(2)
+        return
     interactive(Console(session, click.echo))

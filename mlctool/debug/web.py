@@ -1,0 +1,622 @@
+"""`mlc debug --web`: the live ladder monitor (docs/debug.md "Live ladder monitor").
+
+The page is `mlc ladder`'s (ladder/html.py, the same renderer) plus a control bar and a
+script; it is served on 127.0.0.1 with a WebSocket at `/ws` that carries JSON messages both
+ways. The server is a thin front end over one DebugSession: every request (step, scan, back,
+force, ...) is a call on the session under one lock, and after each one the new state (power
+flow, device values, forces, where the machine is) goes to every connected tab. `run` is the
+session's own `run(scans=N)` called every tick (50 ms) for the scans that virtual time owes
+wall-clock time at the chosen speed; a breakpoint, watch or fault ends it.
+
+Power flow is what a PLC's monitor mode shows at a stop: a contact is lit when it conducts
+with the devices' values now (a comparison when it holds; LDP/LDF when their device is On:
+the one-execution pulse itself is not visible at a stop), a coil or an STL state box when
+its device is On. Instruction boxes show their operands' values below them.
+
+Hostile input: every message is parsed and checked; anything wrong gets an `error` reply and
+the connection and the server go on. Messages over MAX_MESSAGE bytes close that connection
+(WebSocket code 1009), never the server. Requests whose Host or Origin is not this server's
+loopback address are refused (a web page elsewhere cannot drive the debugger).
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+import time
+from dataclasses import dataclass, field
+from http import HTTPStatus
+
+from mlctool.debug.console import ALIASES, Console
+from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Stop, _fmt, _time
+from mlctool.ladder.document import RungView, build_sheet
+from mlctool.ladder.html import page, sheets_body
+from mlctool.sim import semantics
+from mlctool.sim.state import DeviceView, NameError_, parse_device_name
+from mlctool.sim.stimulus import StimError
+
+MAX_MESSAGE = 64 * 1024
+TICK_S = 0.05  # a running machine's state goes out at most this often
+MAX_SPEED = 0  # `run` speed 0: as fast as the engine goes
+MAX_BATCH_S = 0.04  # at speed 0, scans run between two looks at the clock
+# console lines the page may send: not `save` (it writes files) nor `quit`
+CONSOLE_REFUSED = ("save", "quit")
+CONSOLE_MOVES = ("step", "scan", "next", "run", "continue", "back", "reverse-continue", "goto")
+COMMANDS = ("state", "step", "scan", "back", "back-scan", "goto", "run", "pause", "force", "release",
+            "toggle", "console")
+
+
+class RequestError(ValueError):
+    pass
+
+
+@dataclass
+class Element:
+    """A drawn element (`g.el[data-i]`) and what the monitor shows on it."""
+    index: int
+    kind: str  # contact | compare | step | coil | box
+    values: list[DeviceView] = field(default_factory=list)  # shown below a box or comparison
+    bit: DeviceView | None = None  # the device a click forces (contacts and coils)
+
+
+def _view(text: str, target, width: int, box: bool) -> DeviceView | None:
+    """An operand's view for display: words of 32-bit instructions as :d, timers and
+    counters in boxes as their value (a contact shows their contact)."""
+    try:
+        view = parse_device_name(text, target)
+        if box and view.kind in ("T", "C") and view.view == "bit":
+            return parse_device_name(text + ":w", target)
+        if width == 32 and view.view == "w" and view.kind not in ("T", "C"):
+            return parse_device_name(text + ":d", target)
+        return view
+    except NameError_:
+        return None  # constants (K10), pointers (P3), indexed operands
+
+
+def elements_of(session: DebugSession, sheet) -> dict[int, Element]:
+    out: dict[int, Element] = {}
+    target = session.target
+
+    def add(index: int, kind: str) -> None:
+        ins = session.steps[index].ins
+        views = [_view(str(op), target, ins.spec.width, kind == "box") for op in ins.operands]
+        views = list({v.name: v for v in views if v is not None}.values())  # ADD D0 K1 D0: D0 once
+        el = Element(index, kind)
+        if kind in ("contact", "coil", "step") and views and views[0].view == "bit":
+            el.bit = views[0]
+        if kind in ("compare", "box"):
+            el.values = views
+        out[index] = el
+
+    for it in sheet.items:
+        if isinstance(it, RungView):
+            for c in it.grid.cells:
+                if c.index >= 0 and c.kind in ("contact", "compare", "step"):
+                    add(c.index, c.kind)
+            for o in it.grid.outputs:
+                if o.kind in ("coil", "box"):
+                    add(o.index, o.kind)
+        elif it.row.ins.spec.cls != "label":
+            add(it.row.index, "box")
+    return out
+
+
+class Monitor:
+    """The session, its lock, the connected clients and the runner."""
+
+    def __init__(self, session: DebugSession, title: str = ""):
+        self.s = session
+        self.lock = threading.RLock()
+        self.clients: dict[object, threading.Lock] = {}
+        self.clients_lock = threading.Lock()
+        image = session.image
+        names = [p for p, _, _ in image.modules] or sorted({i.file for i in image.instrs if i.file})
+        self.sheet = build_sheet(" + ".join(names), list(image.instrs), getattr(session, "lines", {}) or {})
+        self.title = title or f"Monitor: {self.sheet.path}"
+        self.elements = elements_of(session, self.sheet)
+        self.shown: dict[str, DeviceView] = {}
+        for el in self.elements.values():
+            for v in ([el.bit] if el.bit else []) + el.values:
+                self.shown.setdefault(v.name, v)
+        self.stop_text = f"at {session.where()}"
+        self.running = False
+        self.speed = 1.0
+        self._runner: threading.Thread | None = None
+        self._collect: list[str] | None = None  # console output of the request being served
+        self.console = Console(session, self._output)
+        self.closed = threading.Event()
+
+    # -- state --------------------------------------------------------------------------
+    def _lit(self, el: Element) -> bool | None:
+        m, s = self.s.m, self.s.steps[el.index]
+        op = s.ins.spec.op
+        try:
+            if el.kind == "contact" and op in ("contact_rise", "contact_fall"):
+                return bool(s.ops[0].bit(m))
+            if el.kind in ("contact", "compare") and op in semantics.CONTACTS:
+                return bool(semantics.CONTACTS[op](m, s))
+            if el.kind in ("coil", "step") and hasattr(s.ops[0], "bit"):
+                return bool(s.ops[0].bit(m))
+        except Exception:  # noqa: BLE001 - an index out of range now: shown unlit, not fatal
+            return None
+        return None
+
+    def state(self) -> dict:
+        s = self.s
+        with self.lock:
+            m = s.m
+            values = {}
+            for name, view in self.shown.items():
+                try:
+                    values[name] = _fmt(view.read(m))
+                except (IndexError, KeyError, ValueError):
+                    values[name] = "?"
+            return {
+                "type": "state", "scan": s.scan, "time": _time(s.time_us), "where": s.where(),
+                "pc": s.pc if s.n != BOUNDARY else None, "running": self.running,
+                "speed": self.speed, "stop": self.stop_text,
+                "fault": s.fault.message if s.fault is not None else None,
+                "on": sorted(i for i, el in self.elements.items() if self._lit(el)),
+                "values": values,
+                "forced": {v.name: _fmt(value) for v, value in s.sim.forces.items()},
+            }
+
+    def page(self) -> str:
+        data = {"elements": {str(i): {"kind": el.kind, "bit": el.bit.name if el.bit else None,
+                                      "values": [v.name for v in el.values]}
+                             for i, el in sorted(self.elements.items())}}
+        body = (sheets_body([self.sheet])
+                + f'\n<script type="application/json" id="monitor">{_json_script(data)}</script>')
+        return page(self.title, body, MONITOR_STYLE, MONITOR_SCRIPT, CONTROLS)
+
+    # -- clients --------------------------------------------------------------------------
+    def add_client(self, conn) -> None:
+        with self.clients_lock:
+            self.clients[conn] = threading.Lock()
+
+    def remove_client(self, conn) -> None:
+        with self.clients_lock:
+            self.clients.pop(conn, None)
+
+    def send(self, conn, msg: dict) -> None:
+        with self.clients_lock:
+            lock = self.clients.get(conn)
+        if lock is None:
+            return
+        text = json.dumps(msg, separators=(",", ":"))
+        try:
+            with lock:
+                conn.send(text)
+        except Exception:  # noqa: BLE001 - a closed tab: dropped, the others go on
+            self.remove_client(conn)
+
+    def broadcast(self, msg: dict) -> None:
+        with self.clients_lock:
+            conns = list(self.clients)
+        for conn in conns:
+            self.send(conn, msg)
+
+    def _output(self, text: str) -> None:
+        """Console output, logpoints and failed expects: to the request's reply, else to all."""
+        if self._collect is not None:
+            self._collect.append(text)
+        else:
+            self.broadcast({"type": "output", "text": text})
+
+    # -- requests -------------------------------------------------------------------------
+    def handle_text(self, text) -> tuple[dict, bool]:
+        """One message -> (reply, whether the state changed). Never raises."""
+        msg_id = None
+        try:
+            if not isinstance(text, str):
+                raise RequestError("send JSON text, not binary messages")
+            try:
+                msg = json.loads(text)
+            except (json.JSONDecodeError, RecursionError) as e:
+                raise RequestError(f"not JSON: {e}") from None
+            if not isinstance(msg, dict):
+                raise RequestError("a message is a JSON object with a `cmd`")
+            msg_id = msg.get("id")
+            if not (msg_id is None or (isinstance(msg_id, int) and not isinstance(msg_id, bool))
+                    or isinstance(msg_id, str) and len(msg_id) <= 100):
+                msg_id = None
+                raise RequestError("`id` must be an integer or a short string")
+            cmd = msg.get("cmd")
+            if cmd not in COMMANDS:
+                raise RequestError(f"unknown cmd {str(cmd)[:40]!r}: one of {', '.join(COMMANDS)}")
+            text_out, changed = getattr(self, "cmd_" + cmd.replace("-", "_"))(msg)
+            reply = {"type": "reply", "id": msg_id, "ok": True}
+            if text_out:
+                reply["text"] = text_out
+            return reply, changed
+        except (RequestError, DebugError) as e:
+            return {"type": "error", "id": msg_id, "message": str(e)}, False
+        except StimError as e:
+            return {"type": "error", "id": msg_id, "message": e.message}, False
+        except Exception as e:  # noqa: BLE001 - a bug: an error reply, not a dead monitor
+            return {"type": "error", "id": msg_id, "message": f"internal error: {type(e).__name__}: {e}"}, False
+
+    def _arg(self, msg: dict, name: str, kind=str):
+        v = msg.get(name)
+        if not isinstance(v, kind) or isinstance(v, bool):
+            raise RequestError(f"`{msg['cmd']}` needs `{name}` ({'a string' if kind is str else 'a number'})")
+        return v
+
+    def _device(self, msg: dict) -> DeviceView:
+        name = self._arg(msg, "device")
+        if len(name) > 100:
+            raise RequestError("`device`: too long")
+        return self.s.view(name)
+
+    def _stopped(self, stop: Stop) -> tuple[str, bool]:
+        self.stop_text = stop.text
+        return stop.text, True
+
+    def cmd_state(self, msg):
+        return "", False  # the caller sends the state to this client
+
+    def cmd_step(self, msg):
+        self.pause()
+        with self.lock:
+            return self._stopped(self.s.step())
+
+    def cmd_scan(self, msg):
+        self.pause()
+        with self.lock:
+            return self._stopped(self.s.step_scan())
+
+    def cmd_back(self, msg):
+        self.pause()
+        with self.lock:
+            return self._stopped(self.s.back())
+
+    def cmd_back_scan(self, msg):
+        self.pause()
+        with self.lock:
+            return self._stopped(self.s.back_scan())
+
+    def cmd_goto(self, msg):
+        k = self._arg(msg, "scan", int)
+        self.pause()
+        with self.lock:
+            return self._stopped(self.s.goto_scan(k))
+
+    def cmd_force(self, msg):
+        with self.lock:
+            view = self._device(msg)
+            value = msg.get("value")
+            if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+                raise RequestError("`force` needs `value` (a number or a string such as \"K10\")")
+            v = self.s.value_for(view, str(value))
+            self.s.force(view, v)
+            return f"forced {view.name}={_fmt(v)}", True
+
+    def cmd_release(self, msg):
+        with self.lock:
+            view = self._device(msg)
+            self.s.release(view)
+            return f"released {view.name}", True
+
+    def cmd_toggle(self, msg):
+        """A click on a contact or coil: force its bit to the other value."""
+        with self.lock:
+            view = self._device(msg)
+            if view.view != "bit":
+                raise RequestError(f"{view.name} is not a bit: force it with a value")
+            v = 0 if view.read(self.s.m) else 1
+            self.s.force(view, v)
+            return f"forced {view.name}={v}", True
+
+    def cmd_console(self, msg):
+        line = self._arg(msg, "line")
+        if len(line) > 1000 or "\n" in line:
+            raise RequestError("`line`: one console command of at most 1000 characters")
+        word = line.strip().split(" ", 1)[0].lower()
+        if ALIASES.get(word, word) in CONSOLE_REFUSED:
+            raise RequestError(f"`{word}` is not available from the page (use the terminal console)")
+        self.pause()
+        with self.lock:
+            self._collect = []
+            try:
+                self.console.execute(line)
+                out = self._collect
+            finally:
+                self._collect = None
+            if len(out) == 1 and out[0].startswith("error: "):
+                raise RequestError(out[0][len("error: "):])
+            if ALIASES.get(word, word) in CONSOLE_MOVES and out and not out[0].startswith("error:"):
+                self.stop_text = out[0]
+            return "\n".join(out), True
+
+    # -- running --------------------------------------------------------------------------
+    def cmd_run(self, msg):
+        speed = msg.get("speed", 1)
+        if isinstance(speed, bool) or not isinstance(speed, (int, float)) or not 0 <= speed <= 1e6:
+            raise RequestError("`speed`: a number, 1 = real time, 0 = as fast as possible")
+        with self.lock:
+            self.s._need_running()
+            self.speed = float(speed)
+            if self.running:
+                return "", True
+            self.running = True
+            self.stop_text = "running"
+            self._runner = threading.Thread(target=self._run, name="mlc-monitor-run", daemon=True)
+            self._runner.start()
+        return "", True
+
+    def cmd_pause(self, msg):
+        was = self.running
+        self.pause()
+        with self.lock:
+            if was:
+                self.stop_text = f"paused at {self.s.where()}"
+        return "", True
+
+    def pause(self) -> None:
+        runner = self._runner
+        self.running = False
+        if runner is not None and runner is not threading.current_thread():
+            runner.join()
+        self._runner = None
+
+    def _run(self) -> None:
+        """Scans as virtual time owes wall time (speed x); the state out every tick."""
+        start_wall, start_scan, batch = time.perf_counter(), self.s.scan, 1
+        while self.running and not self.closed.is_set():
+            tick = time.perf_counter()
+            with self.lock:
+                if not self.running:
+                    break
+                s = self.s
+                if self.speed == MAX_SPEED:
+                    n = batch
+                else:
+                    due = start_scan + int((tick - start_wall) * 1e6 * self.speed / s.period)
+                    n = min(due - s.scan, 100_000)
+                    if n > 10_000:  # the engine cannot keep up: fall behind, not flood
+                        start_wall, start_scan = tick, s.scan
+                stop = s.run(scans=n) if n > 0 else None
+                if stop is not None and stop.reason != "step":
+                    self.running = False
+                    self.stop_text = stop.text
+                state = self.state()
+            self.broadcast(state)
+            spent = time.perf_counter() - tick
+            if self.speed == MAX_SPEED:
+                batch = max(1, min(batch * 2, 100_000)) if spent < MAX_BATCH_S / 2 else max(1, batch // 2)
+                time.sleep(0.002)  # let requests in
+            else:
+                time.sleep(max(0.0, TICK_S - spent))
+
+    def close(self) -> None:
+        self.closed.set()
+        self.pause()
+
+
+def _json_script(data) -> str:
+    """JSON inside a <script> element: `</` cannot end it early."""
+    return json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
+
+
+# -- the server -------------------------------------------------------------------------------
+
+class WebServer:
+    """The HTTP page at `/` and the WebSocket at `/ws` (the `websockets` package, imported
+    here only: `mlc --help` and the other commands never load it)."""
+
+    def __init__(self, monitor: Monitor, port: int = 0):
+        from websockets.sync.server import serve
+
+        self.monitor = monitor
+        self.server = serve(self._serve_ws, "127.0.0.1", port, process_request=self._http,
+                            max_size=MAX_MESSAGE, compression=None)
+        self.port = self.server.socket.getsockname()[1]
+        self.url = f"http://127.0.0.1:{self.port}/"
+        self._page: bytes | None = None
+
+    def _allowed_hosts(self) -> set[str]:
+        return {f"127.0.0.1:{self.port}", f"localhost:{self.port}"}
+
+    def _http(self, conn, request):
+        from websockets.datastructures import Headers
+        from websockets.http11 import Response
+
+        def respond(status: HTTPStatus, body: bytes, ctype: str = "text/plain; charset=utf-8"):
+            headers = Headers([("Content-Type", ctype), ("Content-Length", str(len(body))),
+                               ("Cache-Control", "no-store"), ("Connection", "close")])
+            return Response(status.value, status.phrase, headers, body)
+
+        host = request.headers.get("Host", "")
+        if host not in self._allowed_hosts():  # DNS rebinding: only our own address
+            return respond(HTTPStatus.FORBIDDEN, b"forbidden: wrong Host\n")
+        path = request.path.split("?", 1)[0]
+        if path == "/ws":
+            origin = request.headers.get("Origin")
+            if origin is not None and origin not in {"http://" + h for h in self._allowed_hosts()}:
+                return respond(HTTPStatus.FORBIDDEN, b"forbidden: another site's page\n")
+            return None  # the WebSocket handshake goes on
+        if path == "/":
+            if self._page is None:
+                self._page = self.monitor.page().encode("utf-8")
+            return respond(HTTPStatus.OK, self._page, "text/html; charset=utf-8")
+        if path == "/favicon.ico":
+            return respond(HTTPStatus.NO_CONTENT, b"")
+        return respond(HTTPStatus.NOT_FOUND, b"not found\n")
+
+    def _serve_ws(self, conn) -> None:
+        from websockets.exceptions import ConnectionClosed
+
+        mon = self.monitor
+        mon.add_client(conn)
+        try:
+            mon.send(conn, mon.state())
+            for message in conn:
+                reply, changed = mon.handle_text(message)
+                mon.send(conn, reply)
+                if changed:
+                    mon.broadcast(mon.state())
+                elif reply.get("ok"):
+                    mon.send(conn, mon.state())
+        except ConnectionClosed:
+            pass
+        finally:
+            mon.remove_client(conn)
+
+    def serve_forever(self) -> None:
+        self.server.serve_forever()
+
+    def start(self) -> threading.Thread:
+        """Serve in a thread (tests)."""
+        t = threading.Thread(target=self.serve_forever, name="mlc-monitor", daemon=True)
+        t.start()
+        return t
+
+    def shutdown(self) -> None:
+        self.monitor.close()
+        self.server.shutdown()
+
+
+CONTROLS = """
+<span id="controls">
+<button id="b-run" type="button" title="run in real time (at the chosen speed)">Run</button>
+<select id="speed" aria-label="speed"><option value="1">1&times;</option><option value="10">10&times;</option>
+<option value="100">100&times;</option><option value="0">max</option></select>
+<button id="b-pause" type="button">Pause</button>
+<button id="b-step" type="button" title="one instruction">Step</button>
+<button id="b-scan" type="button" title="to the end of the scan">Scan</button>
+<button id="b-back" type="button" title="one instruction back">Back</button>
+<button id="b-backscan" type="button" title="back to the start of the scan">Back scan</button>
+</span>
+<span id="where" class="mon">connecting...</span>
+""".strip()
+
+MONITOR_STYLE = """
+#controls button{font-size:13px}
+.mon{font-family:monospace;font-size:12px}
+#bar{padding:4px 16px;background:#fff;border-bottom:1px solid #ddd;font-size:13px;display:flex;gap:16px;flex-wrap:wrap}
+#bar .err{color:#b00020}
+#forced button{font-size:11px;margin-left:4px}
+#cmd{font-family:monospace;width:22em}
+#out{margin:0;max-height:8em;overflow:auto;font-size:12px;background:#f4f4f4;white-space:pre-wrap}
+.lad .el.click{cursor:pointer}
+.lad .el.forced .sym{stroke:#d35400;stroke-width:3}
+.lad .el.forced text{fill:#a04000;font-weight:bold}
+.lad .el.cur{filter:drop-shadow(0 0 3px #1f4fbf)}
+.lad .el.cur .sym,.lad .el.cur .box{stroke:#1f4fbf}
+.lad text.val{font-size:10px;fill:#1f4f9f}
+body.off main{opacity:.5}
+""".strip()
+
+# The page's side: `data` says which device each element shows; a state message lights the
+# elements that conduct, writes values and marks forces. A click on a contact or coil forces
+# its device to the other value; shift-click (or the list's release button) releases it.
+MONITOR_SCRIPT = r"""
+(function(){
+  var data=JSON.parse(document.getElementById('monitor').textContent);
+  var SVG='http://www.w3.org/2000/svg';
+  var header=document.querySelector('header'), bar=document.createElement('div');
+  bar.id='bar';
+  bar.innerHTML='<span id="stop" class="mon"></span><span id="forced">forced: <i>none</i></span>'+
+    '<span><input id="cmd" placeholder="console: break if D0 &gt; 3, watch Y0, print D0" aria-label="console command"></span>';
+  header.parentNode.insertBefore(bar,header.nextSibling);
+  var out=document.createElement('pre'); out.id='out'; bar.parentNode.insertBefore(out,bar.nextSibling);
+  var where=document.getElementById('where'), stopEl=document.getElementById('stop');
+  var forcedEl=document.getElementById('forced'), cmd=document.getElementById('cmd');
+  var els={}, vals={};
+  Array.prototype.forEach.call(document.querySelectorAll('.el[data-i]'),function(g){
+    var i=g.getAttribute('data-i'), d=data.elements[i];
+    if(!d) return;
+    (els[i]=els[i]||[]).push(g);
+    if(d.bit){ g.classList.add('click'); g.setAttribute('data-bit',d.bit); }
+    if(d.values.length){
+      var b=g.getBBox(), t=document.createElementNS(SVG,'text');
+      t.setAttribute('class','val'); t.setAttribute('x',b.x+b.width/2); t.setAttribute('y',b.y+b.height+11);
+      t.setAttribute('text-anchor','middle'); g.appendChild(t); vals[i]=t;
+    }
+  });
+  var ws=null, nextId=1, pending={};
+  function log(text,cls){
+    var line=document.createElement('div'); line.textContent=text; if(cls) line.className=cls;
+    out.appendChild(line); out.scrollTop=out.scrollHeight;
+    while(out.childNodes.length>200) out.removeChild(out.firstChild);
+  }
+  function send(o){
+    if(!ws||ws.readyState!==1){ log('not connected','err'); return; }
+    o.id=nextId++; pending[o.id]=o.cmd; ws.send(JSON.stringify(o));
+  }
+  function show(st){
+    var on={}; st.on.forEach(function(i){ on[i]=1; });
+    Object.keys(els).forEach(function(i){
+      var d=data.elements[i];
+      els[i].forEach(function(g){
+        g.classList.toggle('on',!!on[i]);
+        g.classList.toggle('cur',st.pc!==null&&+i===st.pc);
+        g.classList.toggle('forced',!!(d.bit&&st.forced.hasOwnProperty(d.bit)));
+      });
+      if(vals[i]) vals[i].textContent=d.values.map(function(n){ return n+'='+st.values[n]; }).join('  ');
+    });
+    where.textContent=(st.running?'running: ':'')+st.where;
+    stopEl.textContent=st.fault?('fault: '+st.fault):st.stop;
+    stopEl.className='mon'+(st.fault?' err':'');
+    var names=Object.keys(st.forced).sort();
+    forcedEl.innerHTML='forced: '+(names.length?'':'<i>none</i>');
+    names.forEach(function(n){
+      var s=document.createElement('span'); s.textContent=' '+n+'='+st.forced[n];
+      var b=document.createElement('button'); b.type='button'; b.textContent='release';
+      b.setAttribute('data-release',n);
+      b.addEventListener('click',function(){ send({cmd:'release',device:n}); });
+      s.appendChild(b); forcedEl.appendChild(s);
+    });
+    if(st.pc!==null&&els[st.pc]&&!st.running){
+      var r=els[st.pc][0].getBoundingClientRect();
+      if(r.top<80||r.bottom>window.innerHeight) els[st.pc][0].scrollIntoView({block:'center'});
+    }
+    document.body.setAttribute('data-scan',st.scan);
+  }
+  function connect(){
+    ws=new WebSocket((location.protocol==='https:'?'wss://':'ws://')+location.host+'/ws');
+    ws.onopen=function(){ document.body.classList.remove('off'); };
+    ws.onmessage=function(ev){
+      var msg=JSON.parse(ev.data);
+      if(msg.type==='state') show(msg);
+      else if(msg.type==='output') log(msg.text);
+      else if(msg.type==='error'){ log('error: '+msg.message,'err'); delete pending[msg.id]; }
+      else if(msg.type==='reply'){ if(msg.text) log(msg.text); delete pending[msg.id]; }
+    };
+    ws.onclose=function(){ document.body.classList.add('off'); where.textContent='disconnected (is mlc debug --web still running?)'; };
+  }
+  document.querySelector('main').addEventListener('click',function(ev){
+    var g=ev.target.closest&&ev.target.closest('.el.click');
+    if(!g) return;
+    var dev=g.getAttribute('data-bit');
+    if(ev.shiftKey) send({cmd:'release',device:dev}); else send({cmd:'toggle',device:dev});
+  });
+  var speed=document.getElementById('speed');
+  document.getElementById('b-run').addEventListener('click',function(){ send({cmd:'run',speed:+speed.value}); });
+  speed.addEventListener('change',function(){ if(/^running/.test(where.textContent)) send({cmd:'run',speed:+speed.value}); });
+  document.getElementById('b-pause').addEventListener('click',function(){ send({cmd:'pause'}); });
+  document.getElementById('b-step').addEventListener('click',function(){ send({cmd:'step'}); });
+  document.getElementById('b-scan').addEventListener('click',function(){ send({cmd:'scan'}); });
+  document.getElementById('b-back').addEventListener('click',function(){ send({cmd:'back'}); });
+  document.getElementById('b-backscan').addEventListener('click',function(){ send({cmd:'back-scan'}); });
+  cmd.addEventListener('keydown',function(ev){
+    if(ev.key==='Enter'&&cmd.value.trim()){ log('> '+cmd.value); send({cmd:'console',line:cmd.value}); cmd.value=''; }
+  });
+  connect();
+})();
+""".strip()
+
+
+def serve(session: DebugSession, port: int = 0, announce=print) -> None:
+    """`mlc debug --web`: serve until interrupted (Ctrl-C)."""
+    server = WebServer(Monitor(session), port)
+    announce(f"mlc debug: ladder monitor on {server.url} (Ctrl-C stops)")
+    try:
+        server.serve_forever()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        server.shutdown()
+
+
+__all__ = ["Monitor", "WebServer", "serve"]

@@ -1,0 +1,251 @@
+"""`mlc debug --web`: the live ladder monitor's protocol, spoken by a WebSocket client to a
+server on a free loopback port (in a thread, and once as `python -m mlctool` in a
+subprocess): the initial state, force by toggle, a scan, release, junk that gets error
+replies while the server goes on answering, a second tab that sees the same session, run and
+pause, the page and the Host/Origin checks."""
+
+from __future__ import annotations
+
+import json
+import signal
+import socket
+import subprocess
+import threading
+import time
+import urllib.error
+import urllib.request
+from contextlib import ExitStack
+
+import pytest
+from websockets.exceptions import ConnectionClosed, InvalidStatus
+from websockets.sync.client import connect
+
+from mlctool.debug.load import load_session
+from mlctool.debug.web import MAX_MESSAGE, Monitor, WebServer
+from mlctool.targets import load_target
+from tests.conftest import MLC_COMMAND
+
+# Y0 latches on X0 until X1; while Y0 is On, D0 counts scans; Y1 comes on past 3
+PROGRAM = """LD X0
+OR Y0
+ANI X1
+OUT Y0
+LD Y0
+ADD D0 K1 D0
+LD> D0 K3
+OUT Y1
+END
+"""
+LATCH, COUNT, Y1_COIL = 3, 5, 7  # instruction indexes: OUT Y0, ADD, OUT Y1
+
+
+@pytest.fixture
+def program(tmp_path):
+    path = tmp_path / "p.il"
+    path.write_text(PROGRAM)
+    return path
+
+
+@pytest.fixture
+def server(program):
+    session = load_session([str(program)], None, load_target("nc5"))
+    srv = WebServer(Monitor(session), 0)
+    srv.start()
+    yield srv
+    srv.shutdown()
+
+
+class Tab:
+    """A WebSocket client: replies by id, the latest state, outputs."""
+
+    def __init__(self, srv: WebServer, **kw):
+        self.stack = ExitStack()
+        self.ws = self.stack.enter_context(connect(srv.url.replace("http://", "ws://") + "ws", open_timeout=10, **kw))
+        self.next_id = 0
+        self.state = self.recv("state")
+
+    def recv(self, kind: str | None = None) -> dict:
+        while True:
+            msg = json.loads(self.ws.recv(timeout=10))
+            if msg["type"] == "state":
+                self.state = msg
+            if kind is None or msg["type"] == kind:
+                return msg
+
+    def request(self, cmd: str, **args) -> dict:
+        """Send; the reply (or error) to it, then the state that follows it."""
+        self.next_id += 1
+        self.ws.send(json.dumps({"id": self.next_id, "cmd": cmd, **args}))
+        return self.reply(self.next_id)
+
+    def reply(self, msg_id) -> dict:
+        while True:
+            msg = self.recv()
+            if msg["type"] in ("reply", "error") and msg["id"] == msg_id:
+                if msg["type"] == "reply":
+                    self.recv("state")
+                return msg
+
+    def raw(self, data) -> dict:
+        self.ws.send(data)
+        while True:
+            msg = self.recv()
+            if msg["type"] in ("reply", "error"):
+                return msg
+
+    def close(self):
+        self.stack.close()
+
+
+def test_force_scan_release_and_junk(server):
+    tab = Tab(server)
+    st = tab.state
+    assert st["scan"] == 0 and st["pc"] is None and st["forced"] == {} and not st["running"]
+    assert st["values"]["X0"] == "0" and st["values"]["D0"] == "0"
+    assert LATCH not in st["on"] and 2 in st["on"]  # ANI X1 conducts (X1 Off), the coil is Off
+
+    other = Tab(server)  # a second tab watches the same session
+    r = tab.request("toggle", device="X0")
+    assert r["ok"] and r["text"] == "forced X0=1"
+    assert tab.state["forced"] == {"X0": "1"} and 0 in tab.state["on"]
+    assert other.recv("state")["forced"] == {"X0": "1"}  # broadcast to every tab
+
+    assert tab.request("scan")["text"] == "scan done: scan 1 (t=10ms), before the scan"
+    st = tab.state
+    assert st["scan"] == 1 and LATCH in st["on"] and st["values"]["Y0"] == "1" and st["values"]["D0"] == "1"
+    assert other.recv("state")["scan"] == 1
+
+    assert tab.request("release", device="X0")["text"] == "released X0"
+    assert tab.state["forced"] == {}
+    r = tab.request("force", device="X0", value="0")
+    assert r["ok"] and tab.state["values"]["X0"] == "0"
+    tab.request("release", device="X0")
+    for _ in range(3):
+        tab.request("scan")
+    st = tab.state
+    assert st["values"]["D0"] == "4" and Y1_COIL in st["on"] and LATCH in st["on"]  # latched
+    assert st["values"]["Y1"] == "1"
+
+    # junk: each gets an error reply, the connection and the server go on
+    assert "not JSON" in tab.raw("{nope")["message"]
+    assert "JSON object" in tab.raw("[1, 2]")["message"]
+    assert "binary" in tab.raw(b"\x00\x01")["message"]
+    assert "not JSON" in tab.raw("[" * 10_000)["message"]  # nesting past the parser's depth
+    assert "unknown cmd" in tab.raw(json.dumps({"cmd": "rm -rf"}))["message"]
+    assert "unknown cmd" in tab.raw(json.dumps({"id": 9}))["message"]
+    assert "`id`" in tab.raw(json.dumps({"id": [1], "cmd": "state"}))["message"]
+    assert "needs `device`" in tab.request("force", value=1)["message"]
+    assert "'Q9': no device Q" in tab.request("toggle", device="Q9")["message"]
+    assert "needs `value`" in tab.request("force", device="D0", value=None)["message"]
+    assert tab.request("force", device="D0", value="K1e99")["type"] == "error"
+    assert "not forced" in tab.request("release", device="X3")["message"]
+    assert "not a bit" in tab.request("toggle", device="D0")["message"]
+    assert "`scan`" in tab.request("goto", scan="3")["message"]
+    assert "not available" in tab.request("console", line="save /tmp/x.stim")["message"]
+    assert "unknown command" in tab.request("console", line="frobnicate")["message"]
+    assert "`speed`" in tab.request("run", speed=-1)["message"]
+
+    # still answering, state intact
+    assert tab.request("state")["ok"] and tab.state["values"]["D0"] == "4"
+    assert tab.request("step")["text"].startswith("stepped to scan 4 (t=40ms)")
+    assert tab.state["pc"] == 1
+    assert tab.request("back")["ok"] and tab.state["pc"] == 0
+    assert tab.request("back-scan")["ok"] and tab.state["scan"] == 4 and tab.state["pc"] is None
+    assert tab.request("goto", scan=1)["ok"] and tab.state["values"]["D0"] == "1"
+    out = tab.request("console", line="print D0 Y0")
+    assert out["text"] == "D0 = 1\nY0 = 1"
+    tab.close()
+    other.close()
+
+
+def test_a_message_past_the_limit_closes_only_that_connection(server):
+    tab = Tab(server)
+    tab.ws.send("x" * (MAX_MESSAGE + 1))
+    with pytest.raises(ConnectionClosed):
+        tab.recv("reply")
+    again = Tab(server)
+    assert again.request("state")["ok"]
+    again.close()
+
+
+def test_run_until_a_condition_then_pause(server):
+    tab = Tab(server)
+    tab.request("toggle", device="X0")
+    assert tab.request("console", line="break if D0 >= 50")["ok"]
+    assert tab.request("run", speed=0)["ok"]
+    deadline = time.monotonic() + 20
+    while tab.state["running"] or tab.state["scan"] == 0:
+        assert time.monotonic() < deadline
+        tab.recv("state")
+    st = tab.state
+    assert "condition #1 (D0 >= 50) holds" in st["stop"] and st["values"]["D0"] == "50"
+    tab.request("console", line="delete 1")
+    assert tab.request("run", speed=1000)["ok"] and tab.state["running"]
+    time.sleep(0.2)
+    assert tab.request("pause")["ok"]
+    st = tab.state
+    assert not st["running"] and st["stop"].startswith("paused at scan") and st["scan"] > 50
+    scan = st["scan"]
+    time.sleep(0.15)
+    assert tab.request("state")["ok"] and tab.state["scan"] == scan  # paused means stopped
+    tab.close()
+
+
+def get(url: str, host: str | None = None) -> tuple[int, str, str]:
+    req = urllib.request.Request(url, headers={"Host": host} if host else {})
+    try:
+        with urllib.request.urlopen(req, timeout=10) as r:
+            return r.status, r.headers.get("Content-Type"), r.read().decode()
+    except urllib.error.HTTPError as e:
+        return e.code, e.headers.get("Content-Type"), e.read().decode()
+
+
+def test_page_and_the_loopback_checks(server):
+    status, ctype, text = get(server.url)
+    assert status == 200 and ctype == "text/html; charset=utf-8"
+    assert text.count('<div class="rung"') == 3 and 'id="monitor"' in text and "new WebSocket" in text
+    data = json.loads(text.split('<script type="application/json" id="monitor">')[1].split("</script>")[0])
+    assert data["elements"]["0"] == {"kind": "contact", "bit": "X0", "values": []}
+    assert data["elements"][str(COUNT)] == {"kind": "box", "bit": None, "values": ["D0"]}  # ADD D0 K1 D0: once
+    assert get(server.url + "nothing")[0] == 404
+    assert get(server.url, host=f"attacker.example:{server.port}")[0] == 403  # DNS rebinding
+    with pytest.raises(InvalidStatus):  # another site's page may not drive the debugger
+        with connect(server.url.replace("http://", "ws://") + "ws", origin="http://attacker.example",
+                     open_timeout=10):
+            pass
+    tab = Tab(server, origin=f"http://localhost:{server.port}")
+    assert tab.request("state")["ok"]
+    tab.close()
+
+
+def test_the_command_line_serves_until_interrupted(program):
+    p = subprocess.Popen([*MLC_COMMAND, "debug", str(program), "--web"], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True)
+    timer = threading.Timer(60, p.kill)
+    timer.start()
+    try:
+        line = p.stdout.readline()
+        assert line.startswith("mlc debug: ladder monitor on http://127.0.0.1:"), line + p.stderr.read()
+        url = line.split(" on ", 1)[1].split()[0]
+        assert get(url)[0] == 200
+        p.send_signal(signal.SIGINT)
+        assert p.wait(30) == 0
+    finally:
+        timer.cancel()
+        if p.poll() is None:
+            p.kill()
+
+
+def test_command_line_errors(program):
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        r = subprocess.run([*MLC_COMMAND, "debug", str(program), "--web", "--port", str(port)],
+                           capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and f"cannot serve on 127.0.0.1:{port}" in r.stderr
+    r = subprocess.run([*MLC_COMMAND, "debug", str(program), "--port", "8080"], capture_output=True,
+                       text=True, timeout=60)
+    assert r.returncode == 2 and "--port is the --web monitor's port" in r.stderr
+    r = subprocess.run([*MLC_COMMAND, "debug", "--dap", "--web"], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and "give one" in r.stderr
