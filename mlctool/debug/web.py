@@ -38,7 +38,8 @@ from mlctool.sim.stimulus import StimError
 MAX_MESSAGE = 64 * 1024
 TICK_S = 0.05  # a running machine's state goes out at most this often
 MAX_SPEED = 0  # `run` speed 0: as fast as the engine goes
-MAX_BATCH_S = 0.04  # at speed 0, scans run between two looks at the clock
+MAX_BATCH_S = 0.04
+MAX_PENDING = 200  # at speed 0, scans run between two looks at the clock
 # console lines the page may send: not `save` (it writes files) nor `quit`
 CONSOLE_REFUSED = ("save", "quit")
 CONSOLE_MOVES = ("step", "scan", "next", "run", "continue", "back", "reverse-continue", "goto")
@@ -122,7 +123,9 @@ class Monitor:
         self.running = False
         self.speed = 1.0
         self._runner: threading.Thread | None = None
-        self._collect: list[str] | None = None  # console output of the request being served
+        self._local = threading.local()  # .collect: the output of the request this thread serves
+        self._pending: list[str] = []  # output while running (logpoints): sent with the next state
+        self._dropped = 0
         self.console = Console(session, self._output)
         self.closed = threading.Event()
 
@@ -197,11 +200,28 @@ class Monitor:
             self.send(conn, msg)
 
     def _output(self, text: str) -> None:
-        """Console output, logpoints and failed expects: to the request's reply, else to all."""
-        if self._collect is not None:
-            self._collect.append(text)
+        """Console output, logpoints and failed expects: into the reply to the request that
+        caused them; while running, to every tab with the next state (at most MAX_PENDING
+        lines a tick: a logpoint hit every scan cannot flood the page)."""
+        collect = getattr(self._local, "collect", None)
+        if collect is not None:
+            collect.append(text)
+        elif len(self._pending) < MAX_PENDING:
+            self._pending.append(text)
         else:
-            self.broadcast({"type": "output", "text": text})
+            self._dropped += 1
+
+    def publish(self) -> None:
+        """The pending output, then the state, to every tab."""
+        with self.lock:
+            lines, self._pending = self._pending, []
+            if self._dropped:
+                lines.append(f"({self._dropped} more lines not shown)")
+                self._dropped = 0
+            state = self.state()
+        if lines:
+            self.broadcast({"type": "output", "text": "\n".join(lines)})
+        self.broadcast(state)
 
     # -- requests -------------------------------------------------------------------------
     def handle_text(self, text) -> tuple[dict, bool]:
@@ -224,10 +244,15 @@ class Monitor:
             cmd = msg.get("cmd")
             if cmd not in COMMANDS:
                 raise RequestError(f"unknown cmd {str(cmd)[:40]!r}: one of {', '.join(COMMANDS)}")
-            text_out, changed = getattr(self, "cmd_" + cmd.replace("-", "_"))(msg)
+            self._local.collect = []
+            try:
+                text_out, changed = getattr(self, "cmd_" + cmd.replace("-", "_"))(msg)
+                lines = self._local.collect + ([text_out] if text_out else [])
+            finally:
+                self._local.collect = None
             reply = {"type": "reply", "id": msg_id, "ok": True}
-            if text_out:
-                reply["text"] = text_out
+            if lines:
+                reply["text"] = "\n".join(lines)
             return reply, changed
         except (RequestError, DebugError) as e:
             return {"type": "error", "id": msg_id, "message": str(e)}, False
@@ -316,17 +341,13 @@ class Monitor:
             raise RequestError(f"`{word}` is not available from the page (use the terminal console)")
         self.pause()
         with self.lock:
-            self._collect = []
-            try:
-                self.console.execute(line)
-                out = self._collect
-            finally:
-                self._collect = None
+            self.console.execute(line)
+            out = self._local.collect
             if len(out) == 1 and out[0].startswith("error: "):
                 raise RequestError(out[0][len("error: "):])
             if ALIASES.get(word, word) in CONSOLE_MOVES and out and not out[0].startswith("error:"):
                 self.stop_text = out[0]
-            return "\n".join(out), True
+            return "", True
 
     # -- running --------------------------------------------------------------------------
     def cmd_run(self, msg):
@@ -379,8 +400,7 @@ class Monitor:
                 if stop is not None and stop.reason != "step":
                     self.running = False
                     self.stop_text = stop.text
-                state = self.state()
-            self.broadcast(state)
+            self.publish()
             spent = time.perf_counter() - tick
             if self.speed == MAX_SPEED:
                 batch = max(1, min(batch * 2, 100_000)) if spent < MAX_BATCH_S / 2 else max(1, batch // 2)
@@ -454,7 +474,7 @@ class WebServer:
                 reply, changed = mon.handle_text(message)
                 mon.send(conn, reply)
                 if changed:
-                    mon.broadcast(mon.state())
+                    mon.publish()
                 elif reply.get("ok"):
                     mon.send(conn, mon.state())
         except ConnectionClosed:
@@ -497,13 +517,14 @@ MONITOR_STYLE = """
 #bar .err{color:#b00020}
 #forced button{font-size:11px;margin-left:4px}
 #cmd{font-family:monospace;width:22em}
-#out{margin:0;max-height:8em;overflow:auto;font-size:12px;background:#f4f4f4;white-space:pre-wrap}
+#out{margin:0;padding:2px 16px;max-height:8em;overflow:auto;font-size:12px;background:#f4f4f4;white-space:pre-wrap}
 .lad .el.click{cursor:pointer}
-.lad .el.forced .sym{stroke:#d35400;stroke-width:3}
-.lad .el.forced text{fill:#a04000;font-weight:bold}
+.lad rect.hit{fill:transparent;stroke:none}
+.lad .el.forced text{fill:#d35400;font-weight:bold}
 .lad .el.cur{filter:drop-shadow(0 0 3px #1f4fbf)}
 .lad .el.cur .sym,.lad .el.cur .box{stroke:#1f4fbf}
 .lad text.val{font-size:10px;fill:#1f4f9f}
+#out:empty{display:none}
 body.off main{opacity:.5}
 """.strip()
 
@@ -527,9 +548,18 @@ MONITOR_SCRIPT = r"""
     var i=g.getAttribute('data-i'), d=data.elements[i];
     if(!d) return;
     (els[i]=els[i]||[]).push(g);
-    if(d.bit){ g.classList.add('click'); g.setAttribute('data-bit',d.bit); }
+    var b=g.getBBox();
+    if(d.bit){  // the whole box takes the click, not only the drawn strokes
+      g.classList.add('click'); g.setAttribute('data-bit',d.bit);
+      var hit=document.createElementNS(SVG,'rect');
+      hit.setAttribute('class','hit'); hit.setAttribute('x',b.x); hit.setAttribute('y',b.y);
+      hit.setAttribute('width',b.width); hit.setAttribute('height',b.height);
+      g.insertBefore(hit,g.firstChild);
+      var tip=g.querySelector('title');
+      if(tip) tip.textContent+='\nclick: force '+d.bit+' to the other value; shift-click: release';
+    }
     if(d.values.length){
-      var b=g.getBBox(), t=document.createElementNS(SVG,'text');
+      var t=document.createElementNS(SVG,'text');
       t.setAttribute('class','val'); t.setAttribute('x',b.x+b.width/2); t.setAttribute('y',b.y+b.height+11);
       t.setAttribute('text-anchor','middle'); g.appendChild(t); vals[i]=t;
     }

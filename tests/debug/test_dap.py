@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import io
 import json
+import socket
 import subprocess
 import threading
 
@@ -178,6 +179,79 @@ def test_launch_without_program_debugs_the_project():
         assert frame["source"]["path"] == str(project / "src" / "conveyor.il")
         c.request("disconnect")
         assert c.close() == 0
+    finally:
+        if c.p.poll() is None:
+            c.p.kill()
+        c.timer.cancel()
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class PortClient(Client):
+    """The same client over TCP: `mlc debug --dap-port N` in a subprocess."""
+
+    def __init__(self):
+        for _ in range(3):  # the free port may be taken in between: try another
+            self.port = free_port()
+            self.p = subprocess.Popen([*MLC_COMMAND, "debug", "--dap-port", str(self.port)],
+                                      stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                      stderr=subprocess.PIPE, cwd=CWD)
+            self.timer = threading.Timer(60, self.p.kill)
+            self.timer.start()
+            line = self.p.stderr.readline().decode()
+            if line.startswith(f"mlc debug: DAP on 127.0.0.1:{self.port}"):
+                break
+            self.timer.cancel()
+            self.p.wait(30)
+        else:
+            pytest.fail(f"the DAP server did not start: {line}")
+        self.sock = socket.create_connection(("127.0.0.1", self.port), timeout=30)
+        self.r, self.w = self.sock.makefile("rb"), self.sock.makefile("wb")
+        self.seq = 0
+        self.seen = []
+
+    def send(self, command: str, **arguments) -> int:
+        self.seq += 1
+        write_frame(self.w, {"seq": self.seq, "type": "request", "command": command, "arguments": arguments})
+        return self.seq
+
+    def next(self) -> dict:
+        msg = read_frame(self.r)
+        assert msg is not None, "the server closed the connection"
+        self.seen.append(msg)
+        return msg
+
+    def close(self) -> int:
+        try:
+            self.r.close()
+            self.w.close()
+            self.sock.close()
+            return self.p.wait(30)
+        finally:
+            self.timer.cancel()
+
+
+def test_a_debugging_session_over_a_tcp_port():
+    c = PortClient()
+    try:
+        assert c.request("initialize", adapterID="mlc")["supportsStepBack"]
+        c.event("initialized")
+        c.request("launch", program="conveyor.il", stimulus="conveyor.stim", stopOnEntry=True)
+        bps = c.request("setBreakpoints", source={"path": str(CWD / "conveyor.il")},
+                        breakpoints=[{"line": 22}])["breakpoints"]
+        assert bps == [{"id": 1, "verified": True, "line": 22}]
+        c.request("configurationDone")
+        assert c.event("stopped")["reason"] == "entry"
+        c.request("continue", threadId=1)
+        stop = c.event("stopped")
+        assert stop["reason"] == "breakpoint" and stop["hitBreakpointIds"] == [1]
+        assert c.request("stackTrace", threadId=1)["stackFrames"][0]["name"] == "scan 0, step 6: LDP SENSOR"
+        c.request("disconnect")
+        assert c.close() == 0  # one client: the server ends with it
     finally:
         if c.p.poll() is None:
             c.p.kill()

@@ -62,6 +62,7 @@ class Tab:
         self.stack = ExitStack()
         self.ws = self.stack.enter_context(connect(srv.url.replace("http://", "ws://") + "ws", open_timeout=10, **kw))
         self.next_id = 0
+        self.outputs: list[str] = []
         self.state = self.recv("state")
 
     def recv(self, kind: str | None = None) -> dict:
@@ -69,6 +70,8 @@ class Tab:
             msg = json.loads(self.ws.recv(timeout=10))
             if msg["type"] == "state":
                 self.state = msg
+            elif msg["type"] == "output":
+                self.outputs.append(msg["text"])
             if kind is None or msg["type"] == kind:
                 return msg
 
@@ -154,6 +157,8 @@ def test_force_scan_release_and_junk(server):
     assert tab.request("goto", scan=1)["ok"] and tab.state["values"]["D0"] == "1"
     out = tab.request("console", line="print D0 Y0")
     assert out["text"] == "D0 = 1\nY0 = 1"
+    assert tab.request("console", line='log 6 "count {D0}"')["ok"]  # a logpoint: its line in the reply
+    assert tab.request("scan")["text"] == "count 1\nscan done: scan 2 (t=20ms), before the scan"
     tab.close()
     other.close()
 
@@ -172,6 +177,7 @@ def test_run_until_a_condition_then_pause(server):
     tab = Tab(server)
     tab.request("toggle", device="X0")
     assert tab.request("console", line="break if D0 >= 50")["ok"]
+    assert tab.request("console", line='log 6 "count {D0}"')["ok"]
     assert tab.request("run", speed=0)["ok"]
     deadline = time.monotonic() + 20
     while tab.state["running"] or tab.state["scan"] == 0:
@@ -179,7 +185,10 @@ def test_run_until_a_condition_then_pause(server):
         tab.recv("state")
     st = tab.state
     assert "condition #1 (D0 >= 50) holds" in st["stop"] and st["values"]["D0"] == "50"
+    # the logpoint's lines while running: sent to the tabs with the states, in order
+    assert "\n".join(tab.outputs).split("\n") == [f"count {n}" for n in range(50)]
     tab.request("console", line="delete 1")
+    tab.request("console", line="delete 2")
     assert tab.request("run", speed=1000)["ok"] and tab.state["running"]
     time.sleep(0.2)
     assert tab.request("pause")["ok"]

@@ -1,0 +1,157 @@
+"""The live ladder monitor in a real browser: headless chromium (Debian's package, as
+tests/ladder/test_ladder_browser.py) loads the page from a live `mlc debug --web` server and
+is driven over the DevTools protocol: real mouse clicks on a contact (force it) and on the
+Scan button, then the coil it drives is lit and the box below shows the new value in the
+DOM; shift-click releases. A screenshot is taken and no console message may appear."""
+
+from __future__ import annotations
+
+import base64
+import itertools
+import json
+import os
+import re
+import shutil
+import subprocess
+import threading
+import time
+import urllib.request
+from contextlib import ExitStack
+from pathlib import Path
+
+import pytest
+
+BROWSER = next((p for p in map(shutil.which, ("chromium", "chromium-browser")) if p), None)
+pytestmark = pytest.mark.skipif(BROWSER is None, reason="chromium is not installed (apt-get install chromium)")
+
+FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+         "--disable-background-networking", "--disable-component-update", "--disable-sync",
+         "--disable-dev-shm-usage", "--window-size=1200,900", "--remote-debugging-port=0"]
+NO_PROXY = urllib.request.build_opener(urllib.request.ProxyHandler({}))
+
+# Y0 latches on X0 until X1; while Y0 is On, D0 counts scans
+PROGRAM = "LD X0\nOR Y0\nANI X1\nOUT Y0\nLD Y0\nADD D0 K1 D0\nEND\n"
+CONTACT_X0, COIL_Y0, ADD = 0, 3, 5  # instruction indexes (data-i)
+
+
+class DevTools:
+    """A DevTools protocol client on one page target (the websockets package's client)."""
+
+    def __init__(self, ws_url: str, stack: ExitStack):
+        from websockets.sync.client import connect
+
+        self.ws = stack.enter_context(connect(ws_url, open_timeout=20, max_size=None))
+        self.ids = itertools.count(1)
+        self.events: list[dict] = []
+
+    def call(self, method: str, **params) -> dict:
+        n = next(self.ids)
+        self.ws.send(json.dumps({"id": n, "method": method, "params": params}))
+        while True:
+            msg = json.loads(self.ws.recv(timeout=30))
+            if msg.get("id") == n:
+                assert "error" not in msg, msg
+                return msg.get("result", {})
+            self.events.append(msg)
+
+    def js(self, expression: str):
+        r = self.call("Runtime.evaluate", expression=expression, returnByValue=True)
+        assert "exceptionDetails" not in r, r
+        return r["result"].get("value")
+
+    def wait(self, expression: str, what: str, timeout: float = 15):
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            value = self.js(expression)
+            if value:
+                return value
+            time.sleep(0.05)
+        pytest.fail(f"the page did not get there: {what}\n{self.js('document.body.innerText')[:2000]}")
+
+    def click(self, selector: str, shift: bool = False) -> None:
+        """A real mouse click at the middle of the element."""
+        box = self.js(f"(function(){{var e=document.querySelector({json.dumps(selector)});"
+                      "e.scrollIntoView({block:'center'}); var r=e.getBoundingClientRect();"
+                      "return [r.left+r.width/2, r.top+r.height/2];})()")
+        x, y = box
+        for kind in ("mousePressed", "mouseReleased"):
+            self.call("Input.dispatchMouseEvent", type=kind, x=x, y=y, button="left", clickCount=1,
+                      modifiers=8 if shift else 0)
+
+    def complaints(self) -> list[dict]:
+        """Console calls, uncaught exceptions and browser log entries (failed loads...)."""
+        return [e for e in self.events if e.get("method") in ("Runtime.consoleAPICalled", "Runtime.exceptionThrown")
+                or e.get("method") == "Log.entryAdded"]
+
+
+def classes(dom: str, index: int) -> set[str]:
+    m = re.search(rf'<g class="([^"]*)" data-i="{index}"', dom)
+    assert m, f"no element {index}"
+    return set(m[1].split())
+
+
+def test_click_a_contact_step_a_scan_see_the_coil(tmp_path: Path):
+    from mlctool.debug.load import load_session
+    from mlctool.debug.web import Monitor, WebServer
+    from mlctool.targets import load_target
+
+    src = tmp_path / "p.il"
+    src.write_text(PROGRAM)
+    server = WebServer(Monitor(load_session([str(src)], None, load_target("nc5"))), 0)
+    server.start()
+    chrome = subprocess.Popen([BROWSER, *FLAGS, f"--user-data-dir={tmp_path / 'profile'}", "about:blank"],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                              env={**os.environ, "HOME": str(tmp_path)})
+    killer = threading.Timer(90, chrome.kill)  # a hung browser fails the test, not the suite
+    killer.start()
+    try:
+        with ExitStack() as stack:
+            line = ""
+            while "DevTools listening on" not in line:
+                line = chrome.stderr.readline()
+                assert line, "chromium ended before its DevTools endpoint was up"
+            port = re.search(r"ws://127\.0\.0\.1:(\d+)/", line)[1]
+            threading.Thread(target=chrome.stderr.read, daemon=True).start()  # drain
+            with NO_PROXY.open(f"http://127.0.0.1:{port}/json/list", timeout=20) as r:
+                page = next(t for t in json.load(r) if t["type"] == "page")
+            dt = DevTools(page["webSocketDebuggerUrl"], stack)
+            for domain in ("Runtime", "Log", "Page"):
+                dt.call(f"{domain}.enable")
+            dt.call("Page.navigate", url=server.url)
+            dt.wait("document.getElementById('where') && /^scan 0 /.test(document.getElementById('where').textContent)",
+                    "the first state")
+
+            dt.click(f'.el[data-i="{CONTACT_X0}"]')
+            dt.wait(f"document.querySelector('.el[data-i=\"{CONTACT_X0}\"]').classList.contains('forced')",
+                    "X0 forced by the click")
+            dt.click("#b-scan")
+            dt.wait("document.body.getAttribute('data-scan')==='1'", "the scan done")
+            dom = dt.js("document.documentElement.outerHTML")
+            assert {"on", "forced", "click"} <= classes(dom, CONTACT_X0)
+            assert "on" in classes(dom, COIL_Y0)  # the coil X0 drives
+            assert re.search(r'<text class="val"[^>]*>D0=1</text>', dom)  # ADD ran once
+            assert re.search(r'<span id="forced">forced: <span> X0=1<button type="button" '
+                             r'data-release="X0">release</button></span></span>', dom)
+            assert "scan done: scan 1 (t=10ms)" in dom
+
+            shot = dt.call("Page.captureScreenshot", format="png")
+            png = base64.b64decode(shot["data"])
+            assert png[:8] == b"\x89PNG\r\n\x1a\n"
+            (tmp_path / "monitor.png").write_bytes(png)
+
+            dt.click(f'.el[data-i="{CONTACT_X0}"]', shift=True)  # release; Y0 holds itself
+            dt.wait(f"!document.querySelector('.el[data-i=\"{CONTACT_X0}\"]').classList.contains('forced')",
+                    "X0 released by the shift-click")
+            dt.click("#b-scan")
+            dt.wait("document.body.getAttribute('data-scan')==='2'", "the second scan")
+            dom = dt.js("document.documentElement.outerHTML")
+            assert "on" in classes(dom, COIL_Y0) and "forced" not in classes(dom, CONTACT_X0)
+            assert re.search(r'<text class="val"[^>]*>D0=2</text>', dom)
+            assert dt.complaints() == []
+            dt.call("Browser.close")
+        assert chrome.wait(30) is not None
+    finally:
+        killer.cancel()
+        if chrome.poll() is None:
+            chrome.kill()
+        server.shutdown()
