@@ -136,7 +136,9 @@ OPERANDS = {
     "UNI": [op("S", "KnX KnY KnM KnS T C D R"), op("D", WD, "w"), n(lo=0, hi=4)],
     "DIS": [op("S", WS), op("D", "KnY KnM KnS T C D R", "w"), n(lo=0, hi=4)],
     "SWAP": [op("S", WD, "rw")],
-    "TCMP": [op("S1", WS), op("S2", WS), op("S3", WS), op("S", "T C D R", words=[3, 6]), op("D", BD, "w", bits=3)],
+    # S1 hour 0-23, S2 minute and S3 second 0-59 (6-14 FNC 160 note)
+    "TCMP": [n("S1", 0, 23, kinds=WS), n("S2", 0, 59, kinds=WS), n("S3", 0, 59, kinds=WS),
+             op("S", "T C D R", words=[3, 6]), op("D", BD, "w", bits=3)],
     "TZCP": [op("S1", "T C D R", words=[3, 6]), op("S2", "T C D R", words=[3, 6]), op("S", "T C D R", words=[3, 6]),
              op("D", BD, "w", bits=3)],
     "TADD": [op("S1", "T C D R", words=[3, 6]), op("S2", "T C D R", words=[3, 6]), op("D", "T C D R", "w", words=[3, 6])],
@@ -153,10 +155,14 @@ OPERANDS = {
               n(lo=1, hi=16, kinds="K H")],
     "TBL": [op("S1", "Q"), op("S2", "D R", "rw", words=[4, 4]), op("D1", "Y", "w", ranges=Y03),
             op("D2", BD, "w", ranges={"Y": [[0, 7]]})],
-    "DABS": [op("S", BS), op("D1", BD, "w"), op("D2", "D R", "w")],
+    # S and D1 occupy 3 bits, D2 2 words (8-3 FNC 313 note)
+    "DABS": [op("S", BS, bits=3), op("D1", BD, "w", bits=3), op("D2", "D R", "w")],
     "MPG": [n("S1", 0, 3), op("S2", "D R", "rw", words=[3, 6]), op("D1", "Y", "w", ranges=Y03), op("D2", BD, "w")],
     "LIR": [op("S", "D R", words=[9, 18]), op("D", "K H", range=[0, 1])],
     "LIA": [op("S", "D R", words=[9, 18]), op("D", "K H", range=[0, 1])],
+    # S 3 words (32-bit: 6), D 4 words (32-bit: 6) (6-21 FNC 260/261 notes)
+    "DABIN": [op("S", WS, words=[3, 6]), op("D", WD, "w")],
+    "BINDA": [op("S", WS), op("D", WD, "w", words=[4, 6])],
     "SCL": [op("S1", WS), op("S2", "D R"), op("D", WD, "w")],
     "SCL2": [op("S1", WS), op("S2", "D R"), op("D", WD, "w")],
     "SFR": [op("D", WD, "rw"), n(lo=0, hi=15, kinds="K H")],
@@ -171,6 +177,9 @@ for m in ("BKCMP=", "BKCMP>", "BKCMP<", "BKCMP<>", "BKCMP<=", "BKCMP>="):
     OPERANDS[m] = [op("S1", WS), op("S2", WS), op("D", BD, "w"), n()]
 for m in ("ZRN", "JOGF", "JOGR", "DRVR", "DRVA", "DV2R", "DV2A", "DVIT", "DV2I", "DVSR", "DVSA"):
     OPERANDS[m] = POS
+# "S1及S2各佔用 2個元件" (DV2R/DV2A), "S2 會佔用2個元件" (DV2I): two speeds / two amounts (8-3)
+OPERANDS["DV2R"] = OPERANDS["DV2A"] = [op("S1", WS, words=[2, 4]), op("S2", WS, words=[2, 4])] + POS[2:]
+OPERANDS["DV2I"] = [op("S1", WS), op("S2", WS, words=[2, 4])] + POS[2:]
 OPERANDS["PLSV"] = [op("S", WS), op("D1", "Y", "w", ranges=Y03), op("D2", BD, "w", ranges={"Y": [[0, 7]]})]
 
 # Ops of the simulator (mlctool/sim/semantics.py), where they share a routine with another
@@ -189,6 +198,15 @@ OPS = {
 CMP_OPS = {"=": "cmp_eq", ">": "cmp_gt", "<": "cmp_lt", "<>": "cmp_ne", "<=": "cmp_le", ">=": "cmp_ge"}
 # operand sources other than the default (kinds of MUL/DIV from 5-1/5-2, only D's words from the note)
 SOURCES = {"TBL": "page note (S1 table Q0-Q31 or name, S2 4 words, D1 Y0-Y3, D2 Y0-Y7)", "MUL": GENERAL, "DIV": GENERAL}
+# Cross-operand and program-wide rules, checked generically (mlctool/check/resolve.py
+# check_constraints, mlctool/check/blocks.py): "kn4" every Kn operand is K4 (CRC 6-16);
+# "disjoint-blocks" S1, S2 and D blocks of n may not overlap (BK+/BK- 6-17, W240);
+# "unique-destination" each D device by one instruction of the program (DUTY 6-16, E240);
+# "no-index-hhsc" the HHSC registers are not indexed (DHHCMV 6-16, E209).
+CONSTRAINTS = {
+    "ZRST": ["same-kind", "no-counter-width-mix"], "CRC": ["kn4"], "BK+": ["disjoint-blocks"],
+    "BK-": ["disjoint-blocks"], "DUTY": ["unique-destination"], "DHHCMV": ["no-index-hhsc"],
+}
 ONCE = {"MTR", "HKY", "DSW", "SEGL", "PR", "SORT", "DHSCT", "DABS"}  # "只能使用一次" (vs_reading.md 3)
 FREE = {"SRET", "IRET", "EI", "DI", "FEND", "FOR", "NEXT", "WDT"}
 
@@ -256,8 +274,8 @@ def entry(x: dict) -> list[str]:
         lines.append(f"models = {toml_value(models)}")
     if name in ONCE:
         lines.append("once = true")
-    if name == "ZRST":
-        lines.append('constraints = ["same-kind", "no-counter-width-mix"]')
+    if name in CONSTRAINTS:
+        lines.append(f"constraints = {toml_value(CONSTRAINTS[name])}")
     if cls == "free" and not ops:
         lines.append("index = false")
     if ops:

@@ -1,4 +1,5 @@
 """Program-wide rules that the target's tables switch on: once-per-program instructions (E904),
+devices one instruction of the program may use (E240, constraint "unique-destination"),
 master-control nesting (E903), step-ladder layout (E902), runs of ANB/ORB (E906).
 
 Generic: an instruction takes part through its table entry (`once`, op mc/mcr, op stl/ret,
@@ -22,7 +23,7 @@ def _at(ins: Instr, code: str, msg: str, *notes: str) -> Diagnostic:
 
 def check_blocks(module: Module, target: Target) -> list[Diagnostic]:
     instrs = module.instrs
-    return (once_per_program(instrs) + mc_nesting(instrs, target)
+    return (once_per_program(instrs) + one_user_per_device(instrs) + mc_nesting(instrs, target)
             + step_ladder(instrs, module.library) + block_runs(instrs, target))
 
 
@@ -38,6 +39,29 @@ def once_per_program(instrs: list[Instr]) -> list[Diagnostic]:
             f = first[key]
             out.append(_at(ins, "E904", f"{ins.mnemonic} may be used only once in a program; "
                            f"already at {f.file}:{f.line} ({ins.spec.section})"))
+        else:
+            first[key] = ins
+    return out
+
+
+def one_user_per_device(instrs: list[Instr]) -> list[Diagnostic]:
+    """E240: the D operand of a "unique-destination" instruction names a device another such
+    instruction of the program already drives (VS DUTY, 6-16: M9330-M9334 "不可以重複")."""
+    first: dict = {}
+    out = []
+    for ins in instrs:
+        if "unique-destination" not in ins.spec.constraints or not ins.operands:
+            continue
+        k = next((i for i, o in enumerate(ins.spec.operands) if o.role == "D"), len(ins.operands) - 1)
+        o = ins.operands[k]
+        if o.index:
+            continue  # which device it names is known at run time only
+        key = (ins.spec.api, o.kind, o.number)
+        if key in first:
+            f = first[key]
+            out.append(_at(ins, "E240", f"{ins.texts[k]} is already driven by {f.mnemonic} at {f.file}:{f.line}; "
+                           f"each {ins.spec.operands[k].role} device may be used by one {ins.mnemonic} "
+                           f"of the program ({ins.spec.section})"))
         else:
             first[key] = ins
     return out

@@ -8,6 +8,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from mlctool.check.constraints import constraint_problems
 from mlctool.check.interrupts import pointer_named, pointer_numbered
 from mlctool.check.labels import cjk_width, is_label_name, is_symbol_name
 from mlctool.check.tables import parse_row, table_kinds
@@ -476,6 +477,10 @@ class _Resolver:
 
     def check_constraints(self, spec: InstrSpec, ops: list[Operand], args: list[_Arg]) -> bool:
         ok = True
+        if len(ops) == len(args):
+            for k, code, msg in constraint_problems(self.t, spec, ops, [a.text for a in args]):
+                self.report(args[k], code, msg)
+                ok = ok and not code.startswith("E")
         if "same-kind" in spec.constraints and len(ops) >= 2 and ops[0].kind != ops[1].kind:
             self.report(args[1], "E214", f"{spec.mnemonic} range ends must be one device kind "
                      f"({ops[0].kind} and {ops[1].kind})")

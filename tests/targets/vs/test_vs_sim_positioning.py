@@ -343,8 +343,10 @@ def test_dabs_page_example_reads_the_servo_position():
     # a wrong checksum: operation error, D2 unchanged; the condition Off interrupts a read
     run(il, "0ms M0=1\n" + _abs_servo(5000, 1) + "830ms expect D9352:d=0 M9067=1 M9029=0\n",
         alarms=True)
-    # S or D1 whose 3 points pass the device range: operation error, no traceback
-    run("LD M0\nDABS X376 Y10 D9352\n", "0ms M0=1\n0ms expect M9067=1 Y10=0\n", alarms=True)
+    # S or D1 whose 3 points pass the device range: E208 when written so (test_vs_audit_fnc150
+    # FNC313-D1-3-bits), an operation error when an index takes it there, no traceback
+    run("LD M9000\nMOV K8 Z0\nLD M0\nDABS X366Z0 Y10 D9352\n", "0ms M0=1\n0ms expect M9067=1 Y10=0\n",
+        alarms=True)
     run(il, "0ms M0=1\n" + _abs_servo(5000) + "300ms M0=0\n300ms expect Y10=0 Y11=0 Y12=0\n"
         "310ms M0=1\n900ms expect D9352:d=0 Y11=1\n")
 

@@ -1,0 +1,61 @@
+"""Cross-operand rules an instruction's table entry names in `constraints` (beyond the
+ZRST pair rules of resolve.py), each from a manual page's note:
+
+- "kn4": every bit-group operand is written K4 (VS CRC, 6-16: "Kn之n必須為 4") -> E207;
+- "disjoint-blocks": the S1, S2 and D blocks of n elements (n a constant) do not overlap
+  (VS BK+/BK-, 6-17: overlapping blocks are an operation error at run time) -> W240;
+- "no-index-hhsc": an operand naming a hardware counter register (target.toml
+  [hardware_counters]) is not index-modified (VS DHHCMV, 6-16) -> E209.
+
+Program-wide ones ("unique-destination") are in check/blocks.py.
+"""
+
+from __future__ import annotations
+
+from mlctool.syntax.operands import Operand
+from mlctool.targetapi.model import InstrSpec, Target
+
+_WORDS = ("D", "R", "T")  # plain word devices whose blocks are numbered contiguously
+
+
+def constraint_problems(t: Target, spec: InstrSpec, ops: list[Operand], texts: list[str]
+                        ) -> list[tuple[int, str, str]]:
+    """(operand position, code, message) for each broken constraint of `spec`."""
+    out: list[tuple[int, str, str]] = []
+    if "kn4" in spec.constraints:
+        for k, o in enumerate(ops):
+            if o.is_group and o.digits != 4:
+                out.append((k, "E207", f"{spec.mnemonic} takes bit groups as K4 only, not {texts[k]} "
+                            f"({spec.section})"))
+    if "disjoint-blocks" in spec.constraints and len(ops) >= 4:
+        out += _overlaps(spec, ops, texts)
+    if "no-index-hhsc" in spec.constraints:
+        hw = t.settings.get("hardware_counters", {})
+        regs = set(hw.get("mode_registers", ()))
+        for key in ("value_registers", "set_registers"):
+            regs.update(n + h for n in hw.get(key, ()) for h in (0, 1))
+        for k, o in enumerate(ops):
+            if o.kind == "D" and o.index and o.number in regs:
+                out.append((k, "E209", f"{texts[k]}: a hardware counter register of {spec.mnemonic} "
+                            f"cannot be index-modified ({spec.section})"))
+    return out
+
+
+def _overlaps(spec: InstrSpec, ops: list[Operand], texts: list[str]) -> list[tuple[int, str, str]]:
+    n = ops[3]
+    if n.kind not in ("K", "H") or not isinstance(n.value, int) or n.value < 1:
+        return []
+    size = n.value * (2 if spec.width == 32 else 1)
+    spans = {}
+    for k in range(3):
+        o = ops[k]
+        if o.kind in _WORDS and not o.index:
+            spans[k] = (o.kind, o.number, o.number + size - 1)
+    for a, b in ((0, 2), (1, 2), (0, 1)):
+        if a in spans and b in spans:
+            (ka, la, ha), (kb, lb, hb) = spans[a], spans[b]
+            if ka == kb and la <= hb and lb <= ha:
+                return [(b, "W240", f"{spec.mnemonic}: the blocks {ka}{la}-{ka}{ha} ({texts[a]}) and "
+                         f"{kb}{lb}-{kb}{hb} ({texts[b]}) overlap: an operation error at run time, "
+                         f"the instruction is not executed ({spec.section})")]
+    return []
