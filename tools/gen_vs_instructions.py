@@ -94,11 +94,13 @@ OPERANDS = {
     "DHSCS": [op("S1", WS), op("S2", "C", ranges=HSC),
               op("D", "Y I", "w", ranges={"Y": [[0, 7]], "I": [[10, 80]]})],
     "DHSCR": [op("S1", WS), op("S2", "C", ranges=HSC), op("D", "Y C", "w", ranges={"Y": [[0, 7]], **HSC})],
-    "DHSZ": [op("S1", WS), op("S2", WS), op("S", "C", ranges=HSC), op("D", BD, "w", bits=3)],
+    "DHSZ": [op("S1", WS), op("S2", WS), op("S", "C", ranges=HSC), op("D", BD, "w", bits=3, ranges={"Y": [[0, 5]]})],
     "SPD": [op("S1", "X", ranges={"X": [[0, 7]]}), op("S2", WS), op("D", "T C D R V Z", "w", words=[3, 6])],
-    "PLSY": [op("S1", WS), op("S2", WS), op("D", "Y", "w", ranges=Y03)],
-    "PWM": [op("S1", WS), op("S2", WS), op("D", "Y", "w", ranges=Y03)],
-    "PLSR": [op("S1", WS), op("S2", WS), op("S3", WS), op("D", "Y", "w", ranges=Y03)],
+    # S2 = 0-32767 (16-bit), 0-2147483647 (32-bit); below 0 an operation error (6-7 note)
+    "PLSY": [op("S1", WS), op("S2", WS, range=[0, 32767], range32=[0, 2147483647]), op("D", "Y", "w", ranges=Y03)],
+    "PWM": [op("S1", WS), op("S2", WS, range=[1, 32767]), op("D", "Y", "w", ranges=Y03)],
+    "PLSR": [op("S1", WS), op("S2", WS, range=[1, 32767], range32=[1, 2147483647]), op("S3", WS),
+             op("D", "Y", "w", ranges=Y03)],
     "SER": [op("S1", "KnX KnY KnM KnS T C D R"), op("S2", WS), op("D", WD, "w", words=[5, 10]),
             n(lo=1, hi=256, lo32=1, hi32=128)],
     "ABSD": [op("S1", "KnX KnY KnM KnS T C D R"), op("S2", "C", devices16=[0, 199], devices32=[200, 255]),
@@ -124,7 +126,7 @@ OPERANDS = {
     "ASCI": [op("S", WS), op("D", WD, "w"), n(lo=1, hi=256)],
     "HEX": [op("S", WS), op("D", WD, "w"), n(lo=1, hi=256)],
     "CCD": [op("S", "KnX KnY KnM KnS T C D R"), op("D", "T C D R", "w", words=[2, 4]), n(lo=1, hi=256)],
-    "CPUL": [op("S1", "Q"), op("S2", "D R", "rw"), n(kinds="K H")],
+    "CPUL": [op("S1", "Q"), op("S2", "D R", "rw"), n(lo=1, hi=5, kinds="K H")],
     "PID": [op("S1", "D R"), op("S2", "D R"), op("S3", "D R", "rw"), op("D", "D R", "w")],
     "LINK": [op("S1", "Q"), op("S2", "D R", "rw"), n(lo=1, hi=5, kinds="K H")],
     "MBUS": [op("S1", "Q"), op("S2", "D R", "rw"), n(lo=1, hi=5, kinds="K H")],
@@ -136,6 +138,9 @@ OPERANDS = {
     "UNI": [op("S", "KnX KnY KnM KnS T C D R"), op("D", WD, "w"), n(lo=0, hi=4)],
     "DIS": [op("S", WS), op("D", "KnY KnM KnS T C D R", "w"), n(lo=0, hi=4)],
     "SWAP": [op("S", WD, "rw")],
+    # m1 = 1-32, m2 = 1-6, n = 1-m2 (6-13 FNC 148 note, as SORT)
+    "SORT2": [op("S", WS), n("m1", 1, 32), n("m2", 1, 6), op("D", WD, "w"), n("n", 1, 6)],
+    "WSUM": [op("S", WS), op("D", WD, "w"), n(lo=1, hi=32767)],  # n > 0 (6-13 FNC 140 note)
     # S1 hour 0-23, S2 minute and S3 second 0-59 (6-14 FNC 160 note)
     "TCMP": [n("S1", 0, 23, kinds=WS), n("S2", 0, 59, kinds=WS), n("S3", 0, 59, kinds=WS),
              op("S", "T C D R", words=[3, 6]), op("D", BD, "w", bits=3)],

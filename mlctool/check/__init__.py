@@ -18,6 +18,7 @@ from mlctool.check.interrupts import check_interrupts
 from mlctool.check.labels import assign_named_labels, restrict_names
 from mlctool.check.lint import cross_module_coils, lint_module, referenced_labels, set_without_reset
 from mlctool.check.misuse import not_a_source_by_content, not_a_source_by_name
+from mlctool.check.operand_rules import check_operand_rules
 from mlctool.check.resolve import resolve
 from mlctool.check.specials import foreign_specials
 from mlctool.check.structure import check_layout, check_rungs
@@ -111,6 +112,7 @@ def _check_texts(sources: list[SourceText], target: Target, config: Config | Non
         diags += check_layout(m, target, {p: f for p, f in exported.items() if f != m.path}, calls,
                               broken[m.path])
         diags += check_blocks(m, target)
+        diags += check_operand_rules(m, target)
         diags += check_interrupts(m, target)
         diags += lint_module(m, target, refs)
     # Each main module is its own program together with the libraries; independent main

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from mlctool.sim import semantics as base
 from mlctool.sim.state import Machine
-from mlctool.targets.vs.common import op_error
+from mlctool.targets.vs.common import op_error, special
 
 
 @base._on
@@ -34,10 +34,17 @@ def ref(m: Machine, s) -> None:
 
 @base._on
 def reff(m: Machine, s) -> None:
-    """REFF n: the input filter time; pulse trains are counted exactly, so it has no effect."""
+    """REFF n: the X0-X7 filter time, n ms, goes to D9020 (the register that sets it, 10 at
+    power-on: 6-7 FNC 51's figure). Pulse trains are counted exactly, so the time itself has
+    no effect on the simulation."""
     n = s.ops[0].get(m)
     if not 0 <= n <= 60:
         op_error(m, s, f"n = {n} is outside 0-60 ms")
+        return
+    register = special(m, "input_filter")
+    if register is not None:
+        m.words["D"][register] = n
+        m.writer[("D", register)] = m.pc
 
 
 IO_REFRESH_ACTIONS = {"ref": ref, "reff": reff}

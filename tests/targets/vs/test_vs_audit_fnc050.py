@@ -155,6 +155,36 @@ CHECKS = [
     pytest.param("VS3", "DIS D10 D20 K4", "DIS D10 D20 K5", "E206", id="FNC144-n-0-4"),
     # 6-13 FNC 147 SWAP: S is written back (not a constant)
     pytest.param("VS3", "SWAP D0", "SWAP K5", "E210", id="FNC147-S-written"),
+    # ---- the pages' operand notes beyond kinds and ranges (targets/vs/operand_rules.toml)
+    pytest.param("VS3", "REF X10 K8", "REF X10 K16", "E232", id="FNC50-n-by-D"),
+    pytest.param("VS3", "MTR X20 Y20 M0 K2", "MTR X21 Y20 M0 K2", "E230", id="FNC52-S-ends-in-0"),
+    pytest.param("VS3", "MTR X20 Y10 M10 K2", "MTR X20 Y10 M15 K2", "E230", id="FNC52-D2-ends-in-0"),
+    pytest.param("VS3", "DHSCR K200 C235 C235", "DHSCR K200 C235 C236", "E232", id="FNC54-D-is-S2"),
+    pytest.param("VS3", "DHSZ K100 K200 C255 Y5", "DHSZ K100 K200 C255 Y6", "E205", id="FNC55-D-Y0-Y5"),
+    pytest.param("VS3", "PLSY K500 K0 Y0", "PLSY K500 K-1 Y0", "E206", id="FNC57-S2-not-negative"),
+    pytest.param("VS3", "PWM K0 K1 Y0", "PWM K0 K0 Y0", "E206", id="FNC58-T-1-32767"),
+    pytest.param("VS3", "PWM K100 K100 Y0", "PWM K101 K100 Y0", "E232", id="FNC58-t-not-above-T"),
+    pytest.param("VS3", "PLSR K1000 K1 K100 Y0", "PLSR K1000 K0 K100 Y0", "E206", id="FNC59-S2-positive"),
+    pytest.param("VS3", "ABSD K4M8 C0 M100 K4", "ABSD K4M4 C0 M100 K4", "E231", id="FNC62-S1-K4-at-8"),
+    pytest.param("VS3", "DABSD K8M0 C200 M100 K4", "DABSD K4M0 C200 M100 K4", "E231", id="FNC62-S1-K8"),
+    pytest.param("VS3", "INCD K4X0 C0 M0 K5", "INCD K2X0 C0 M0 K5", "E231", id="FNC63-S1-K4"),
+    pytest.param("VS2", "FROM K8 K5 D0 K4", "FROM K9 K5 D0 K4", "E206", id="FNC78-m1-per-model"),
+    pytest.param("VS2", "TO K8 K0 D0 K1", "TO K9 K0 D0 K1", "E206", id="FNC79-m1-per-model"),
+    pytest.param("VS1", "RS D0 K0 D100 K0 K2", "RS D0 K0 D100 K0 K3", "E206", id="FNC80-n1-per-model"),
+    pytest.param("VS2", "RS D0 K0 D100 K0 K3", "RS D0 K0 D100 K0 K4", "E206", id="FNC80-n1-VS2"),
+    pytest.param("VS3", "PRUN K4X20 K4M0", "PRUN K4X21 K4M0", "E230", id="FNC81-ends-in-0"),
+    pytest.param("VS3", "PRUN K4X20 K4M0", "PRUN K4X20 K4Y20", "E232", id="FNC81-KnX-to-KnM"),
+    pytest.param("VS3", "PRUN K4M0 K4Y20", "PRUN K4M0 K4M20", "E232", id="FNC81-KnM-to-KnY"),
+    pytest.param("VS3", "ASCI K4M0 D100 K4", "ASCI K2M0 D100 K4", "E231", id="FNC82-K4"),
+    pytest.param("VS3", "HEX D100 K4M0 K4", "HEX D100 K2M0 K4", "E231", id="FNC83-K4"),
+    pytest.param("VS3", "CCD K4M0 D100 K2", "CCD K3M0 D100 K2", "E231", id="FNC84-K4"),
+    pytest.param("VS1", "CPUL Q0 D100 K2", "CPUL Q0 D100 K3", "E206", id="FNC87-n-per-model"),
+    pytest.param("VS1", "LINK Q0 D100 K2", "LINK Q0 D100 K3", "E206", id="FNC89-n-per-model"),
+    pytest.param("VS3", "WSUM D10 D100 K1", "WSUM D10 D100 K0", "E206", id="FNC140-n-positive"),
+    pytest.param("VS3", "SORT2 D0 K32 K6 D200 K6", "SORT2 D0 K33 K6 D200 K6", "E206", id="FNC148-m1-1-32"),
+    pytest.param("VS3", "SORT2 D0 K5 K6 D100 D200", "SORT2 D0 K5 K7 D100 D200", "E206", id="FNC148-m2-1-6"),
+    pytest.param("VS3", "SORT2 D0 K5 K4 D0 D200", "SORT2 D0 K5 K4 D10 D200", "E234", id="FNC148-blocks-apart"),
+    pytest.param("VS2", "MBUS Q0 D100 K3", "MBUS Q0 D100 K4", "E206", id="FNC149-n-per-model"),
 ]
 
 
@@ -181,6 +211,26 @@ def test_once_per_program(line):
     assert ("E904", 4) in found(program(line, line))
 
 
+# devices only one instruction may use: (first line, a second line that is legal, one that is
+# not, the code the illegal one gets at line 4)
+SHARED = [
+    pytest.param("PWM D0 K100 Y0", "PWM D1 K100 Y1", "PWM D1 K100 Y0", "E233", id="FNC58-one-PWM-a-Y"),
+    pytest.param("PWM D0 K100 Y1", "PLSY K500 D100 Y0", "PLSY K500 D100 Y1", "E233", id="FNC58-not-with-PLSY"),
+    pytest.param("PWM D0 K100 Y2", "DPLSR K1000 D100 K100 Y3", "DPLSR K1000 D100 K100 Y2", "E233",
+                 id="FNC58-not-with-PLSR"),
+    pytest.param("PWM D0 K100 Y3", "DDRVA K1000 K500 Y0 Y3", "DDRVA K1000 K500 Y3 Y7", "E233",
+                 id="FNC58-not-with-positioning"),
+    pytest.param("STMR T0 K20 Y20", "OUT T1 K10", "OUT T0 K10", "W230", id="FNC65-own-timer"),
+    pytest.param("STMR T5 K20 Y20", "MOV T6 D0", "MOV T5 D0", "W230", id="FNC65-own-timer-read"),
+]
+
+
+@pytest.mark.parametrize("first, legal, illegal, code", SHARED)
+def test_device_of_one_instruction(first, legal, illegal, code):
+    assert [c for c, _ in found(program(first, legal)) if c in ("E233", "W230")] == []
+    assert (code, 4) in found(program(first, illegal)), found(program(first, illegal))
+
+
 # ------------------------------------------------------------------ run-time rules
 
 # (program without END, stimulus with expectations, whether an operation error is expected)
@@ -189,6 +239,14 @@ RUNS = [
     pytest.param("LDP X20\nALT M100\nLD M100\nOUT Y20\nLDI M100\nOUT Y21\n",
                  "0ms X20=1\n0ms expect M100=1 Y20=1 Y21=0\n10ms expect M100=1\n20ms X20=0\n"
                  "30ms X20=1\n30ms expect M100=0 Y20=0 Y21=1\n", False, id="FNC66-alternates"),
+    # 6-7 FNC 51 REFF: n goes to D9020 (10 at power-on); a register n above 60 is an operation error
+    pytest.param("LD X20\nREFF K1\nLD X21\nREFF D0\n",
+                 "0ms expect D9020=10\n10ms X20=1\n10ms expect D9020=1\n20ms X20=0 X21=1 D0=61\n"
+                 "20ms expect D9020=1 M9067=1\n", True, id="FNC51-D9020"),
+    # 6-7 FNC 57 PLSY: S1 below 1 is 1 Hz, above the model's maximum (VS3: 200 kHz) the maximum
+    pytest.param("LD X20\nDPLSY D0 K0 Y0\nLD X20\nPLSY D2 K0 Y1\n",
+                 "0ms D0:d=300000 D2=0 X20=1\n0ms expect D9350:d=200000 D9370:d=1\n", False,
+                 id="FNC57-S1-clamped"),
     # 6-8 FNC 64 TTMR n = 2: D0 = D1 x 100
     pytest.param("LD X20\nTTMR D0 K2\n", "0ms X20=1\n3s expect D1=3 D0=300\n", False, id="FNC64-n-times"),
     # 6-12 FNC 110 DECMP: the page's example; X0 Off keeps M0-M2
