@@ -159,10 +159,14 @@ def test_bad_link_keys_are_diagnostics():
 
 
 def test_port_beyond_the_model_is_a_fault():
+    # the checker refuses CP3 on VS1 (E206, 6-13 MBUS n per model); an image linked for VS3
+    # and run as VS1 meets the simulator's own guard
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "t.il")
         Path(path).write_text(".table Q0 MBUS H03 K1 D0 K0 K1\nLD X0\nMBUS Q0 D100 K3\nEND\n")
-        image, _, _ = program_from_paths([path], load_target("vs", "VS1"))
+        refused, diags, _ = program_from_paths([path], load_target("vs", "VS1"))
+        assert refused is None and "E206" in [d.code for d in diags]
+        image, _, _ = program_from_paths([path], load_target("vs", "VS3"))
     st, _ = parse_stimulus_text("t.stim", "0ms X0=1\nrun 20ms\n", VS)
     r = Simulation(image, load_target("vs", "VS1"), st, [], 10_000, [], False).run(2)
     assert r.fault is not None and "CP3" in r.fault.message
