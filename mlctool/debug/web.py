@@ -377,18 +377,20 @@ class Monitor:
         runner = self._runner
         self.running = False
         if runner is not None and runner is not threading.current_thread():
-            runner.join()
+            runner.join(5)  # a tab that stopped reading can hold a send up: it ends soon after
         self._runner = None
 
     def _run(self) -> None:
         """Scans as virtual time owes wall time (speed x); the state out every tick."""
-        start_wall, start_scan, batch = time.perf_counter(), self.s.scan, 1
+        speed, start_wall, start_scan, batch = None, 0.0, 0, 1
         while self.running and not self.closed.is_set():
             tick = time.perf_counter()
             with self.lock:
                 if not self.running:
                     break
                 s = self.s
+                if self.speed != speed:  # started, or the speed changed: time counts from now
+                    speed, start_wall, start_scan = self.speed, tick, s.scan
                 if self.speed == MAX_SPEED:
                     n = batch
                 else:
@@ -558,9 +560,9 @@ MONITOR_SCRIPT = r"""
       var tip=g.querySelector('title');
       if(tip) tip.textContent+='\nclick: force '+d.bit+' to the other value; shift-click: release';
     }
-    if(d.values.length){
-      var t=document.createElementNS(SVG,'text');
-      t.setAttribute('class','val'); t.setAttribute('x',b.x+b.width/2); t.setAttribute('y',b.y+b.height+11);
+    if(d.values.length){  // above the box: below it is its symbol line, then the next row
+      var box=g.querySelector('rect.box'), bb=box?box.getBBox():b, t=document.createElementNS(SVG,'text');
+      t.setAttribute('class','val'); t.setAttribute('x',bb.x+bb.width/2); t.setAttribute('y',bb.y-4);
       t.setAttribute('text-anchor','middle'); g.appendChild(t); vals[i]=t;
     }
   });

@@ -30,7 +30,7 @@ END
 """
 
 HEAVY = ("numpy", "pymodbus", "serial", "mlctool.sim", "mlctool.devices", "mlctool.asm", "mlctool.ladder", "mlctool.targets.fbs",
-         "rich", "lark")
+         "rich", "lark", "websockets")
 
 
 def imported(*args: str, cwd=None) -> tuple[set[str], subprocess.CompletedProcess]:
