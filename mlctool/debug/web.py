@@ -38,8 +38,9 @@ from mlctool.sim.stimulus import StimError
 MAX_MESSAGE = 64 * 1024
 TICK_S = 0.05  # a running machine's state goes out at most this often
 MAX_SPEED = 0  # `run` speed 0: as fast as the engine goes
-MAX_BATCH_S = 0.04
-MAX_PENDING = 200  # at speed 0, scans run between two looks at the clock
+MAX_BATCH_S = 0.04  # at speed 0, scans run between two looks at the clock
+MAX_PENDING = 200  # output lines sent a tick while running
+MAX_GOTO_AHEAD = 100_000  # scans a `goto` may replay forward (under the lock)
 # console lines the page may send: not `save` (it writes files) nor `quit`
 CONSOLE_REFUSED = ("save", "quit")
 CONSOLE_MOVES = ("step", "scan", "next", "run", "continue", "back", "reverse-continue", "goto")
@@ -123,6 +124,7 @@ class Monitor:
         self.running = False
         self.speed = 1.0
         self._runner: threading.Thread | None = None
+        self._generation = 0
         self._local = threading.local()  # .collect: the output of the request this thread serves
         self._pending: list[str] = []  # output while running (logpoints): sent with the next state
         self._dropped = 0
@@ -302,6 +304,8 @@ class Monitor:
 
     def cmd_goto(self, msg):
         k = self._arg(msg, "scan", int)
+        if k > self.s.scan + MAX_GOTO_AHEAD:  # the lock is held while it replays: keep it short
+            raise RequestError(f"`goto`: at most {MAX_GOTO_AHEAD} scans ahead (run goes further)")
         self.pause()
         with self.lock:
             return self._stopped(self.s.goto_scan(k))
@@ -361,7 +365,9 @@ class Monitor:
                 return "", True
             self.running = True
             self.stop_text = "running"
-            self._runner = threading.Thread(target=self._run, name="mlc-monitor-run", daemon=True)
+            self._generation += 1  # a runner of an earlier run still ending (pause timed out) stops
+            self._runner = threading.Thread(target=self._run, args=(self._generation,), name="mlc-monitor-run",
+                                            daemon=True)
             self._runner.start()
         return "", True
 
@@ -380,13 +386,13 @@ class Monitor:
             runner.join(5)  # a tab that stopped reading can hold a send up: it ends soon after
         self._runner = None
 
-    def _run(self) -> None:
+    def _run(self, generation: int) -> None:
         """Scans as virtual time owes wall time (speed x); the state out every tick."""
         speed, start_wall, start_scan, batch = None, 0.0, 0, 1
         while self.running and not self.closed.is_set():
             tick = time.perf_counter()
             with self.lock:
-                if not self.running:
+                if not self.running or generation != self._generation:
                     break
                 s = self.s
                 if self.speed != speed:  # started, or the speed changed: time counts from now

@@ -144,6 +144,8 @@ def test_force_scan_release_and_junk(server):
     assert "not forced" in tab.request("release", device="X3")["message"]
     assert "not a bit" in tab.request("toggle", device="D0")["message"]
     assert "`scan`" in tab.request("goto", scan="3")["message"]
+    assert "at most 100000 scans ahead" in tab.request("goto", scan=10**30)["message"]
+    assert "no scan before scan 0" in tab.request("goto", scan=-1)["message"]
     assert "not available" in tab.request("console", line="save /tmp/x.stim")["message"]
     assert "unknown command" in tab.request("console", line="frobnicate")["message"]
     assert "`speed`" in tab.request("run", speed=-1)["message"]
