@@ -15,7 +15,6 @@ WORD_KINDS = ("D", "V", "Z", "T")
 _CMP = {"cmp_eq": "==", "cmp_ne": "!=", "cmp_gt": ">", "cmp_lt": "<", "cmp_ge": ">=", "cmp_le": "<="}
 _FLOAT = {"fadd": "+", "fsub": "-", "fmul": "*"}
 _ARITH = {"add": "+", "sub": "-", "wand": "&", "wor": "|", "wxor": "^"}
-_GATHER = 0x0102040810204080  # (x * _GATHER) >> 56: the low bits of x's 8 bytes, byte k at bit k
 _LITTLE = sys.byteorder == "little"  # the 'Q' views of the bit stores read bytes little-endian first
 # The float buffer's 16-bit halves (engine.py FH) holding the low and high word of a D pair
 _FL, _FHI = (0, 1) if _LITTLE else (1, 0)

@@ -40,7 +40,6 @@ from mlctool.sim.codegen import (
     _ARITH,
     _CMP,
     _FLOAT,
-    _GATHER,
     _LITTLE,
     BIT_KINDS,
     RUNG_CLASSES,
@@ -60,7 +59,7 @@ from mlctool.sim.decode import FLOW_OPS, Program, Step
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, GroupRef
 from mlctool.sim.state import s16, s32
 
-COMPILER_VERSION = "8"
+COMPILER_VERSION = "10"
 
 
 class Code:
@@ -362,11 +361,10 @@ class _Gen(OpsCode):
             a, n = ref.num, ref.n
             if _LITTLE and a % 8 == 0 and n % 8 == 0 and a + n <= (ref.hi + 1) // 8 * 8:
                 # 8 device bytes (0/1) at a time as one unsigned 64-bit word of the bit store
-                # (a 'Q' view of the bytearray); the multiply gathers byte k's low bit into bit
-                # 56 + k (no carries: each partial product lands apart), the shift and mask keep them
+                # (a 'Q' view of the bytearray), turned into their 8 bits by a dict of the 256
+                # patterns (engine._K8: a lookup is cheaper than gathering with big-int arithmetic)
                 q = self.use("q" + ref.kind)
-                parts = [f"{q}[{a // 8 + c}] * {_GATHER} >> {56 - 8 * c} & {255 << 8 * c}"
-                         for c in range(n // 8)]
+                parts = [f"K8[{q}[{a // 8 + c}]]" + (f" << {8 * c}" if c else "") for c in range(n // 8)]
                 expr = f"({' | '.join(parts)})" if len(parts) > 1 else f"({parts[0]})"
             else:
                 arr = self.use("b" + ref.kind)

@@ -93,10 +93,24 @@ class OpsCode:
         stay below 2^30 (no multi-digit ints, unlike the 32-bit value)."""
         (alo, ahi), (blo, bhi) = pairs
         sym = _ARITH[op]
-        carry = " + (v >> 16)" if op in ("add", "sub") else ""
         arr = self.use("w" + dst.kind)
-        self.emit(f"v = {alo} {sym} {blo}; h = {ahi} {sym} {bhi}{carry}", i, 2)
-        self.emit(f"{arr}[{dst.num}] = v & 65535; {arr}[{dst.num + 1}] = h & 65535", i, 2)
+        lo, hi = f"{arr}[{dst.num}]", f"{arr}[{dst.num + 1}]"
+        if op in ("add", "sub"):
+            # both words are read before either is stored (the pairs may overlap); the carry
+            # or borrow and the wrap by compares and +/- (CPython specialises these for ints,
+            # not the shifts and masks)
+            self.emit(f"v = {alo} {sym} {blo}; h = {ahi} {sym} {bhi}", i, 2)
+            if op == "add":
+                self.emit(f"if v < 65536: {lo} = v", i, 2)
+                self.emit(f"else: {lo} = v - 65536; h += 1", i, 2)
+                self.emit(f"{hi} = h if h < 65536 else h - 65536", i, 2)
+            else:
+                self.emit(f"if v >= 0: {lo} = v", i, 2)
+                self.emit(f"else: {lo} = v + 65536; h -= 1", i, 2)
+                self.emit(f"{hi} = h if h >= 0 else h + 65536", i, 2)
+        else:
+            self.emit(f"v = {alo} {sym} {blo}; h = {ahi} {sym} {bhi}", i, 2)
+            self.emit(f"{lo} = v & 65535; {hi} = h & 65535", i, 2)
         self.learn(keys, None)
         self.gwrite(keys, i)
 

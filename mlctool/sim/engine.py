@@ -34,6 +34,10 @@ _FI = memoryview(_FF).cast("B").cast("I")
 # without building the 32-bit pattern (compile._FL/_FHI: the halves of the low and high word).
 _FH = memoryview(_FF).cast("B").cast("H")
 
+# Kn groups of 8 aligned bits (compile.value): the unsigned 64-bit word of 8 device bytes, each
+# 0 or 1 (every bit store writes 0/1), little-endian -> the 8-bit value (byte k is bit k)
+_K8 = {sum((b >> k & 1) << 8 * k for k in range(8)): b for b in range(256)}
+
 
 def _fault(m: Machine, writers: dict | None, ref, extent: int, q: int = 0, pos: float = 0) -> None:
     """An index-modified operand outside its device: the writer records deferred so far are
@@ -166,7 +170,7 @@ class Scanner:
 
     def _bind(self) -> None:
         code, prog = self.code, self.prog
-        g: dict = {"__builtins__": __builtins__, "T01": _T01, "G_FF": _FF, "G_FI": _FI, "G_FH": _FH, "LX": [0, 0],
+        g: dict = {"__builtins__": __builtins__, "T01": _T01, "K8": _K8, "G_FF": _FF, "G_FI": _FI, "G_FH": _FH, "LX": [0, 0],
                    "WD": DEFAULT_WATCHDOG,
                    "FLT": _fault, "JMP": _drop_loops, "NB": len(code.starts),
                    "BLK": {st: j for j, st in enumerate(code.starts)}, **code.consts}
