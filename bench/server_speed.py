@@ -25,7 +25,7 @@ import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
-from mlctool.devices.xc100.server import crc16  # noqa: E402
+from mlctool.devices.framing import crc16  # noqa: E402
 
 REPLY_SIZE = {("tcp", 0x03): 13, ("tcp", 0x06): 12, ("rtu", 0x03): 9, ("rtu", 0x06): 8}
 

@@ -196,7 +196,7 @@ def test_import_exports(tmp_path, text, encoding):
 # --- Modbus streams (`mlc device serve`) -------------------------------------------------------
 
 def _modbus_frame(framing: str, unit: int, pdu: bytes) -> bytes:
-    from mlctool.devices.xc100.server import RECEIVERS, Frame
+    from mlctool.devices.framing import RECEIVERS, Frame
 
     return RECEIVERS[framing].encode(Frame(unit, b"", 7), pdu)
 
@@ -219,8 +219,9 @@ def test_modbus_streams(framing, parts, cuts):
     """Junk and well-framed requests of any content, cut anywhere: the receivers and the
     XC100's request handling never raise, and every reply is a well-formed frame of the same
     framing for the unit asked (docs/reliability.md "The Modbus server")."""
+    from mlctool.devices.framing import RECEIVERS, crc16
     from mlctool.devices.xc100 import controller as c
-    from mlctool.devices.xc100.server import RECEIVERS, Line, Server, crc16
+    from mlctool.devices.xc100.server import Line, Server
 
     line = Line({1: c.new_xc100(), 2: c.new_xc100()})
     server = Server(line, framing, tcp=("127.0.0.1", 1))  # never started: answer() only

@@ -55,7 +55,7 @@ COMMAND_SUMMARIES = {
 
 class LazyGroup(click.Group):
     """A group whose commands are imported on first use (`mlc --help` imports none of them:
-    the simulator's numpy and Modbus's pymodbus cost about 250 ms)."""
+    the simulator's numpy and the device models cost about 250 ms)."""
 
     def list_commands(self, ctx):
         return sorted(set(super().list_commands(ctx)) | set(COMMAND_MODULES))

@@ -30,7 +30,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from mlctool.debug.expr import Expr, ExprError, resolve_device
-from mlctool.devices import ModelIO
+from mlctool.devices.base import ModelIO
 from mlctool.program import Image
 from mlctool.sim.run import Simulation, plan_scans
 from mlctool.sim.scan import DEFAULT_WATCHDOG, END_SCAN, Fault, begin_scan, end_of_scan

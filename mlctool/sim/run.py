@@ -12,7 +12,8 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
-from mlctool.devices import MODELS, DeviceModel, ModelIO, ParamError
+from mlctool.devices.base import DeviceModel, ModelIO, ParamError
+from mlctool.devices.registry import MODELS
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image
 from mlctool.sim import seriallink, signals

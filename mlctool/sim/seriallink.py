@@ -12,13 +12,14 @@ bits, a parity bit if any, 1 stop bit (the CPU-link estimate of manual 003 7-3-7
 bits per byte, i.e. 8E1). RTU frames are followed by the 3.5-character silence that ends
 them (Modbus RTU framing); ASCII frames count every character (':' hex digits CR LF).
 
-Frames are built and checked with pymodbus's CRC-16 / LRC (the xc100 code's framers).
+Frames are built and checked by devices/framing.py, as `mlc device serve` does.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from mlctool.devices import framing
 from mlctool.sim.state import SimFault
 
 DEFAULT_TIMEOUT_US = 500_000  # [P] the manual leaves it to the port settings (Ladder Master S)
@@ -42,30 +43,13 @@ class LineSettings:
 
 
 def encode(settings: LineSettings, station: int, pdu: bytes) -> bytes:
-    from pymodbus.framer import FramerAscii, FramerRTU  # pymodbus loads only when a link is used
-    from pymodbus.pdu import DecodePDU
-
-    framer = FramerAscii if settings.framing == "ascii" else FramerRTU
-    return framer(DecodePDU(False)).encode(pdu, station, 0)
+    return framing.encode(settings.framing, framing.Frame(station, b""), pdu)
 
 
 def decode(settings: LineSettings, frame: bytes) -> tuple[int, bytes] | None:
     """A whole received frame -> (station, PDU), None when it is not a valid frame."""
-    from pymodbus.framer import FramerAscii, FramerRTU
-
-    if settings.framing == "ascii":
-        if len(frame) < 9 or frame[:1] != b":" or frame[-2:] != b"\r\n":
-            return None
-        try:
-            raw = bytes.fromhex(frame[1:-2].decode("ascii"))
-        except (UnicodeDecodeError, ValueError):
-            return None
-        if len(raw) < 3 or FramerAscii.compute_LRC(raw[:-1]) != raw[-1]:
-            return None
-        return raw[0], raw[1:-1]
-    if len(frame) < 4 or FramerRTU.compute_CRC(frame[:-2]) != int.from_bytes(frame[-2:], "big"):
-        return None
-    return frame[0], frame[1:-2]
+    got = framing.decode(settings.framing, frame)
+    return None if got is None else (got.unit, got.pdu)
 
 
 @dataclass

@@ -1,15 +1,17 @@
 """XC100 Modbus (manual 004 ch. 8): the manual's frames as encode/decode vectors through
-pymodbus's framers, the register map, exceptions and their priority, station and broadcast."""
+devices/framing.py (with pymodbus's framers as an independent check of the same frames), the
+register map, exceptions and their priority, station and broadcast."""
 
 from __future__ import annotations
 
 import pytest
 from pymodbus.framer import FramerAscii, FramerRTU
 
+from mlctool.devices import framing
+from mlctool.devices.framing import AsciiReceiver, Frame, RtuReceiver
 from mlctool.devices.xc100 import controller as c
 from mlctool.devices.xc100.modbus import handle_pdu
 from mlctool.devices.xc100.registers import UNLOCK_KEY, read_words, write_words
-from mlctool.devices.xc100.server import LineAscii, LineRTU, XC100Decoder
 
 # (section, frame as printed, station, PDU). Frame 6 is printed with one "0" missing
 # ("002" for "0002"); the corrected frame is the one whose LRC (65) checks.
@@ -33,32 +35,31 @@ ASCII = [
 
 @pytest.mark.parametrize("name,frame,station,pdu", RTU, ids=[r[0] for r in RTU])
 def test_rtu_frames(name, frame, station, pdu):
-    framer = LineRTU(XC100Decoder(True))
     raw, body = bytes.fromhex(frame), bytes.fromhex(pdu)
-    assert framer.encode(body, station, 0) == raw
-    used, dev_id, _, got = framer.decode(raw)
-    assert (used, dev_id, got) == (len(raw), station, body)
-    assert FramerRTU.compute_CRC(raw[:-2]) == int.from_bytes(raw[-2:], "big")
+    assert framing.encode("rtu", Frame(station, b""), body) == raw
+    assert framing.decode("rtu", raw) == Frame(station, body)
+    assert FramerRTU.compute_CRC(raw[:-2]) == int.from_bytes(raw[-2:], "big")  # pymodbus agrees
+    assert framing.crc16(raw[:-2]) == int.from_bytes(raw[-2:], "little")
 
 
 @pytest.mark.parametrize("name,frame,station,pdu", ASCII, ids=[r[0] for r in ASCII])
 def test_ascii_frames(name, frame, station, pdu):
-    framer = LineAscii(XC100Decoder(True))
     raw, body = frame.encode() + b"\r\n", bytes.fromhex(pdu)
-    assert framer.encode(body, station, 0) == raw
-    used, dev_id, _, got = framer.decode(raw)
-    assert (used, dev_id, got) == (len(raw), station, body)
-    assert FramerAscii.compute_LRC(bytes.fromhex(frame[1:-2])) == int(frame[-2:], 16)
+    assert framing.encode("ascii", Frame(station, b""), body) == raw
+    assert framing.decode("ascii", raw) == Frame(station, body)
+    assert FramerAscii.compute_LRC(bytes.fromhex(frame[1:-2])) == int(frame[-2:], 16)  # pymodbus agrees
+    assert framing.lrc(bytes.fromhex(frame[1:-2])) == int(frame[-2:], 16)
 
 
 def test_damaged_checks_are_not_frames():
-    framer = LineRTU(XC100Decoder(True))
-    assert framer.decode(bytes.fromhex("01 03 10 00 00 01 80 CB"))[3] == b""
-    a = LineAscii(XC100Decoder(True))
-    assert a.decode(b":010310000001EC\r\n")[3] == b""
-    # junk before ':' and a non-hex line do not eat the good frame behind them
-    used, dev, _, pdu = a.decode(b"zz:zz\r\n:01:010310000001EB\r\n")
-    assert (dev, pdu) == (1, bytes.fromhex("0310000001"))
+    assert framing.decode("rtu", bytes.fromhex("01 03 10 00 00 01 80 CB")) is None
+    assert framing.decode("rtu", bytes.fromhex("01 03 80")) is None
+    assert framing.decode("ascii", b":010310000001EC\r\n") is None
+    assert framing.decode("ascii", b":0103zz0000001EB\r\n") is None
+    assert framing.decode("ascii", b":01EB\r\n") is None
+    # a stream: junk before ':' and a non-hex line do not eat the good frame behind them
+    frames = AsciiReceiver().feed(b"zz:zz\r\n:01:010310000001EB\r\n", 0.0)
+    assert frames == [Frame(1, bytes.fromhex("0310000001"))]
 
 
 def ask(dev, pdu: str, unit: int = 1, station: int = 1) -> str | None:
@@ -147,8 +148,6 @@ def test_point_table_written_by_fc10_then_started():
 @pytest.mark.parametrize("name,frame,station,pdu", RTU + ASCII, ids=[r[0] for r in RTU + ASCII])
 def test_manual_frames_through_the_server_stream_receivers(name, frame, station, pdu):
     """The manual's frames (8.3-8.5) through `mlc device serve`'s own receivers, both ways."""
-    from mlctool.devices.xc100.server import AsciiReceiver, Frame, RtuReceiver
-
     receiver = AsciiReceiver() if frame.startswith(":") else RtuReceiver()
     raw = frame.encode() + b"\r\n" if frame.startswith(":") else bytes.fromhex(frame)
     assert receiver.feed(raw, 0.0) == [Frame(station, bytes.fromhex(pdu))]

@@ -192,7 +192,7 @@ def test_model_parameters_are_checked(mlc, tmp_path):
 
 
 def _rtu(hexframe: str) -> bytes:
-    from mlctool.devices.xc100.server import crc16
+    from mlctool.devices.framing import crc16
 
     adu = bytes.fromhex(hexframe)
     return adu + crc16(adu).to_bytes(2, "little")
@@ -359,7 +359,7 @@ _REQUESTS = st.sampled_from(list(PIPELINE) + ["01 10 20 02 00 02 04 00 00 30 39"
 def test_stream_receivers_find_every_frame_however_the_stream_is_cut(frames, cuts, framing):
     """A Modbus stream fuzz target (issue 21): valid frames, cut anywhere into reads, come out
     whole and in order; nothing is lost, nothing is invented."""
-    from mlctool.devices.xc100.server import RECEIVERS
+    from mlctool.devices.framing import RECEIVERS
 
     encode = {"rtu": _rtu, "ascii": _ascii, "tcp": lambda f: _mbap(3, f)}[framing]
     stream = b"".join(encode(f) for f in frames)
@@ -376,7 +376,7 @@ def test_stream_receivers_find_every_frame_however_the_stream_is_cut(frames, cut
 def test_junk_then_silence_then_a_valid_frame(junk, framing):
     """Any junk, then the line's resynchronisation point (RTU: a silence; ASCII: a new ':'
     line; Modbus TCP: a new connection after a broken header), then a request: it is read."""
-    from mlctool.devices.xc100.server import RECEIVERS
+    from mlctool.devices.framing import RECEIVERS
 
     receiver = RECEIVERS[framing]()
     receiver.feed(junk, 0.0)

@@ -11,8 +11,9 @@ import socket
 import struct
 import time
 
+from mlctool.devices.framing import crc16
 from mlctool.devices.xc100 import controller as c
-from mlctool.devices.xc100.server import crc16, make_server, run_device
+from mlctool.devices.xc100.server import make_server, run_device
 
 CLIENTS = 200
 REQUESTS_EACH = 5

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from mlctool.devices import MODELS, ModelIO
+from mlctool.devices.base import ModelIO
+from mlctool.devices.registry import MODELS
 from mlctool.sim.state import Machine
 from simkit import NC5, passed, simulate
 

@@ -1,5 +1,5 @@
 """The XC100's Modbus application layer (manual 004 ch. 8): one request PDU in, one response
-PDU (or silence) out. Framing (RTU CRC-16, ASCII LRC) is pymodbus's; see server.py.
+PDU (or silence) out. Framing (RTU CRC-16, ASCII LRC, MBAP) is devices/framing.py's.
 
 Rules of 8.2/8.3 kept here:
 - only the controller's station answers (station = rotary CH + 1, 01H-10H); station 0 is a

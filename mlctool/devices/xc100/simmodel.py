@@ -21,6 +21,7 @@ from __future__ import annotations
 from decimal import Decimal, InvalidOperation
 from typing import NamedTuple
 
+from mlctool.devices import framing
 from mlctool.devices.base import DeviceModel, ModelIO, ParamError
 from mlctool.devices.xc100 import controller as c
 from mlctool.devices.xc100.modbus import handle_pdu
@@ -231,7 +232,7 @@ class XC100Model(DeviceModel):
     def _serve(self, port, t_us: int) -> None:
         """Answer the requests that reached the XC100 since the last step, each at the time
         it arrived (the axis is advanced to that moment first): as `mlc device serve` does,
-        pymodbus's framer reads the frame and modbus.handle_pdu answers (manual 004 ch. 8)."""
+        devices/framing.py reads the frame and modbus.handle_pdu answers (manual 004 ch. 8)."""
         dev, me = self.dev, id(self)
         port.attach(me, line_settings(dev), self.link.timeout)
         for ex in port.arrived(me, t_us):
@@ -240,13 +241,13 @@ class XC100Model(DeviceModel):
                 self.last_t = ex.arrive_us
             if not port.hears(me):
                 continue  # other line settings than the master: noise, no answer
-            framer = _framer(dev)
-            _used, unit, _tid, pdu = framer.decode(ex.request)
-            if not pdu:
+            kind = "rtu" if dev.boot[0x0A04] else "ascii"
+            frame = framing.decode(kind, ex.request)
+            if frame is None or not frame.pdu:
                 continue  # bad CRC/LRC: dropped silently (8.3 defines no answer)
-            reply = handle_pdu(dev, self.link.station, unit, pdu)
+            reply = handle_pdu(dev, self.link.station, frame.unit, frame.pdu)
             if reply is not None:
-                port.answer(ex, me, framer.encode(reply, unit, 0), self.link.reply_us)
+                port.answer(ex, me, framing.encode(kind, frame, reply), self.link.reply_us)
 
 
 def signal_values(dev: c.Xc100) -> dict[str, int]:
@@ -279,15 +280,6 @@ def line_settings(dev: c.Xc100) -> LineSettings:
     boot = dev.boot
     return LineSettings(int(BAUDS[boot[0x0A00]]), 7 if boot[0x0A01] else 8,
                         ("none", "even", "odd")[boot[0x0A02]], "rtu" if boot[0x0A04] else "ascii")
-
-
-def _framer(dev: c.Xc100):
-    from pymodbus.framer import FramerAscii, FramerRTU
-
-    from mlctool.devices.xc100.server import XC100Decoder  # pymodbus: only for linked models
-
-    cls = FramerRTU if dev.boot[0x0A04] else FramerAscii
-    return cls(XC100Decoder(True))
 
 
 def _is_hex(text: str) -> bool:
