@@ -734,7 +734,8 @@ class _Gen(OpsCode):
                                                 or _word(s.ops[0]) and s.ops[0].ix is None):
             self.emit("fs = m.fors", i)
             self.emit(f"if len(fs) >= {self.for_depth}:", i)
-            self.emit(ref_call, i, 2)
+            self.emit(ref_call, i, 2)  # a fault, or an operation error that skips the FOR
+            self.emit(f"return {j + 1}", i, 2)
             self.emit(f"n = {self.value(s.ops[0], i, 0)}", i)
             self.emit(f"fs.append([{i}, {s.target}, n if n > 1 else 1])", i)
             self.emit(f"return {j + 1}", i)

@@ -16,6 +16,9 @@ from mlctool.targetapi.registry import simulation_of
 
 END_SCAN = -1
 CALL_ALARM = "CALL_NESTING"  # 4.1 API-01: a 6th level "該副程式不執行"
+# a 6th FOR level: a fault, or on a target that names a code for it (VS 6-2 FOR, error 6704)
+# an operation error: that FOR is not executed, its body runs once
+FOR_ALARM = "FOR_NESTING"
 DEFAULT_WATCHDOG = 1_000_000  # steps per scan
 
 
@@ -79,6 +82,10 @@ def flow_routines(prog_ref: list[Program]) -> dict:
         n = max(1, s.ops[0].get(m))  # N <= K1 is taken as K1 (4.1 API-08)
         limit = prog_ref[0].target.settings["for_depth"]
         if len(m.fors) >= limit:
+            if FOR_ALARM in (m.target.settings.get("operation_error") or {}).get("codes", {}):
+                alarm(m, FOR_ALARM, f"FOR {s.ins.texts[0]}: level {len(m.fors) + 1} exceeds {limit}; "
+                      "not executed, the body runs once")
+                return None
             raise SimFault(f"FOR nested deeper than {limit} levels (4.1 API-08)")
         m.fors.append([s.index, s.target, n])
         return None

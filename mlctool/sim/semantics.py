@@ -24,12 +24,14 @@ def alarm(m: Machine, name: str, message: str) -> None:
     """A fault the manual names or that leaves the instruction not executed: recorded, run goes on.
 
     Targets with error registers (target.toml `operation_error`, VS M9067/D9067) also get
-    the relay On and the code in the register."""
+    the relay On and the code in the register: the target's code for this alarm
+    (`operation_error.codes`, VS CALL_NESTING 6702), else its default code."""
     m.alarms.append((m.now_us, m.pc, name, message))
     err = m.target.settings.get("operation_error")
-    if err and name in (ARITH_ALARM, OPERATION_ALARM):
+    codes = err.get("codes", {}) if err else {}
+    if err and (name in (ARITH_ALARM, OPERATION_ALARM) or name in codes):
         m.bits["M"][err["relay"]] = 1
-        m.words["D"][err["register"]] = err["code"]
+        m.words["D"][err["register"]] = codes.get(name, err["code"])
         for n in err.get("also_relays", ()):
             m.bits["M"][n] = 1
 

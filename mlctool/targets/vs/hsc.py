@@ -20,13 +20,13 @@ the counts of the interval. Writing a counter (DMOV) compares nothing (2-7, 6-7)
 
 from __future__ import annotations
 
-from mlctool.sim import semantics as base
 from mlctool.sim.operands import CounterRef
 from mlctool.sim.pulses import count as count_edges
 from mlctool.sim.pulses import quadrature_count, time_of_count
 from mlctool.sim.state import Machine, SimFault, s32
 from mlctool.targets.vs.common import op_error, special
 from mlctool.targets.vs.hhsc import catch_up_hardware, dhhcmv
+from mlctool.targets.vs.routines import counter
 
 MAX_COMPARES = 8  # DHSCS/DHSCR/DHSZ/DHSCT executed together (6-7)
 
@@ -301,17 +301,12 @@ def spd(m: Machine, s) -> None:
 
 
 def counter_coil(m: Machine, s) -> None:
-    """OUT C: high-speed counters by the table, every other counter as before."""
+    """OUT C: high-speed counters by the table, every other counter by routines.counter."""
     n = s.ops[0].addr(m)
     if is_high_speed(m, n):
         coil(m, s, n)
     else:
-        base.cnt(m, s)
-
-
-# the engine's routine wherever the compiled engine inlines it: it compiles only 16-bit
-# counters, and the high-speed ones (C235-C255) are 32-bit (targetapi Simulation.actions)
-counter_coil.generic = base.cnt
+        counter(m, s)  # the VS counter rules of 2-6 (routines.py), not the engine's cnt
 
 
 HSC_ACTIONS = {

@@ -247,10 +247,94 @@ def sum_bits(m: Machine, s) -> None:
     set_flags(m, zero=r == 0)
 
 
+# ------------------------------------------------------------------ counters (2-6, 3-9)
+
+def counter(m: Machine, s) -> None:
+    """OUT C: counts the Off->On edges of its rung (2-6).
+
+    16-bit C0-C199: up to the preset (outside 1-32767 taken as 1, 3-9), then the value and
+    the contact hold. A value at or above the preset that did not come from counting (a MOV
+    into the counter, a preset lowered below it) changes nothing until the next count input,
+    which turns the contact On and makes the value the preset (2-6-1 "在下次計數輸入信號ON時，
+    則接點立即變成ON，同時現在值內容變成與設定值相同"). The contact is set at the end of the scan
+    as the engine's counters are.
+
+    32-bit C200-C234: up, or down while M9200+n is On; the value goes on past the preset and
+    wraps at +-2^31. The contact turns On when a count up reaches the preset (preset-1 ->
+    preset) and Off when a count down leaves it (preset -> preset-1), the page's -6 -> -5 /
+    -5 -> -6 (2-6-2); any other count leaves it alone, so a value DMOVed past the preset
+    counts "but the contact does not change" (2-6-2). DECISION: the contact follows those two
+    transitions only (the table's 上數到達設定值時ON, 下數到達設定值時OFF)."""
+    prev = m.edge[s.index]
+    m.edge[s.index] = m.acc
+    rise = m.acc and not prev
+    n = s.ops[0].addr(m)
+    settings = m.target.settings
+    if m.is_c32(n):
+        if not rise:
+            return
+        down = m.bits["M"][settings["counter_direction_base"] + n - m.c32_lo]
+        old = s32(m.cval[n])
+        new = s32(old + (-1 if down else 1))
+        m.cval[n] = new
+        m.writer[("C", n)] = m.pc
+        preset = s.ops[1].get(m)
+        if not down and new == preset:
+            m.bits["C"][n] = 1
+        elif down and old == preset:
+            m.bits["C"][n] = 0
+        return
+    raw = s.ops[1].get(m)
+    lo, hi = settings["counter16_preset_range"]
+    preset = raw if lo <= raw <= hi else 1
+    if not rise:
+        return
+    v = m.cval[n]
+    m.cval[n] = v + 1 if v < preset else preset
+    m.writer[("C", n)] = m.pc
+    if m.cval[n] >= preset and not m.bits["C"][n]:
+        m.c_pending[n] = 1
+
+
+# ------------------------------------------------------------------ rotation (6-5)
+
+def _rotate(left: bool):
+    """ROR/ROL D n: D turns n bits (0-16, 32-bit 0-32); the last bit out goes to the carry
+    M9022 (FNC 30/31 "並將被旋出的資料傳送到進制標誌位M9022中"). n = 0 moves nothing and
+    leaves M9022 alone; n outside the range (a register) is an operation error."""
+    @base._on
+    def run(m: Machine, s) -> None:
+        w = s.width
+        mask = (1 << w) - 1
+        n = count(m, s.ops[1])
+        if not 0 <= n <= w:
+            op_error(m, s, f"n = {n} is outside 0-{w}")
+            return
+        if n == 0:
+            return
+        v = s.ops[0].get(m) & mask
+        k = n % w
+        r = (((v << k) | (v >> (w - k))) if left else ((v >> k) | (v << (w - k)))) & mask
+        s.ops[0].set(m, r)
+        set_flags(m, carry=bool(r & 1) if left else bool(r >> (w - 1)))
+    return run
+
+
+@base._on
+def zrst(m: Machine, s) -> None:
+    """ZRST D1 D2: D1..D2 reset; D1 > D2 resets only D1 (6-6 "當D1 > D2的號碼時，只有D1所指定
+    的元件被復歸"), not D2 as on NC5."""
+    d1, d2 = s.ops
+    a, b = d1.addr(m), d2.addr(m)
+    for k in range(a, max(a, b) + 1):
+        base.clear(m, d1, k)
+
+
 BASIC_ACTIONS = {
     "stl": stl, "ret": ret, "step_set": step_set, "step_out": step_out, "mc": mc, "mcr": mcr,
     "result_rise": result_rise, "result_fall": result_fall,
     "add": _add_sub(1), "sub": _add_sub(-1),
     "cmp": cmp3, "zcp": zcp, "xch": xch, "bmov": bmov, "fill": fill, "swap": swap,
     "flt": flt, "int": int_, "sum": sum_bits, "fcmp3": base.fcmp,
+    "ror": _rotate(False), "rol": _rotate(True), "zrst": zrst,  # OUT C: hsc.counter_coil
 }

@@ -139,6 +139,16 @@ SIMS = [
                  "30ms expect C200:d=-5 C200=1\n40ms X2=0\n50ms X2=1\n50ms expect C200:d=-4 C200=1\n60ms X2=0 X0=1\n"
                  "70ms X2=1\n70ms expect C200:d=-5 C200=1\n80ms X2=0\n90ms X2=1\n90ms expect C200:d=-6 C200=0\n"
                  "100ms X1=1\n100ms expect C200:d=0", id="2-6-2-page-example"),
+    # 2-6-1: "使用MOV指令將一個大于設定值的數值傳送到現在值寄存器時，在下次計數輸入信號ON時，則接點
+    # 立即變成ON，同時現在值內容變成與設定值相同"
+    pytest.param("LD X0\nMOV K20 C0\nLD X1\nOUT C0 K10",
+                 "0ms X0=1\n10ms X0=0\n30ms expect C0=0 C0:w=20\n40ms X1=1\n40ms expect C0=1 C0:w=10",
+                 id="2-6-1-mov-above-preset"),
+    # 2-6-2: "當使用DMOV指令將一個大于設定值的數值傳送到現在值寄存器時，在下回計數輸入信號ON時會計數
+    # 但接點不會變化"
+    pytest.param("LD X0\nDMOV K20 C200\nLD X1\nOUT C200 K10",
+                 "0ms X0=1\n10ms X0=0\n30ms X1=1\n30ms expect C200=0 C200:d=21\n40ms X1=0 M9200=1\n50ms X1=1\n"
+                 "50ms expect C200:d=20 C200=0", id="2-6-2-dmov-above-preset"),
     # 2-6-2: 32-bit counters wrap 2,147,483,647 -> -2,147,483,648 and back
     pytest.param("LD X0\nOUT M9201\nLD X2\nOUT C201 K5",
                  "0ms C201:d=2147483647\n10ms X2=1\n10ms expect C201:d=-2147483648\n20ms X2=0 X0=1\n30ms X2=1\n"

@@ -57,6 +57,8 @@ CHECKS = [
     pytest.param("LD X20\nFMOV K0 D100 K0\nEND", [("E206", 2)], id="FNC16-n-range"),
     # 6-5 ROR/ROL/RCR/RCL: n = 0-16 (16-bit), 0-32 (32-bit)
     pytest.param("LD X20\nRORP D0 K17\nEND", [("E206", 2)], id="FNC30-n-range"),
+    # DECISION (the page's matrix is lost; FX takes K/H only): n is a constant
+    pytest.param("LD X20\nROR D0 D1\nEND", [("E204", 2)], id="FNC30-n-constant"),
     pytest.param("LD X20\nDROL D0 K32\nLD X21\nROL D2 K0\nEND", [], id="FNC31-n-range-32"),
     pytest.param("LD X20\nRCR D0 K17\nEND", [("E206", 2)], id="FNC32-n-range"),
     pytest.param("LD X20\nDRCL D0 K33\nEND", [("E206", 2)], id="FNC33-n-range"),
@@ -127,6 +129,17 @@ SIMS = [
     # DECISION: the simulator's scans are virtual and never overrun it; WDT changes no device
     pytest.param("LD M9002\nMOV K300 D9000\nWDT",
                  "0ms X0=1\n0ms expect D9000=300 M9067=0\n20ms expect D9000=300", id="FNC07-page-example"),
+    # 6-2 CALL: "巢狀式子程序呼叫不可超過 5層": the 6th level is not executed; operation error 6702
+    # (M9067, D9067). The chain goes through an indexed CALL, which no check can follow
+    pytest.param("LD M9000\nCALL P1\nFEND\nP1\nLD M9000\nCALL P2Z0\nSRET\nP2\nLD M9000\nCALL P3\nSRET\n"
+                 "P3\nLD M9000\nCALL P4\nSRET\nP4\nLD M9000\nCALL P5\nSRET\nP5\nLD M9000\nINC D1\nCALL P6\nSRET\n"
+                 "P6\nLD M9000\nINC D0\nSRET",
+                 "0ms expect D1=1 D0=0 M9067=1 D9067=6702 M9004=1", id="FNC01-nesting-6702"),
+    # 6-2 FOR: 5 levels at most, error 6704. DECISION: a 6th level (here 3 in the main program
+    # around a CALL of a subroutine with 3 more) is not executed and its body runs once
+    pytest.param("FOR K2\nFOR K1\nFOR K1\nLD M9000\nCALL P1\nNEXT\nNEXT\nNEXT\nFEND\nP1\nFOR K1\nFOR K1\n"
+                 "FOR K3\nLD M9000\nINC D0\nNEXT\nNEXT\nNEXT\nSRET",
+                 "0ms expect D0=2 M9067=1 D9067=6704", id="FNC08-nesting-6704"),
     # 6-2 FOR: the page's example: D0-D9 summed into D10 with Z0 (3 levels shown: 5 x A)
     pytest.param("LD M9000\nMOV K0 D10\nMOV K0 Z0\nFOR K10\nLD M9000\nADD D10 D0Z0 D10\nINC Z0\nNEXT",
                  "0ms D0=1 D1=2 D2=3 D3=4 D4=5 D5=6 D6=7 D7=8 D8=9 D9=10\n10ms expect D10=55",
@@ -242,6 +255,15 @@ SIMS = [
     pytest.param("LD M9000\nBON D100 M0 K15\nLD M0\nNEGP D100\nLD D0.F\nNEGP D0",
                  "0ms D100=-25 D0=-7\n10ms expect D100=25 D0=7\n20ms D100=30\n30ms expect D100=30",
                  id="FNC29-page-example"),
+    # 6-5 ROR/ROL: the page's examples: 4 bits a turn, "並將被旋出的資料傳送到進制標誌位M9022中"
+    pytest.param("LD X20\nRORP D0 K4\nLD X21\nROLP D1 K4",
+                 "0ms D0=H0018 D1=H8000\n10ms X20=1\n10ms expect D0=H8001 M9022=1\n20ms X21=1\n"
+                 "20ms expect D1=H0008 M9022=0", id="FNC30-page-example"),
+    pytest.param("LD X21\nROL D1 K1\nLD X22\nDROR D2 K1",
+                 "0ms X21=1 D1=H8000\n0ms expect D1=1 M9022=1\n10ms X21=0 X22=1 D2:d=2\n10ms expect D2:d=1 M9022=0",
+                 id="FNC31-carry"),
+    # 6-5 n = 0 moves nothing and leaves M9022 alone (DECISION)
+    pytest.param("LD X20\nROR D0 K0", "0ms X20=1 D0=5 M9022=1\n0ms expect D0=5 M9022=1", id="FNC30-n-zero"),
     # 6-5 RCR/RCL: the page's examples: D0 and M9022 rotate together 4 bits
     pytest.param("LD X20\nRCRP D0 K4\nLD X21\nRCLP D1 K4",
                  "0ms M9022=0 D0=H0018\n10ms X20=1\n10ms expect D0=H0001 M9022=1\n20ms X21=1 D1=H8000\n"
@@ -276,6 +298,9 @@ SIMS = [
     # 6-6 ZRST: the page's example: M2000-M2499 reset in the first scan
     pytest.param("LD M9002\nZRST M2000 M2499\nZRST D7000 D7100",
                  "0ms expect M2000=0 M2499=0 D7000=0\n", id="FNC40-page-example-run"),
+    # 6-6 ZRST: "當 D1 > D2 的號碼時，只有 D1 所指定的元件被復歸"
+    pytest.param("LD M9000\nSET M5\nSET M10\nLD X0\nZRST M10 M5\nLD X0\nZRST D7 D3",
+                 "0ms D3=3 D7=7\n10ms X0=1\n10ms expect M10=0 M5=1 D7=0 D3=3", id="FNC40-d1-above-d2"),
     # 6-6 DECO: the page's examples: X0-X2 = 2 -> M2; D0 (b0-b2) = 5 -> D1 = bit 5, b8-b15 0
     pytest.param("LD X20\nDECOP X0 M0 K3\nLD X21\nDECOP D0 D1 K3",
                  "0ms X1=1 M5=1 D0=5 D1=HFF00\n10ms X20=1 X21=1\n10ms expect M2=1 M5=0 D1=H0020", id="FNC41-page-example"),
