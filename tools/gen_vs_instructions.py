@@ -85,6 +85,8 @@ OPERANDS = {
              op("n", "K H", range=[1, 8], word_range=[1, 4], word_range_of="S")],
     "BON": [op("S", WS), op("D", BD, "w"), n(lo=0, hi=15, lo32=0, hi32=31)],
     "MEAN": [op("S", "KnX KnY KnM KnS T C D R"), op("D", WD, "w"), n(lo=1, hi=64)],
+    # SQR: S = 0-32767 (32-bit 0-2147483647) (6-6)
+    "SQR": [op("S", WS, range=[0, 32767], range32=[0, 2147483647]), op("D", WD, "w")],
     "ANS": [op("S", "T", ranges={"T": [[0, 199]]}), n("m", 1, 32767, kinds="K H"),
             op("D", "S", "w", ranges={"S": [[900, 999]]})],
     "REF": [op("D", "X Y", ranges={"X": [[0, 0], [8, 8]], "Y": [[0, 0]]}), n(lo=8, hi=16, kinds="K H")],
@@ -208,9 +210,17 @@ SOURCES = {"TBL": "page note (S1 table Q0-Q31 or name, S2 4 words, D1 Y0-Y3, D2 
 # "disjoint-blocks" S1, S2 and D blocks of n may not overlap (BK+/BK- 6-17, W240);
 # "unique-destination" each D device by one instruction of the program (DUTY 6-16, E240);
 # "no-index-hhsc" the HHSC registers are not indexed (DHHCMV 6-16, E209).
+# ZRST D1/D2 one kind, no 16/32-bit counter mix, D1 <= D2 (6-6, W220); "full-width-kn"
+# rotate KnY/KnM/KnS only K4 (K8) (6-5, E220); "n2-within-n1" SFTR..WSFL n2 <= n1 (6-5),
+# "smov-digits" SMOV m2 <= m1, m2 <= n (6-3) (E221); "same-kn" WSFR/WSFL S and D one
+# attribute and one Kn size, "same-kn-bits" BMOV bit groups one Kn size (6-3, 6-5; E222).
 CONSTRAINTS = {
-    "ZRST": ["same-kind", "no-counter-width-mix"], "CRC": ["kn4"], "BK+": ["disjoint-blocks"],
+    "ZRST": ["same-kind", "no-counter-width-mix", "ascending"], "CRC": ["kn4"], "BK+": ["disjoint-blocks"],
     "BK-": ["disjoint-blocks"], "DUTY": ["unique-destination"], "DHHCMV": ["no-index-hhsc"],
+    **{r: ["full-width-kn"] for r in ("ROR", "ROL", "RCR", "RCL")},
+    **{r: ["n2-within-n1"] for r in ("SFTR", "SFTL")},
+    "WSFR": ["n2-within-n1", "same-kn"], "WSFL": ["n2-within-n1", "same-kn"],
+    "SMOV": ["smov-digits"], "BMOV": ["same-kn-bits"],
 }
 ONCE = {"MTR", "HKY", "DSW", "SEGL", "PR", "SORT", "DHSCT", "DABS"}  # "只能使用一次" (vs_reading.md 3)
 FREE = {"SRET", "IRET", "EI", "DI", "FEND", "FOR", "NEXT", "WDT"}

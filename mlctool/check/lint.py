@@ -74,7 +74,8 @@ def lint_module(module: Module, target: Target, referenced: set[int]) -> list[Di
     out = double_coils(instrs)
 
     def timer_key(ins):
-        return (ins.operands[0].kind, ins.operands[0].number) if ins.spec.op in ("tmr", "cnt") else None
+        # ANS times its own timer: "請勿在程序中使用已在本指令中使用過的計時器編號" (VS 6-6)
+        return (ins.operands[0].kind, ins.operands[0].number) if ins.spec.op in ("tmr", "cnt", "ans") else None
 
     out += [_at(i, None, "W402", f"{i.texts[0]} is also driven at {_where(f)}") for i, f in _first_seen(instrs, timer_key)]
 

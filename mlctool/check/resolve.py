@@ -295,7 +295,7 @@ class _Resolver:
         # index modification
         if op.index:
             ix, ixn = op.index
-            if not spec.index or op.kind not in t.indexable:
+            if not spec.index or not o.index or op.kind not in t.indexable:
                 self.report(w, "E209", f"{w.text}: {spec.mnemonic} operand {o.role} cannot be index-modified")
                 return False
             ix32 = t.settings.get("index32", {}).get("register", "V")  # NC5: V (1.8.2); VS: Z (2-9)
@@ -489,6 +489,59 @@ class _Resolver:
             a, b = sorted((ops[0].number, ops[1].number))
             if self.t.is_counter32(a) != self.t.is_counter32(b):
                 self.report(args[1], "E214", f"{spec.mnemonic} cannot mix 16-bit and 32-bit counters")
+                ok = False
+        if ok and "ascending" in spec.constraints and ops[0].kind == ops[1].kind \
+                and not (ops[0].index or ops[1].index) and ops[0].number > ops[1].number:
+            self.report(args[1], "W220", f"{spec.mnemonic} {args[0].text} {args[1].text}: the first "
+                        f"number is above the last, so only {args[0].text} is reset ({spec.section})")
+        return self.check_operand_relations(spec, ops, args) and ok
+
+    def check_operand_relations(self, spec: InstrSpec, ops: list[Operand], args: list[_Arg]) -> bool:
+        """Relations between operands a page states (VS 6-3 SMOV, BMOV; 6-5 rotate and shift):
+        a Kn size the instruction needs, counts that bound each other, operands of one
+        attribute and size. Only constants and devices as written are judged."""
+        ok = True
+        rules = spec.constraints
+        if "full-width-kn" in rules and ops[0].is_group:
+            need = 8 if spec.width == 32 else 4
+            if ops[0].digits != need:
+                self.report(args[0], "E220", f"{spec.mnemonic} takes K{need}{ops[0].device} "
+                            f"(a whole {spec.width}-bit word), not {args[0].text} ({spec.section})")
+                ok = False
+
+        def const(k: int) -> int | None:
+            o = ops[k] if k < len(ops) else None
+            return int(o.value) if o is not None and o.kind in ("K", "H") and not o.index else None
+
+        def bound(small: int, big: int, rel: str) -> None:
+            nonlocal ok
+            a, b = const(small), const(big)
+            if a is not None and b is not None and a > b:
+                names = [o.role for o in spec.operands]
+                self.report(args[small], "E221", f"{spec.mnemonic} needs {names[small]} {rel} "
+                            f"{names[big]}: {args[small].text} > {args[big].text} ({spec.section})")
+                ok = False
+        for rule, setting, taken in (("timer-preset", "timer_preset_range", 0),
+                                     ("counter-preset", "counter16_preset_range", 1)):
+            rng = self.t.settings.get(setting)
+            v = const(1)
+            if rule in rules and rng and v is not None and not rng[0] <= v <= rng[1]:
+                self.report(args[1], "W221", f"preset {args[1].text} is outside K{rng[0]}-K{rng[1]}: "
+                            f"the PLC takes it as K{taken} ({spec.section})")
+        if "n2-within-n1" in rules:  # SFTR/SFTL/WSFR/WSFL n2 = 1-n1
+            bound(3, 2, "<=")
+        if "smov-digits" in rules:  # SMOV m2 = 1-m1, n = m2-4
+            bound(2, 1, "<=")
+            bound(2, 4, "<=")
+        if "same-kn" in rules or "same-kn-bits" in rules:
+            s, d = ops[0], ops[1]
+            if s.is_group and d.is_group and s.digits != d.digits:
+                self.report(args[1], "E222", f"{spec.mnemonic} needs one Kn size for S and D: "
+                            f"{args[0].text} and {args[1].text} ({spec.section})")
+                ok = False
+            elif "same-kn" in rules and not s.is_const and s.is_group != d.is_group:
+                self.report(args[1], "E222", f"{spec.mnemonic} needs S and D both word devices or both "
+                            f"Kn bit groups: {args[0].text} and {args[1].text} ({spec.section})")
                 ok = False
         return ok
 

@@ -73,6 +73,7 @@ class OperandSpec:
     word_range: tuple[int, int] | None = None  # constant range when operand `word_range_of`
     word_range_of: str | None = None  # ... is a word device (DECO/ENCO n)
     ranges: tuple[tuple[str, tuple[tuple[int, int], ...]], ...] = ()  # per kind: allowed numbers
+    index: bool = True  # False: this operand may not be index-modified (VS OUT C200 K.., 2-6-2)
 
     def allowed(self, kind: str) -> tuple[tuple[int, int], ...] | None:
         """Device-number ranges this operand allows for `kind` (None: the device's range)."""
@@ -239,6 +240,7 @@ def _operand(o: dict) -> OperandSpec:
         word_range=_pair(o.get("word_range")),
         word_range_of=o.get("word_range_of"),
         ranges=tuple((k, tuple(tuple(r) for r in v)) for k, v in sorted(o.get("ranges", {}).items())),
+        index=o.get("index", True),
     )
 
 

@@ -49,6 +49,14 @@ CHECKS = [
     pytest.param("LD X0\nOUT Y0\nLD X1\nOUT Y0\nEND", [("W401", 4)], id="3-10-double-coil"),
     # 3-8: PLS/PLF take Y and M, "特M除外"
     pytest.param("LD X0\nPLS M9000\nEND", [("E205", 2)], id="3-8-pls-no-special-m"),
+    # 3-9: a timer preset outside K0-K32767 is taken as 0, a 16-bit counter's outside K1-K32767
+    # as 1: the program runs, but not with the preset written
+    pytest.param("LD X0\nOUT T0 K-1\nLD X1\nOUT C0 K0\nLD X2\nOUT C1 K-3\nEND", [("W221", 2), ("W221", 4), ("W221", 6)],
+                 id="3-9-preset-taken-as"),
+    pytest.param("LD X0\nOUT T0 K0\nLD X1\nOUT C0 K1\nLD X2\nOUT C200 K-5\nEND", [], id="3-9-preset-legal"),
+    # 2-6-2: "32位元計數器，OUT C指令的元件號碼不可用VZ寄存器索引。但是，其設定值可用VZ寄存器索引"
+    pytest.param("LD X0\nOUT C200Z0 K5\nEND", [("E209", 2)], id="2-6-2-no-index"),
+    pytest.param("LD X0\nOUT C200 D0Z0\nLD X1\nOUT C0Z0 K5\nEND", [], id="2-6-2-preset-index-legal"),
     # 2-3: M8192-M8999 do not exist; special M9000-M9511
     pytest.param("LD X0\nOUT M8500\nEND", [("E205", 2)], id="2-3-m-ranges"),
     # 2-14-1 ■ read-only specials: the system drives them

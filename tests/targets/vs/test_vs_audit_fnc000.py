@@ -51,6 +51,13 @@ CHECKS = [
     pytest.param("LD X21\nDMOV C200 D10\nEND", [], id="FNC12-dmov-c200"),
     # 6-3 SMOV: m1 = 1-4
     pytest.param("LD X0\nSMOV D0 K5 K2 D1 K2\nEND", [("E206", 2)], id="FNC13-m1-range"),
+    # 6-3 SMOV: "m1＝1〜4 m2＝1〜m1 n＝m2〜4"
+    pytest.param("LD X0\nSMOV D0 K2 K3 D1 K3\nEND", [("E221", 2)], id="FNC13-m2-le-m1"),
+    pytest.param("LD X0\nSMOV D0 K3 K2 D1 K1\nEND", [("E221", 2)], id="FNC13-n-ge-m2"),
+    pytest.param("LD X20\nSMOV D0 K3 K2 D1 K2\nEND", [], id="FNC13-page-example-legal"),
+    # 6-3 BMOV: "位元元件之區塊傳送時，則 S 與 D 之位數必須一致"
+    pytest.param("LD X20\nBMOV K1M0 K2Y20 K2\nEND", [("E222", 2)], id="FNC15-same-kn"),
+    pytest.param("LD X20\nBMOV K1M0 K1Y20 K2\nBMOV K4M0 D0 K2\nEND", [], id="FNC15-kn-legal"),
     # 6-3 BMOV: n = 1-512
     pytest.param("LD X20\nBMOV D0 D100 K513\nEND", [("E206", 2)], id="FNC15-n-range"),
     # 6-3 FMOV: n = 1-512
@@ -62,6 +69,17 @@ CHECKS = [
     pytest.param("LD X20\nDROL D0 K32\nLD X21\nROL D2 K0\nEND", [], id="FNC31-n-range-32"),
     pytest.param("LD X20\nRCR D0 K17\nEND", [("E206", 2)], id="FNC32-n-range"),
     pytest.param("LD X20\nDRCL D0 K33\nEND", [("E206", 2)], id="FNC33-n-range"),
+    # 6-5: "D指定為KnY,KnM,KnS時，16位元指令只能指定K4Y,K4M,K4S，32位元指令只能指定K8Y,K8M,K8S"
+    pytest.param("LD X20\nROR K2Y0 K1\nDROL K4M0 K1\nRCR K4S0 K1\nDRCL K8Y0 K1\nEND", [("E220", 2), ("E220", 3)],
+                 id="FNC30-whole-word-kn"),
+    # 6-5 SFTR/SFTL/WSFR/WSFL: "n1＝1〜1024 n2＝1〜n1"
+    pytest.param("LD X20\nSFTR X0 M0 K4 K8\nSFTL X0 M0 K4 K5\nWSFR D100 D0 K3 K4\nWSFL D100 D0 K12 K13\nEND",
+                 [("E221", 2), ("E221", 3), ("E221", 4), ("E221", 5)], id="FNC34-n2-le-n1"),
+    # 6-5 WSFR/WSFL: S and D "元件屬性必須相同" and "Kn的位數必須相同"
+    pytest.param("LD X20\nWSFR K1X0 K2Y20 K4 K2\nWSFL D0 K1Y20 K4 K2\nEND", [("E222", 2), ("E222", 3)],
+                 id="FNC36-same-kn-and-kind"),
+    pytest.param("LD X20\nWSFRP K1X0 K1Y20 K4 K2\nWSFLP K1X20 K1Y20 K4 K1\nWSFRP D100 D0 K12 K3\nEND", [],
+                 id="FNC36-page-examples-legal"),
     # 6-5 SFTR/SFTL: n1 = 1-1024
     pytest.param("LD X20\nSFTR X0 M0 K1025 K1\nEND", [("E206", 2)], id="FNC34-n1-range"),
     pytest.param("LD X20\nSFTL X0 M0 K16 K0\nEND", [("E206", 2)], id="FNC35-n2-range"),
@@ -76,6 +94,8 @@ CHECKS = [
     pytest.param("LD X0\nZRST C100 C210\nEND", [("E214", 2)], id="FNC40-counter-widths"),
     pytest.param("LD M9002\nZRST S500 S599\nZRST D7000 D7100\nZRST C100 C110\nZRST C200 C255\n"
                  "ZRST M2000 M2499\nEND", [], id="FNC40-page-example"),
+    # 6-6 ZRST: "D1元件號碼必須≦D2元件號碼"; D1 > D2 runs but resets D1 only: a warning
+    pytest.param("LD X0\nZRST M10 M5\nEND", [("W220", 2)], id="FNC40-backwards"),
     # 6-6 DECO: bit D: n = 1-8; word D: n = 1-4
     pytest.param("LD X20\nDECOP X0 M0 K9\nEND", [("E206", 2)], id="FNC41-n-bit"),
     pytest.param("LD X20\nDECOP D0 D1 K5\nEND", [("E216", 2)], id="FNC41-n-word"),
@@ -85,10 +105,15 @@ CHECKS = [
     # 6-6 BON: n = 0-15 (16-bit), 0-31 (32-bit)
     pytest.param("LD X20\nBON D0 M0 K16\nEND", [("E206", 2)], id="FNC44-n-range"),
     pytest.param("LD X20\nDBON D0 M0 K31\nEND", [], id="FNC44-n-range-32"),
+    # 6-6 SQR: "16位元指令，S=0∼32767  32位元指令，S=0∼2147483647"
+    pytest.param("LD X20\nSQR K-4 D1\nEND", [("E206", 2)], id="FNC48-s-range"),
+    pytest.param("LD X20\nDSQR K2147483647 D2\nSQR K32767 D1\nEND", [], id="FNC48-s-range-legal"),
     # 6-6 MEAN: n = 1-64
     pytest.param("LD X20\nMEAN D0 D10 K65\nEND", [("E206", 2)], id="FNC45-n-range"),
     # 6-6 ANS: S = T0-T199, m = 1-32767, D = S900-S999
     pytest.param("LD X20\nANS T200 K15 S900\nEND", [("E205", 2)], id="FNC46-timer-range"),
+    # 6-6 ANS: "請勿在程序中使用已在本指令中使用過的計時器編號"
+    pytest.param("LD X20\nANS T0 K15 S900\nLD X21\nOUT T0 K10\nEND", [("W402", 4)], id="FNC46-timer-once"),
     pytest.param("LD X20\nANS T0 K0 S900\nEND", [("E206", 2)], id="FNC46-m-range"),
     pytest.param("LD X20\nANS T0 K15 S899\nEND", [("E205", 2)], id="FNC46-step-range"),
 ]
@@ -171,9 +196,6 @@ SIMS = [
     # 6-3 SMOV: M9168 On: hex digits
     pytest.param("LD M9000\nSET M9168\nSMOV D0 K4 K2 D1 K2",
                  "0ms D0=H1234 D1=H5678\n0ms expect D1=H5612 M9067=0", id="FNC13-hex-mode"),
-    # 6-3 m1=1-4, m2=1-m1, n=m2-4 with register values: an operation error at run time
-    pytest.param("LD X20\nSMOV D0 K2 K3 D1 K2",
-                 "0ms X20=1 D0=1234 D1=5678\n0ms expect D1=5678 M9067=1", id="FNC13-m2-le-m1-run"),
     # 6-3 CML: the page's example
     pytest.param("LD X20\nCML D0 D1", "0ms X20=1 D0=H55AA\n0ms expect D1=HAA55\n10ms X20=0 D0=0\n10ms expect D1=HAA55",
                  id="FNC14-page-example"),
