@@ -17,11 +17,13 @@ import urllib.request
 from contextlib import ExitStack
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from websockets.exceptions import ConnectionClosed, InvalidStatus
 from websockets.sync.client import connect
 
 from mlctool.debug.load import load_session
-from mlctool.debug.web import MAX_MESSAGE, Monitor, WebServer
+from mlctool.debug.web import COMMANDS, MAX_MESSAGE, Monitor, WebServer
 from mlctool.targets import load_target
 from tests.conftest import MLC_COMMAND
 
@@ -260,3 +262,37 @@ def test_command_line_errors(program):
     assert r.returncode == 2 and "--port is the --web monitor's port" in r.stderr
     r = subprocess.run([*MLC_COMMAND, "debug", "--dap", "--web"], capture_output=True, text=True, timeout=60)
     assert r.returncode == 2 and "give one" in r.stderr
+
+
+# -- hostile messages, straight to the request handler (no sockets) --------------------------
+
+JSONISH = st.recursive(st.none() | st.booleans() | st.integers(-10**30, 10**30) | st.floats() | st.text(max_size=20),
+                       lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(max_size=8), inner, max_size=3),
+                       max_leaves=8)
+ARG = st.one_of(JSONISH, st.sampled_from(["X0", "Y0", "D0", "T0:w", "K4M0", "Q9", "X0:f", "1", "K1e9", "H1G", ""]),
+                st.integers(-3, 40))
+LINES = st.sampled_from(["print D0", "break if D0 >", "watch Y0", "delete 1", "log 6 \"{D0\"", "back",
+                         "goto 3", "rung", "diff 0 2", "save x.stim", "quit", "write D0=7", "step 2", "help", ""])
+MESSAGE = st.one_of(
+    st.text(max_size=40),
+    JSONISH.map(json.dumps),
+    st.fixed_dictionaries({"cmd": st.sampled_from(COMMANDS + ("nope",))},
+                          optional={"id": JSONISH, "device": ARG, "value": ARG, "scan": ARG,
+                                    "speed": st.one_of(st.just(0), ARG), "line": st.one_of(LINES, ARG)}).map(json.dumps),
+)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@given(messages=st.lists(MESSAGE, min_size=1, max_size=8))
+def test_any_message_gets_a_reply_or_an_error_never_an_internal_one(program, messages):
+    monitor = Monitor(load_session([str(program)], None, load_target("nc5")))
+    try:
+        for text in messages:
+            reply, _ = monitor.handle_text(text)
+            assert reply["type"] in ("reply", "error"), reply
+            assert "internal error" not in reply.get("message", ""), (text, reply)
+            json.dumps(monitor.state(), allow_nan=False)  # the state stays sendable
+        monitor.pause()
+        assert monitor.handle_text('{"cmd": "state"}')[0]["ok"]
+    finally:
+        monitor.close()
