@@ -147,6 +147,16 @@ def test_click_a_contact_step_a_scan_see_the_coil(tmp_path: Path):
             dom = dt.js("document.documentElement.outerHTML")
             assert "on" in classes(dom, COIL_Y0) and "forced" not in classes(dom, CONTACT_X0)
             assert re.search(r'<text class="val"[^>]*>D0=2</text>', dom)
+
+            dt.js("document.getElementById('speed').value='0'")  # run as fast as it goes
+            dt.click("#b-run")
+            dt.wait("+document.body.getAttribute('data-scan')>20 && "
+                    "/^running: /.test(document.getElementById('where').textContent)", "running")
+            dt.click("#b-pause")
+            dt.wait("/^paused at scan /.test(document.getElementById('stop').textContent)", "paused")
+            scan = int(dt.js("document.body.getAttribute('data-scan')"))
+            values = dt.js(f"document.querySelector('.el[data-i=\"{ADD}\"] text.val').textContent")
+            assert values == f"D0={scan}"  # D0 counted every scan run
             assert dt.complaints() == []
             dt.call("Browser.close")
         assert chrome.wait(30) is not None
