@@ -160,8 +160,17 @@ def _model_range(ins: Instr, rule: dict, target: Target) -> list[Diagnostic]:
                 f"{target.model} ({rule['section']})")]
 
 
+def _max_length(ins: Instr, rule: dict, target: Target) -> list[Diagnostic]:
+    op, text = _operand(ins, rule["operand"])
+    if op is None or op.kind != "$" or not isinstance(op.value, str) or len(op.value) <= rule["max"]:
+        return []
+    return [_at(ins, "E206", f"{ins.mnemonic} operand {rule['operand']}: {text} has {len(op.value)} "
+                f"characters, more than {rule['max']} ({rule['section']})")]
+
+
 _LINE_RULES = {"ends_in_0": _ends_in_0, "group": _group, "pair": _pair, "same": _same,
-               "n_by_device": _n_by_device, "not_above": _not_above, "model_range": _model_range}
+               "n_by_device": _n_by_device, "not_above": _not_above, "model_range": _model_range,
+               "max_length": _max_length}
 
 
 # ------------------------------------------------------------------ the whole program

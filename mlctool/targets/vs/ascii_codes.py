@@ -60,12 +60,13 @@ def _write_bytes(m: Machine, ref, data: list[int]) -> None:
 
 def asc(m: Machine, s) -> None:
     """ASC S D: the letters typed in the instruction (up to 8) as ASCII into D: two a word
-    (4 words) or one a word (M9161 On, 8 words); DECISION: the unused places are 00H."""
+    (4 words) or one a word (M9161 On, 8 words). Fewer than 8 letters are filled up with
+    spaces, 20H (6-9 FNC 76: "不足8個時，則會以空白鍵補滿8個字母")."""
     if not m.acc:
         return
     text = s.ops[0].value if isinstance(getattr(s.ops[0], "value", None), str) else s.ops[0].text
     data = list(text.strip('"').encode("ascii", "replace")[:8])
-    data += [0] * (8 - len(data))
+    data += [0x20] * (8 - len(data))
     if _eight_bit(m):
         write_block(m, s.ops[1], data, 16)
     else:

@@ -9,11 +9,13 @@ from mlctool.sim.state import Machine, s16
 from mlctool.targets.vs.common import (
     count,
     op_error,
+    overlap,
     read_block,
     relay,
     scans_left,
     set_flags,
     set_relay,
+    span,
     state,
     write_block,
 )
@@ -110,6 +112,12 @@ def sort2(m: Machine, s) -> None:
         return
     if not (1 <= m1 <= 32 and 1 <= m2 <= 6 and 1 <= n <= m2):
         op_error(m, s, f"m1={m1} m2={m2} n={n}: m1 = 1-32, m2 = 1-6, n = 1-m2")
+        return
+    # "S和D指定的範圍不可相互交錯重疊，但是，S=D則可允許" (FNC 148 note 4). DECISION: blocks
+    # that overlap without being the same are an operation error (the page names no effect)
+    blocks = span(m, src, m1 * m2, s.width), span(m, dst, m1 * m2, s.width)
+    if blocks[0] != blocks[1] and overlap(*blocks):
+        op_error(m, s, "the S and D blocks overlap")
         return
     if s.index not in running:
         if len(running) >= MAX_SORT2_RUNNING:

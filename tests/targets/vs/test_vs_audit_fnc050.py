@@ -157,6 +157,7 @@ CHECKS = [
     pytest.param("VS3", "SWAP D0", "SWAP K5", "E210", id="FNC147-S-written"),
     # ---- the pages' operand notes beyond kinds and ranges (targets/vs/operand_rules.toml)
     pytest.param("VS3", "REF X10 K8", "REF X10 K16", "E232", id="FNC50-n-by-D"),
+    pytest.param("VS3", 'ASC "ABCDEFGH" D0', 'ASC "ABCDEFGHI" D0', "E206", id="FNC76-up-to-8-letters"),
     pytest.param("VS3", "MTR X20 Y20 M0 K2", "MTR X21 Y20 M0 K2", "E230", id="FNC52-S-ends-in-0"),
     pytest.param("VS3", "MTR X20 Y10 M10 K2", "MTR X20 Y10 M15 K2", "E230", id="FNC52-D2-ends-in-0"),
     pytest.param("VS3", "DHSCR K200 C235 C235", "DHSCR K200 C235 C236", "E232", id="FNC54-D-is-S2"),
@@ -292,8 +293,21 @@ RUNS = [
     pytest.param("LD X20\nASCI D0 D100 K4\n", "0ms D0:h=H4567 M9161=1 X20=1\n"
                  "0ms expect D100:h=H34 D101:h=H35 D102:h=H36 D103:h=H37\n", False, id="FNC82-eight-bit"),
     # 6-9 FNC 76 ASC: M9161 On puts one letter a register
-    pytest.param('LD X20\nASC "AB" D0\n', "0ms M9161=1 X20=1\n0ms expect D0:h=H41 D1:h=H42\n",
-                 False, id="FNC76-eight-bit"),
+    pytest.param('LD X20\nASC "AB" D0\n', "0ms M9161=1 X20=1\n0ms expect D0:h=H41 D1:h=H42 D2:h=H20 "
+                 "D7:h=H20\n", False, id="FNC76-eight-bit"),
+    # 6-9 FNC 76 ASC: fewer than 8 letters are filled up with spaces (20H)
+    pytest.param('LD X20\nASC "ABC" D0\n', "0ms D1=0 D3=0 D4=9 X20=1\n"
+                 "0ms expect D0:h=H4241 D1:h=H2043 D2:h=H2020 D3:h=H2020 D4=9\n", False, id="FNC76-space-filled"),
+    # 6-13 FNC 148 SORT2: only two execute together; a third starts when one is done
+    pytest.param("LD X0\nSORT2 D0 K2 K1 D10 K1\nSORT2 D0 K2 K1 D20 K1\nSORT2 D0 K2 K1 D30 K1\n",
+                 "0ms D0=5 D1=3 X0=1\n10ms expect D10=3 D11=5 D20=3 D21=5 D30=0\n20ms expect D30=3 D31=5\n",
+                 False, id="FNC148-two-at-once"),
+    # 6-13 FNC 148 SORT2: S and D blocks overlapping (not the same): DECISION operation error
+    pytest.param("LD X0\nSORT2 D0 D100 K1 D1 K1\n", "0ms D0=5 D1=3 D100=2 X0=1\n"
+                 "10ms expect D1=3 D2=0 M9067=1\n", True, id="FNC148-overlap-at-run-time"),
+    # 6-12 FNC 117 DEVAL: a result below 2^-126 turns M9021 On
+    pytest.param("LD X0\nDEVAL D0 D100\n", "0ms D0:h=H4531 D1:h=H342D D2:h=H0035 X0=1\n"
+                 "0ms expect M9021=1 M9020=0\n", False, id="FNC117-borrow-flag"),
     # 6-7 FNC 58 PWM: t > T is an operation error (6-7 page)
     pytest.param("LD X20\nPWM D0 K100 Y0\n", "0ms D0=101 X20=1\n10ms expect Y0=0 M9067=1\n",
                  True, id="FNC58-t-above-T"),

@@ -145,9 +145,11 @@ def test_asci_hex_ccd_crc():
 
 
 def test_asc_letters_into_registers():
-    # FNC 76: ASC ABCDEFGH D0 (written "ABCDEFGH" in IL): 41H 42H ... two a word
+    # FNC 76: ASC ABCDEFGH D0 (written "ABCDEFGH" in IL): 41H 42H ... two a word; fewer
+    # than 8 letters are filled up with spaces (20H), always 4 words
     run('LD X0\nASC "ABCDEFGH" D0\nLD X1\nASC "AB" D10\n',
-        "10ms X0=1 X1=1 D12=5\n10ms expect D0:h=H4241 D1:h=H4443 D3:h=H4847 D10:h=H4241 D12=0")
+        "10ms X0=1 X1=1 D12=5 D14=5\n10ms expect D0:h=H4241 D1:h=H4443 D3:h=H4847 D10:h=H4241 "
+        "D11:h=H2020 D12:h=H2020 D13:h=H2020 D14=5")
 
 
 def test_rnd_is_the_pages_generator_from_seed_1():
