@@ -1,6 +1,6 @@
 """The operand rules an instruction page states beyond kinds and ranges (device numbers ending
-in 0, Kn sizes, operands that must agree, per-model constant ranges, outputs or timers only
-one instruction may use, blocks that may not overlap): E230-E234, W230, E206.
+in 0, Kn sizes, operands that must agree, per-model constant ranges, outputs, timers or
+inputs only one instruction may use, blocks that may not overlap): E230-E235, W230, E206.
 
 Generic: the rules are data, `operand_rules.toml` in the target's tables folder (the Vigor VS
 pages, docs/vs-audit.md); a target without the file gets none of these diagnostics. Only
@@ -236,4 +236,54 @@ def _blocks_apart(users: list[Instr], instrs: list[Instr], rule: dict, target: T
     return out
 
 
-_PROGRAM_RULES = {"one_user": _one_user, "own_timer": _own_timer, "blocks_apart": _blocks_apart}
+def _counter_inputs(target: Target, number: int) -> list[int]:
+    """The X ordinals a software high-speed counter counts from (target.toml
+    [high_speed_counters]: its 1-phase, 2-phase or A/B pins, its reset and start inputs)."""
+    table = target.settings.get("high_speed_counters", {})
+    lo, hi = table.get("counters", (1, 0))
+    if not lo <= number <= hi:
+        return []
+    pins: list[str] = []
+    for key in ("inputs", "two_phase", "ab_phase", "reset", "start"):
+        found = table.get(key, {}).get(str(number))
+        pins += [found] if isinstance(found, str) else list(found or ())
+    return [int(p[1:], 8) for p in pins if p.startswith("X")]
+
+
+def _input_claims(ins: Instr, target: Target) -> list[tuple[int, str]]:
+    """(X ordinal, what uses it) of the high-speed input functions an instruction uses: a
+    high-speed counter it drives or compares, an external interrupt pointer IXnP/IXnF
+    (numbered n x 100 + 1/0, target.toml [interrupts])."""
+    out = []
+    if ins.spec.op == "interrupt" and ins.operands:
+        n = ins.operands[0].number
+        if n % 100 in (0, 1) and n // 100 <= 7:
+            out.append((n // 100, f"interrupt pointer IX{n // 100}{'P' if n % 100 else 'F'}"))
+    for op in ins.operands:
+        if op.kind == "C" and not op.index:
+            out += [(x, f"high-speed counter C{op.number}") for x in _counter_inputs(target, op.number)]
+    return out
+
+
+def _own_input(users: list[Instr], instrs: list[Instr], rule: dict, target: Target) -> list[Diagnostic]:
+    claims: dict[int, tuple[Instr, str]] = {}
+    for ins in instrs:
+        if ins.spec.api != rule["fnc"]:
+            for x, what in _input_claims(ins, target):
+                claims.setdefault(x, (ins, what))
+    out = []
+    for ins in users:
+        op, text = _operand(ins, rule["operand"])
+        if op is None or op.kind != "X":
+            continue
+        if op.number in claims:
+            other, what = claims[op.number]
+            out.append(_at(ins, "E235", f"{ins.mnemonic} {text}: the input is already used by {what} "
+                           f"({other.mnemonic} at line {other.line}; {rule['section']})"))
+        else:
+            claims[op.number] = (ins, f"{ins.mnemonic}")
+    return out
+
+
+_PROGRAM_RULES = {"one_user": _one_user, "own_timer": _own_timer, "blocks_apart": _blocks_apart,
+                  "own_input": _own_input}

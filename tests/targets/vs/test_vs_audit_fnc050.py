@@ -221,6 +221,9 @@ SHARED = [
                  id="FNC58-not-with-PLSR"),
     pytest.param("PWM D0 K100 Y3", "DDRVA K1000 K500 Y0 Y3", "DDRVA K1000 K500 Y3 Y7", "E233",
                  id="FNC58-not-with-positioning"),
+    pytest.param("SPD X2 K100 D0", "SPD X3 K100 D10", "SPD X2 K100 D10", "E235", id="FNC56-one-SPD-an-input"),
+    pytest.param("OUT C235 K100", "SPD X1 K100 D0", "SPD X0 K100 D0", "E235", id="FNC56-not-a-counter-input"),
+    pytest.param("DHSZ K1 K2 C251 M0", "SPD X2 K100 D0", "SPD X1 K100 D0", "E235", id="FNC56-not-an-AB-input"),
     pytest.param("STMR T0 K20 Y20", "OUT T1 K10", "OUT T0 K10", "W230", id="FNC65-own-timer"),
     pytest.param("STMR T5 K20 Y20", "MOV T6 D0", "MOV T5 D0", "W230", id="FNC65-own-timer-read"),
 ]
@@ -230,6 +233,13 @@ SHARED = [
 def test_device_of_one_instruction(first, legal, illegal, code):
     assert [c for c, _ in found(program(first, legal)) if c in ("E233", "W230")] == []
     assert (code, 4) in found(program(first, illegal)), found(program(first, illegal))
+
+
+def test_spd_input_is_no_interrupt_input():
+    # 6-7 FNC 56: SPD X1 with an interrupt routine IX1P on the same input; IX2P is fine
+    il = "LD X20\nSPD X1 K100 D0\nFEND\n{}:\nIRET\nEND\n"
+    assert ("E235", 2) in found(il.format("IX1P"))
+    assert [c for c, _ in found(il.format("IX2P")) if c[0] == "E"] == []
 
 
 # ------------------------------------------------------------------ run-time rules
