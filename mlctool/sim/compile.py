@@ -59,7 +59,7 @@ from mlctool.sim.decode import FLOW_OPS, Program, Step
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, GroupRef
 from mlctool.sim.state import s16, s32
 
-COMPILER_VERSION = "10"
+COMPILER_VERSION = "11"
 
 
 class Code:

@@ -159,7 +159,7 @@ class Scanner:
         self.m = m
         self.code = compile_program(prog) if engine == "compiled" else None
         self.engine = "compiled" if self.code is not None else "interp"
-        self._zero_t = bytes(len(m.t_seen))
+        self._zero_t = bytearray(len(m.t_seen))  # a bytearray: a bytes source is copied first
         self._checked = False
         self._stale = None
         self._layout = m.layout

@@ -202,6 +202,21 @@ def run_steps(prog: Program, m: Machine, pc: int, executed: int, watchdog: int) 
         raise Fault(e.message, s) from None
 
 
+def _running_unseen(running: bytearray, seen: bytearray) -> list[int]:
+    """The timers running whose TMR did not run this scan, in order: the bytes (0/1) as
+    little-endian ints, byte n of running AND NOT seen (not a Python loop over every timer:
+    a program with running timers would pay for all of them each scan)."""
+    if 1 not in running:  # memchr
+        return []
+    x = int.from_bytes(running, "little") & ~int.from_bytes(seen, "little")
+    out = []
+    while x:
+        low = x & -x
+        out.append((low.bit_length() - 1) >> 3)
+        x ^= low
+    return out
+
+
 def end_of_scan(m: Machine) -> None:
     # counter contacts act at the end of the scan (1.7 table)
     if m.c_pending:
@@ -213,17 +228,16 @@ def end_of_scan(m: Machine) -> None:
     # the preset (4.1 API-00 item 3, example 2). VS (6-2 CJ): 10/100 ms timers pause, 1 ms
     # timers keep timing with their contact frozen until their OUT runs again.
     target = m.target
-    for n, running in enumerate(m.t_running if 1 in m.t_running else ()):  # memchr first
-        if running and not m.t_seen[n]:
-            rule = target.timer_base(n).get("skipped", "run")
-            if rule == "pause":
-                m.t_running[n] = 0  # its next OUT restarts timing from the value it holds
-            elif rule == "run_frozen":
-                contact = m.bits["T"][n]
-                advance_timer(m, n, m.t_preset[n])
-                m.bits["T"][n] = contact
-            else:
-                advance_timer(m, n, m.t_preset[n])
+    for n in _running_unseen(m.t_running, m.t_seen):
+        rule = target.timer_base(n).get("skipped", "run")
+        if rule == "pause":
+            m.t_running[n] = 0  # its next OUT restarts timing from the value it holds
+        elif rule == "run_frozen":
+            contact = m.bits["T"][n]
+            advance_timer(m, n, m.t_preset[n])
+            m.bits["T"][n] = contact
+        else:
+            advance_timer(m, n, m.t_preset[n])
     # step ladder: steps that transferred go Off now (4-1-3); the rail is whole again
     if m.stl_leaving:
         for n in m.stl_leaving:
