@@ -7,6 +7,8 @@ instruction) and generates one Python function per block in which
 - the rung result is a local (`a`), ANB/ORB/MPS/MRD/MPP work on locals resolved at compile
   time, contacts and coils on plain devices are subscripts of the device arrays (held in
   locals), simple MOV/ADD/SUB/INC/DEC/CML/WAND/WOR/WXOR/TMR and compare contacts are inlined;
+  the contacts of a rung become one short-circuit boolean expression (codegen.r_text: cheaper
+  operands first), and `a` is not stored when the next step starts a new rung;
 - every other instruction calls the reference routine of semantics.py (`step.run`), and
   program flow (CJ, CALL, SRET, FOR, NEXT, FEND, END) calls the flow routines of scan.py at
   the end of its block, so the semantics are the interpreter's by construction;

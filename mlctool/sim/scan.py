@@ -206,8 +206,6 @@ def _running_unseen(running: bytearray, seen: bytearray) -> list[int]:
     """The timers running whose TMR did not run this scan, in order: the bytes (0/1) as
     little-endian ints, byte n of running AND NOT seen (not a Python loop over every timer:
     a program with running timers would pay for all of them each scan)."""
-    if 1 not in running:  # memchr
-        return []
     x = int.from_bytes(running, "little") & ~int.from_bytes(seen, "little")
     out = []
     while x:
@@ -228,7 +226,7 @@ def end_of_scan(m: Machine) -> None:
     # the preset (4.1 API-00 item 3, example 2). VS (6-2 CJ): 10/100 ms timers pause, 1 ms
     # timers keep timing with their contact frozen until their OUT runs again.
     target = m.target
-    for n in _running_unseen(m.t_running, m.t_seen):
+    for n in _running_unseen(m.t_running, m.t_seen) if 1 in m.t_running else ():  # memchr first
         rule = target.timer_base(n).get("skipped", "run")
         if rule == "pause":
             m.t_running[n] = 0  # its next OUT restarts timing from the value it holds

@@ -142,3 +142,17 @@ def test_zrst_clears_timers_and_counters():
     b.set("X2", 1)
     b.scan()
     assert (b.get("T1"), b.get("T1:w"), b.get("C1"), b.get("C1:w")) == (0, 0, 0, 0)
+
+
+def test_the_running_timers_not_seen_are_found_in_order():
+    """scan._running_unseen (end_of_scan's skipped timers) against the plain loop it replaces."""
+    import random
+
+    from mlctool.sim.scan import _running_unseen
+
+    rnd = random.Random(7)
+    for size in (1, 8, 9, 256, 300):
+        for _ in range(50):
+            running = bytearray(rnd.getrandbits(1) for _ in range(size))
+            seen = bytearray(rnd.getrandbits(1) for _ in range(size))
+            assert _running_unseen(running, seen) == [n for n in range(size) if running[n] and not seen[n]]
