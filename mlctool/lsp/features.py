@@ -554,3 +554,48 @@ def _operand_token(a: Analysis, path: str, text: str) -> tuple[str, tuple[str, .
     mods = (dev.kind,) + (("input",) if dev.input else ()) + (("latched",) if area is not None and area.latched
                                                             else ())
     return "variable", mods + extra
+
+
+# ------------------------------------------------------------------------ workspace symbols
+@dataclass(frozen=True, slots=True)
+class WorkspaceSymbol:
+    name: str
+    kind: str  # subroutine | label | interrupt | define
+    place: Place
+    module: str  # the file as the project names it (relative to mlc.toml)
+
+
+def workspace_symbols(a: Analysis, query: str) -> list[WorkspaceSymbol]:
+    """The project's labels (subroutines: the ones a CALL names; interrupt routines: the
+    target's interrupt pointers), `.define` symbols of every module and `[symbols]` of
+    mlc.toml, whose name holds the query's characters in order (case ignored)."""
+    target = a.project.target
+    idx = a.index
+    called: set[str] = set()
+    if target is not None:
+        for pf in idx.parsed.values():
+            for st in pf.statements:
+                if st.kind == "instr" and st.operands and any(
+                        s.op == "call" for s in target.variants_of(st.name.text)):
+                    called.add(st.operands[0].text.upper())
+    out: list[WorkspaceSymbol] = []
+    for path in idx.parsed:
+        module = _short(a, path)
+        for name, place in idx.labels.get(path, {}).items():
+            kind = ("interrupt" if target is not None and _pointer(target, name)
+                    else "subroutine" if name in called else "label")
+            out.append(WorkspaceSymbol(place.text, kind, place, module))
+        out += [WorkspaceSymbol(place.text, "define", place, module) for place in idx.defines.get(path, {}).values()]
+    table = a.project.config.data.get("symbols", {})
+    if isinstance(table, dict):
+        for name in table:
+            file, span = a.project.config.locate("symbols", name)
+            out.append(WorkspaceSymbol(name, "define", Place(file, span.line, span.col, span.end_col, name),
+                                       _short(a, file)))
+    return [s for s in out if _fuzzy(query, s.name)]
+
+
+def _fuzzy(query: str, name: str) -> bool:
+    """Every character of the query in the name, in order (VS Code's own filter does the rest)."""
+    rest = iter(name.upper())
+    return all(c in rest for c in query.upper() if not c.isspace())

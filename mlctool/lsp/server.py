@@ -270,6 +270,49 @@ def inlay_hint(ls: MlcServer, params: lsp.InlayHintParams) -> list[lsp.InlayHint
     return [lsp.InlayHint(lsp.Position(line - 1, 0), f"{addr}", padding_right=True) for line, addr in found]
 
 
+WORKSPACE_SYMBOL_KIND = {"subroutine": lsp.SymbolKind.Function, "label": lsp.SymbolKind.Key,
+                         "interrupt": lsp.SymbolKind.Event, "define": lsp.SymbolKind.Constant}
+
+
+def _project_analyses(ls: MlcServer) -> list[Analysis]:
+    """One analysis per project the editor shows: the mlc.toml of each workspace folder (and
+    of its subfolders two levels down), and the project of each open IL file."""
+    from pathlib import Path
+
+    roots = [path_of(f.uri) for f in ls.workspace.folders.values()]
+    if not roots and ls.workspace.root_path:
+        roots = [ls.workspace.root_path]
+    starts: list[str] = []
+    for root in roots:
+        base = Path(root)
+        for depth in ("", "*/", "*/*/"):
+            for toml in sorted(base.glob(depth + "mlc.toml")):
+                if not any(part.startswith(".") or part == "node_modules" for part in toml.relative_to(base).parts):
+                    sources = ls.projects.project_of(str(toml)).sources
+                    if sources:
+                        starts.append(sources[0])
+    starts += [path_of(u) for u in ls.workspace.text_documents if _is_il(u)]
+    seen: dict[int, Analysis] = {}
+    for path in starts:
+        a = ls.projects.analysis(path)
+        seen.setdefault(id(a), a)
+    return list(seen.values())
+
+
+@server.feature(lsp.WORKSPACE_SYMBOL)
+def workspace_symbol(ls: MlcServer, params: lsp.WorkspaceSymbolParams) -> list[lsp.WorkspaceSymbol]:
+    found: dict[tuple, lsp.WorkspaceSymbol] = {}
+    for a in _project_analyses(ls):
+        for s in features.workspace_symbols(a, params.query):
+            p = s.place
+            key = (p.path, p.line, p.col, s.name)
+            if key not in found:
+                found[key] = lsp.WorkspaceSymbol(
+                    name=s.name, kind=WORKSPACE_SYMBOL_KIND[s.kind],
+                    location=lsp.Location(uri_of(p.path), _place_range(p)), container_name=f"{s.module} ({s.kind})")
+    return list(found.values())
+
+
 SEMANTIC_LEGEND = lsp.SemanticTokensLegend(token_types=list(features.TOKEN_TYPES),
                                            token_modifiers=list(features.TOKEN_MODIFIERS))
 

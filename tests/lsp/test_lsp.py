@@ -334,3 +334,38 @@ async def test_semantic_tokens(client: LanguageClient, project: Path):
     # in document order: no token goes back (the encoding is relative to the previous one)
     deltas = [(got.data[k], got.data[k + 1]) for k in range(5, len(got.data), 5)]
     assert all(d_line >= 0 and (d_line > 0 or d_col > 0) for d_line, d_col in deltas)
+
+
+async def test_workspace_symbols_across_the_modules(client: LanguageClient, project: Path):
+    got = await client.workspace_symbol_async(lsp.WorkspaceSymbolParams(query=""))
+    where = {(s.name, s.location.uri.rsplit("/", 1)[1], s.kind) for s in got}
+    conveyor, lib = _text(project, "conveyor.il"), _text(project, "pickplace.il")
+    # subroutines (a CALL names them) in both modules, a CJ target, symbols of each module
+    assert {("P10", "pickplace.il", lsp.SymbolKind.Function), ("P11", "pickplace.il", lsp.SymbolKind.Function),
+            ("P1", "conveyor.il", lsp.SymbolKind.Function), ("P12", "pickplace.il", lsp.SymbolKind.Key),
+            ("START", "conveyor.il", lsp.SymbolKind.Constant), ("STEP", "pickplace.il", lsp.SymbolKind.Constant),
+            ("RUN", "conveyor.il", lsp.SymbolKind.Constant), ("RUN", "pickplace.il", lsp.SymbolKind.Constant)} <= where
+    p10 = next(s for s in got if s.name == "P10")
+    assert p10.location.range.start.line == _line_of(lib, "P10:")
+    assert p10.container_name == "src/pickplace.il (subroutine)"
+    start = next(s for s in got if s.name == "START")
+    assert start.location.range.start == lsp.Position(_line_of(conveyor, ".define START"), 8)
+    # a query keeps the names holding its letters in order, case ignored
+    got = await client.workspace_symbol_async(lsp.WorkspaceSymbolParams(query="pkd"))
+    assert sorted({s.name for s in got}) == ["PICKED"]
+    assert len(got) == 2  # one .define in each module
+
+
+async def test_workspace_symbols_include_interrupt_routines(client: LanguageClient, tmp_path: Path):
+    """A VS project (interrupt pointers are the VS's): an interrupt routine is an Event symbol."""
+    ws = tmp_path / "vsproject"
+    (ws / "src").mkdir(parents=True)
+    (ws / "mlc.toml").write_text('target = "vs"\nsources = ["src/main.il"]\n')
+    main = "LD      M9000\nEI\nFEND\n\nIX0P:\nLD      M9000\nOUT     Y0\nIRET\nEND\n"
+    (ws / "src" / "main.il").write_text(main)
+    uri = (ws / "src" / "main.il").as_uri()
+    await _show(client, uri, main)
+    got = await client.workspace_symbol_async(lsp.WorkspaceSymbolParams(query="ix0"))
+    assert [(s.name, s.kind, s.location.uri, s.location.range.start.line) for s in got] == [
+        ("IX0P", lsp.SymbolKind.Event, uri, 4)]
+    client.text_document_did_close(lsp.DidCloseTextDocumentParams(lsp.TextDocumentIdentifier(uri)))
