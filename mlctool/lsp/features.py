@@ -386,13 +386,20 @@ def formatted(a: Analysis, path: str) -> str | None:
 
 # ---------------------------------------------------------------------------- code actions
 @dataclass(frozen=True)
-class Fix:
-    title: str
+class Edit:
     line: int
     col: int
+    end_line: int
     end_col: int
     new_text: str
+
+
+@dataclass(frozen=True)
+class Fix:
+    title: str
+    line: int  # the diagnostic's line
     code: str
+    edits: tuple[Edit, ...]
     preferred: bool = False
 
 
@@ -401,15 +408,128 @@ def fixes(a: Analysis, path: str, diags: list[Diagnostic], lines: list[str]) -> 
     for d in diags:
         m = _DID_YOU_MEAN.search(d.message)
         if m is not None and d.span.line == d.span.end_line:
-            out.append(Fix(f"Replace with {m[1]}", d.span.line, d.span.col, d.span.end_col, m[1], d.code,
-                           True))
+            out.append(Fix(f"Replace with {m[1]}", d.span.line, d.code,
+                           (Edit(d.span.line, d.span.col, d.span.line, d.span.end_col, m[1]),), True))
+        if d.code == "E201":
+            out += pulse_rewrites(a, path, d, lines)
         if d.severity == "warning" and 0 < d.span.line <= len(lines):
             text = lines[d.span.line - 1]
             if not _NOQA.search(text):
                 end = len(text) + 1
-                out.append(Fix(f"Silence {d.code} on this line (; mlc: noqa {d.code})", d.span.line,
-                               end, end, f"  ; mlc: noqa {d.code}", d.code))
+                out.append(Fix(f"Silence {d.code} on this line (; mlc: noqa {d.code})", d.span.line, d.code,
+                               (Edit(d.span.line, end, d.span.line, end, f"  ; mlc: noqa {d.code}"),)))
     return out
+
+
+# the classes of a rung's condition and outputs (targetapi InstrSpec.cls); anything else ends it
+_RUNG_CLASSES = frozenset({"load", "and", "or", "inv", "anb", "orb", "mps", "mrd", "mpp", "output"})
+
+
+def pulse_rewrites(a: Analysis, path: str, d: Diagnostic, lines: list[str]) -> list[Fix]:
+    """A P (pulse) form on a target without them (`MOVP` on NC5, E201 with the note of
+    check/resolve.py's _pulse_hint): the rewrites that keep its meaning, run once per rising
+    edge of its condition. Offered only where the rewrite changes nothing else: the P form
+    is the last instruction of its rung (the next one starts another rung).
+    - the condition is one contact `LD dev` / `LDI dev`: `LDP dev` / `LDF dev` and the plain form;
+    - any condition: a PLS relay the project never uses (`PLS M14999`, `LD M14999`) before the
+      plain form."""
+    from mlctool.check.resolve import _pulse_hint
+
+    target = a.project.target
+    parsed = a.index.parsed.get(path)
+    if target is None or parsed is None:
+        return []
+    statements = [st for st in parsed.statements if st.kind != "directive"]
+    k = next((n for n, st in enumerate(statements) if st.line == d.span.line), None)
+    if k is None or statements[k].kind != "instr":
+        return []
+    st = statements[k]
+    name = st.name.text.upper()
+    base = target.instructions.get(name[:-1])
+    if base is None or not _pulse_hint(target, name):
+        return []
+
+    def cls(n: int) -> str | None:
+        if not 0 <= n < len(statements) or statements[n].kind != "instr":
+            return None
+        specs = target.variants_of(statements[n].name.text)
+        return specs[0].cls if specs else "unknown"
+
+    after = cls(k + 1)
+    if k + 1 < len(statements) and after not in ("load", "free", "label", "interrupt", "bus", None):
+        return []  # an output or contact after it shares its condition: not only its rung changes
+    first = k  # the rung's first statement: back over its condition and outputs to its load
+    while cls(first - 1) in _RUNG_CLASSES and not (cls(first - 1) == "output" and cls(first) == "load"):
+        first -= 1
+    rung = statements[first:k]
+    if not rung:
+        return []
+    mps = sum(cls(n) == "mps" for n in range(first, k)) - sum(cls(n) == "mpp" for n in range(first, k))
+    if mps:
+        return []  # inside an MPS branch: the stack's result belongs to the branches after it
+    plain = _renamed(st, lines, base.mnemonic)
+    out: list[Fix] = []
+    load = rung[0]
+    if len(rung) == 1 and len(load.operands) == 1:
+        op = target.variants_of(load.name.text)[0].op
+        edge = {"contact": "contact_rise", "contact_not": "contact_fall"}.get(op)
+        spec = next((s for s in target.instructions.values() if s.cls == "load" and s.op == edge), None)
+        if spec is not None:
+            out.append(Fix(f"Rewrite as {spec.mnemonic} {load.operands[0].text} / {base.mnemonic} "
+                           f"(once per rising edge)", st.line, d.code,
+                           (_renamed(load, lines, spec.mnemonic), plain), True))
+    relay = _free_relay(a, target)
+    pls = next((s for s in target.instructions.values() if s.op == "pls"), None)
+    ld = next((s for s in target.instructions.values() if s.cls == "load" and s.op == "contact"), None)
+    if relay and pls and ld and st.step is None:
+        raw = lines[st.line - 1]
+        indent = raw[:st.name.col - 1]
+        gap = st.operands[0].col - st.name.end_col if st.operands else 1
+        width = len(st.name.text) + gap if gap > 1 else 0
+
+        def line(mnemonic: str, operand: str) -> str:
+            return indent + (mnemonic.ljust(width - 1) if width else mnemonic) + " " + operand + "\n"
+
+        # one edit from the line's start (an insertion and a replacement at one position
+        # would be two edits whose order clients may disagree on)
+        edit = Edit(st.line, 1, plain.end_line, plain.end_col,
+                    line(pls.mnemonic, relay) + line(ld.mnemonic, relay) + indent + plain.new_text)
+        out.append(Fix(f"Rewrite with a {pls.mnemonic} relay: {pls.mnemonic} {relay} / {ld.mnemonic} {relay} / "
+                       f"{base.mnemonic} ({relay} is unused)", st.line, d.code, (edit,)))
+    return out
+
+
+def _renamed(st, lines: list[str], mnemonic: str) -> Edit:
+    """The statement's mnemonic replaced, its operands kept in their column where there is room."""
+    w = st.name
+    raw = lines[st.line - 1]
+    rest = raw[w.end_col - 1:]
+    gap = len(rest) - len(rest.lstrip(" "))
+    shift = len(w.text) - len(mnemonic)
+    if st.operands and gap > 1 and gap + shift >= 1:
+        return Edit(st.line, w.col, st.line, w.end_col + gap, mnemonic + " " * (gap + shift))
+    return Edit(st.line, w.col, st.line, w.end_col, mnemonic)
+
+
+def _free_relay(a: Analysis, target: Target) -> str | None:
+    """The highest M relay of the first writable, not latched area that no module of the
+    project names (a PLS relay needs its own bit)."""
+    dev = target.devices.get("M")
+    if dev is None:
+        return None
+    area = next((x for x in dev.areas if x.write == "ok" and not x.latched), None)
+    if area is None:
+        return None
+    used: set[int] = set()
+    for places in a.index.uses.values():  # every operand word, .define values among them
+        for place in places:
+            try:
+                op = parse_operand(place.text, target.operand_syntax)
+            except OperandSyntaxError:
+                continue
+            if op.device == "M":  # a group K4M0 (in a 32-bit form too) covers up to 32 bits
+                used.update(range(op.number, op.number + (32 if op.is_group else 1)))
+    return next((dev.name_of(n) for n in range(area.hi, area.lo - 1, -1) if n not in used), None)
 
 
 def explain(code: str) -> str:

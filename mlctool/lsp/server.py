@@ -244,11 +244,11 @@ def code_action(ls: MlcServer, params: lsp.CodeActionParams) -> list[lsp.CodeAct
     lines = a.sources[path].text.split("\n") if path in a.sources else []
     out = []
     for fix in features.fixes(a, path, diags, lines):
-        edit = lsp.TextEdit(_range(fix.line, fix.col, fix.line, fix.end_col), fix.new_text)
+        edits = [lsp.TextEdit(_range(e.line, e.col, e.end_line, e.end_col), e.new_text) for e in fix.edits]
         related = [to_lsp(d) for d in diags if d.code == fix.code and d.span.line == fix.line]
         out.append(lsp.CodeAction(fix.title, kind=lsp.CodeActionKind.QuickFix, diagnostics=related,
                                   is_preferred=fix.preferred or None,
-                                  edit=lsp.WorkspaceEdit(changes={uri: [edit]})))
+                                  edit=lsp.WorkspaceEdit(changes={uri: edits})))
     return out
 
 

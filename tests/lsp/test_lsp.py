@@ -369,3 +369,71 @@ async def test_workspace_symbols_include_interrupt_routines(client: LanguageClie
     assert [(s.name, s.kind, s.location.uri, s.location.range.start.line) for s in got] == [
         ("IX0P", lsp.SymbolKind.Event, uri, 4)]
     client.text_document_did_close(lsp.DidCloseTextDocumentParams(lsp.TextDocumentIdentifier(uri)))
+
+
+def _apply(text: str, edits: list[lsp.TextEdit]) -> str:
+    """A client's application of one document's edits (ranges of the original text)."""
+    lines = text.split("\n")
+    offsets = [0]
+    for line in lines:
+        offsets.append(offsets[-1] + len(line) + 1)
+
+    def at(p: lsp.Position) -> int:
+        return offsets[p.line] + p.character
+
+    for e in sorted(edits, key=lambda e: at(e.range.start), reverse=True):
+        text = text[:at(e.range.start)] + e.new_text + text[at(e.range.end):]
+    return text
+
+
+async def _actions(client: LanguageClient, uri: str, diags: list[lsp.Diagnostic], line: int) -> list[lsp.CodeAction]:
+    return await client.text_document_code_action_async(lsp.CodeActionParams(
+        lsp.TextDocumentIdentifier(uri), lsp.Range(lsp.Position(line, 0), lsp.Position(line, 4)),
+        lsp.CodeActionContext(diagnostics=[d for d in diags if d.range.start.line == line])))
+
+
+async def test_code_action_did_you_mean_applied_clears_the_error(client: LanguageClient, project: Path):
+    uri = _uri(project, "conveyor.il")
+    text = _text(project, "conveyor.il")
+    bad = text.replace("OUT     CONVEYOR", "OUTT    CONVEYOR")
+    diags = await _show(client, uri, bad)
+    fix = next(a for a in await _actions(client, uri, diags, _line_of(bad, "OUTT")) if a.title == "Replace with OUT")
+    assert fix.is_preferred and [d.code for d in fix.diagnostics] == ["E201"]
+    assert await _show(client, uri, _apply(bad, fix.edit.changes[uri])) == []
+    await _show(client, uri, text)
+
+
+async def test_code_action_pulse_form_on_nc5(client: LanguageClient, project: Path):
+    """MOVP on NC5 (no P forms, manual 3.2.4): rewritten to LDP/MOV, or with a PLS relay."""
+    uri = _uri(project, "conveyor.il")
+    text = _text(project, "conveyor.il")
+    # the rung's condition is one contact: LDP RUN / MOV (preferred) or the PLS relay
+    bad = text.replace("MOV     PICKED D100", "MOVP    PICKED D100")
+    diags = await _show(client, uri, bad)
+    line = _line_of(bad, "MOVP")
+    assert [(d.code, d.range.start.line) for d in diags] == [("E201", line)]
+    assert "no P (pulse) forms" in diags[0].message
+    actions = {a.title: a for a in await _actions(client, uri, diags, line)}
+    ldp = actions["Rewrite as LDP RUN / MOV (once per rising edge)"]
+    assert ldp.is_preferred
+    fixed = _apply(bad, ldp.edit.changes[uri])
+    assert fixed == text.replace("LD      RUN\nMOV     PICKED D100", "LDP     RUN\nMOV     PICKED D100")
+    assert await _show(client, uri, fixed) == []
+    await _show(client, uri, bad)
+    pls = next(a for t, a in actions.items() if t.startswith("Rewrite with a PLS relay"))
+    fixed = _apply(bad, pls.edit.changes[uri])
+    assert "LD      RUN\nPLS     M14999\nLD      M14999\nMOV     PICKED D100\n" in fixed  # M14999: top of the general M area, unused
+    assert await _show(client, uri, fixed) == []
+    # a condition of two contacts: only the PLS relay keeps the meaning
+    bad = text.replace("LD      X4\nRST     BATCH", "LD      X4\nAND     RUN\nRSTP    BATCH")
+    diags = await _show(client, uri, bad)
+    line = _line_of(bad, "RSTP")
+    titles = [a.title for a in await _actions(client, uri, diags, line)]
+    assert titles == ["Rewrite with a PLS relay: PLS M14999 / LD M14999 / RST (M14999 is unused)"]
+    (action,) = await _actions(client, uri, diags, line)
+    assert await _show(client, uri, _apply(bad, action.edit.changes[uri])) == []
+    # an output after it shares its condition: no rewrite (it would change that output too)
+    bad = text.replace("LD      X4\nRST     BATCH", "LD      X4\nRSTP    BATCH\nOUT     Y5")
+    diags = await _show(client, uri, bad)
+    assert not await _actions(client, uri, diags, _line_of(bad, "RSTP"))
+    await _show(client, uri, text)
