@@ -52,6 +52,9 @@ def hover(a: Analysis, path: str, line: int, col: int) -> tuple[str, Place] | No
     if found is None or target is None:
         return None
     text = found.place.text
+    pointer = interrupt_at(a, path, line, col)
+    if pointer is not None:
+        return (_pointer_doc(a, pointer), found.place)
     if found.role == "mnemonic":
         specs = target.variants_of(text)
         return (instruction_doc(target, specs), found.place) if specs else None
@@ -206,6 +209,10 @@ def definition(a: Analysis, path: str, line: int, col: int) -> Place | None:
         return None
     if found.role == "define":
         return found.place
+    pointer = interrupt_at(a, path, line, col)
+    if pointer is not None:
+        homes = interrupt_pointers(a).get(pointer, ([], []))[0]
+        return next((h for h in homes if h.path == path), homes[0] if homes else None)
     text = found.place.text
     if found.role == "label" or (found.role == "operand" and _is_label(a, path, text)):
         return label_definition(a, path, text)
@@ -217,6 +224,10 @@ def definition(a: Analysis, path: str, line: int, col: int) -> Place | None:
 
 def references(a: Analysis, path: str, line: int, col: int, include_declaration: bool = True
                ) -> list[Place]:
+    pointer = interrupt_at(a, path, line, col)
+    if pointer is not None:  # one set of pointers for the whole program: every module
+        homes, uses = interrupt_pointers(a).get(pointer, ([], []))
+        return (homes if include_declaration else []) + uses
     found = word_at(a, path, line, col)
     if found is None or found.role in ("mnemonic", "directive"):
         return []
@@ -249,6 +260,9 @@ def references(a: Analysis, path: str, line: int, col: int, include_declaration:
 
 def rename_check(a: Analysis, path: str, line: int, col: int, new_name: str) -> str | None:
     """Why `new_name` cannot replace the name under the cursor (None: it can)."""
+    pointer = interrupt_at(a, path, line, col)
+    if pointer is not None:
+        return _pointer_rename_check(a, pointer, new_name)
     found = word_at(a, path, line, col)
     if found is None or found.role in ("mnemonic", "directive"):
         return "nothing to rename here: put the cursor on a .define symbol or a label"
@@ -267,6 +281,88 @@ def rename_check(a: Analysis, path: str, line: int, col: int, new_name: str) -> 
         pass
     if not SYMBOL.fullmatch(new_name):
         return f"{new_name!r} is not a symbol name (letters, digits, _ and .)"
+    return None
+
+
+# ----------------------------------------------------------------------- interrupt pointers
+def interrupt_at(a: Analysis, path: str, line: int, col: int) -> str | None:
+    """The interrupt pointer under the cursor (`IX0P:` labelling a routine, `IX0P` alone on
+    its line, or an operand such as DHSCS's IHC0), upper case; None elsewhere."""
+    target = a.project.target
+    found = word_at(a, path, line, col)
+    if target is None or found is None or found.role not in ("label", "mnemonic", "operand"):
+        return None
+    if found.role == "mnemonic":
+        st = a.index.statement_at(path, line)
+        if st is None or st.operands:
+            return None
+    return found.place.text.upper() if _pointer(target, found.place.text) else None
+
+
+def interrupt_pointers(a: Analysis) -> dict[str, tuple[list[Place], list[Place]]]:
+    """NAME -> (the lines it labels, the operands naming it) over every module: the pointers
+    are the PLC's (one interrupt table), not a module's, so no `.export` is involved."""
+    cache = getattr(a, "_pointers", None)
+    if cache is not None:
+        return cache
+    cache = {}
+    target = a.project.target
+    if target is not None and (target.settings.get("interrupts") or {}).get("families"):
+        for path, pf in a.index.parsed.items():
+            for st in pf.statements:
+                if st.kind == "directive":
+                    continue
+                if (st.kind == "label" or not st.operands) and _pointer(target, st.name.text):
+                    cache.setdefault(st.name.text.upper(), ([], []))[0].append(_word_place(path, st.line, st.name))
+                    continue
+                for w in st.operands:
+                    if _pointer(target, w.text):
+                        cache.setdefault(w.text.upper(), ([], []))[1].append(_word_place(path, st.line, w))
+    a._pointers = cache
+    return cache
+
+
+def _word_place(path: str, line: int, w) -> Place:
+    return Place(path, line, w.col, w.end_col, w.text)
+
+
+def _pointer_doc(a: Analysis, name: str) -> str:
+    from mlctool.check.interrupts import disable_relay
+
+    target = a.project.target
+    p = _pointer(target, name)
+    source = {"input": f"input {p.family.get('device', 'X')}{p.unit}"
+                       + {"P": ", rising edge", "F": ", falling edge"}.get(p.suffix, ""),
+              "timer": f"timer, every {p.unit} ms", "counter": f"high-speed counter compare (DHSCS ... IHC{p.unit})",
+              "hardware": f"hardware high-speed counter {p.unit}"}.get(p.source, p.source)
+    section = target.settings["interrupts"].get("section", "")
+    out = [f"**{name}**: interrupt pointer, {source} (I{p.number}; manual {section})"]
+    out.append(f"Requests disabled while {target.device_name('M', disable_relay(p))} is On")
+    homes, uses = interrupt_pointers(a).get(name, ([], []))
+    if homes:
+        out.append("Routine at: " + ", ".join(f"{_short(a, h.path)}:{h.line}" for h in homes))
+    else:
+        out.append("No routine: the program does not label one with it")
+    if uses:
+        out.append("Named at: " + ", ".join(f"{_short(a, u.path)}:{u.line}" for u in uses))
+    return "\n\n".join(out)
+
+
+def _pointer_rename_check(a: Analysis, old: str, new_name: str) -> str | None:
+    target = a.project.target
+    new = _pointer(target, new_name)
+    if new is None:
+        names = ", ".join(f"{f['prefix']}{'n' * f['digits']}{'/'.join(f.get('suffixes', {}))}"
+                          for f in (target.settings.get("interrupts") or {}).get("families", []))
+        return f"{new_name!r} is not an interrupt pointer of target {target.name} ({names})"
+    if new.name in interrupt_pointers(a) and new.name != old:
+        homes, uses = interrupt_pointers(a)[new.name]
+        where = (homes or uses)[0]
+        return f"{new.name} is used already ({_short(a, where.path)}:{where.line})"
+    uses = interrupt_pointers(a).get(old, ([], []))[1]
+    if uses and _pointer(target, old).family is not new.family:
+        return (f"{old} is named by an instruction ({_short(a, uses[0].path)}:{uses[0].line}) that takes "
+                f"{_pointer(target, old).family['prefix']} pointers only: {new.name} is another kind")
     return None
 
 

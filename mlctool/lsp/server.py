@@ -189,7 +189,8 @@ def prepare_rename(ls: MlcServer, params: lsp.PrepareRenameParams) -> lsp.Range 
     a = ls.analysis(params.text_document.uri)
     path = path_of(params.text_document.uri)
     line, col = params.position.line + 1, params.position.character + 1
-    if features.rename_check(a, path, line, col, "X_RENAMED_") not in (None,):
+    pointer = features.interrupt_at(a, path, line, col) is not None  # renamed to another pointer
+    if not pointer and features.rename_check(a, path, line, col, "X_RENAMED_") is not None:
         return None
     found = features.word_at(a, path, line, col)
     return _place_range(found.place) if found else None

@@ -356,19 +356,87 @@ async def test_workspace_symbols_across_the_modules(client: LanguageClient, proj
     assert len(got) == 2  # one .define in each module
 
 
-async def test_workspace_symbols_include_interrupt_routines(client: LanguageClient, tmp_path: Path):
-    """A VS project (interrupt pointers are the VS's): an interrupt routine is an Event symbol."""
+VS_MAIN = """; main: count on C235, an interrupt at 100 counts (isr.il's IHC0)
+EI
+LD      M9000
+DHSCS   K100 C235 IHC0
+LD      X10
+OUT     C235 K999
+FEND
+
+IX0P:
+LD      M9000
+OUT     Y1
+IRET
+END
+"""
+VS_ISR = """; interrupt routines of the project
+.library
+IHC0:
+LD      M9000
+OUT     Y0
+IRET
+"""
+
+
+def _vs_project(tmp_path: Path) -> Path:
+    """A VS project (interrupt pointers are the VS's): the routine of IHC0 in a library module,
+    the DHSCS naming it in the main one."""
     ws = tmp_path / "vsproject"
     (ws / "src").mkdir(parents=True)
-    (ws / "mlc.toml").write_text('target = "vs"\nsources = ["src/main.il"]\n')
-    main = "LD      M9000\nEI\nFEND\n\nIX0P:\nLD      M9000\nOUT     Y0\nIRET\nEND\n"
-    (ws / "src" / "main.il").write_text(main)
+    (ws / "mlc.toml").write_text('target = "vs"\nsources = ["src/main.il", "src/isr.il"]\n')
+    (ws / "src" / "main.il").write_text(VS_MAIN)
+    (ws / "src" / "isr.il").write_text(VS_ISR)
+    return ws
+
+
+async def test_workspace_symbols_include_interrupt_routines(client: LanguageClient, tmp_path: Path):
+    ws = _vs_project(tmp_path)
     uri = (ws / "src" / "main.il").as_uri()
-    await _show(client, uri, main)
-    got = await client.workspace_symbol_async(lsp.WorkspaceSymbolParams(query="ix0"))
-    assert [(s.name, s.kind, s.location.uri, s.location.range.start.line) for s in got] == [
-        ("IX0P", lsp.SymbolKind.Event, uri, 4)]
+    assert await _show(client, uri, VS_MAIN) == []
+    got = await client.workspace_symbol_async(lsp.WorkspaceSymbolParams(query="i"))
+    found = sorted((s.name, s.kind, s.location.uri.rsplit("/", 1)[1], s.location.range.start.line) for s in got
+                   if "/vsproject/" in s.location.uri)
+    assert found == [("IHC0", lsp.SymbolKind.Event, "isr.il", 2), ("IX0P", lsp.SymbolKind.Event, "main.il", 8)]
     client.text_document_did_close(lsp.DidCloseTextDocumentParams(lsp.TextDocumentIdentifier(uri)))
+
+
+async def test_interrupt_pointer_definition_references_rename(client: LanguageClient, tmp_path: Path):
+    ws = _vs_project(tmp_path)
+    main, isr = (ws / "src" / "main.il").as_uri(), (ws / "src" / "isr.il").as_uri()
+    assert await _show(client, main, VS_MAIN) == []
+    assert await _show(client, isr, VS_ISR) == []
+    use = lsp.Position(_line_of(VS_MAIN, "DHSCS"), 20)  # on IHC0, the DHSCS's D operand
+    got = await client.text_document_definition_async(lsp.DefinitionParams(lsp.TextDocumentIdentifier(main), use))
+    assert (got.uri, got.range.start.line, got.range.start.character) == (isr, 2, 0)  # across modules
+    refs = await client.text_document_references_async(lsp.ReferenceParams(
+        context=lsp.ReferenceContext(include_declaration=True), text_document=lsp.TextDocumentIdentifier(isr),
+        position=lsp.Position(2, 1)))
+    assert sorted((r.uri, r.range.start.line, r.range.start.character) for r in refs) == sorted(
+        [(isr, 2, 0), (main, use.line, 18)])
+    h = await client.text_document_hover_async(lsp.HoverParams(lsp.TextDocumentIdentifier(main), use))
+    assert "interrupt pointer, high-speed counter compare" in h.contents.value
+    assert "Routine at: src/isr.il:3" in h.contents.value
+    h = await client.text_document_hover_async(lsp.HoverParams(
+        lsp.TextDocumentIdentifier(main), lsp.Position(_line_of(VS_MAIN, "IX0P:"), 1)))
+    assert "input X0, rising edge" in h.contents.value and "M9050" in h.contents.value
+    # rename: the routine's pointer and the DHSCS operand, in both modules; the result checks clean
+    edit = await client.text_document_rename_async(lsp.RenameParams(lsp.TextDocumentIdentifier(main), use, "IHC3"))
+    assert {u: len(e) for u, e in edit.changes.items()} == {main: 1, isr: 1}
+    renamed_main, renamed_isr = _apply(VS_MAIN, edit.changes[main]), _apply(VS_ISR, edit.changes[isr])
+    assert "DHSCS   K100 C235 IHC3\n" in renamed_main and "\nIHC3:\n" in renamed_isr
+    await _show(client, isr, renamed_isr)
+    assert await _show(client, main, renamed_main) == []
+    await _show(client, isr, VS_ISR)
+    await _show(client, main, VS_MAIN)
+    for new, why in (("FOO", "not an interrupt pointer"), ("IX0P", "used already"), ("IX1P", "another kind")):
+        with pytest.raises(Exception, match=why):
+            await client.text_document_rename_async(lsp.RenameParams(lsp.TextDocumentIdentifier(main), use, new))
+    ready = await client.text_document_prepare_rename_async(lsp.PrepareRenameParams(
+        lsp.TextDocumentIdentifier(isr), lsp.Position(2, 2)))
+    assert (ready.start.line, ready.start.character, ready.end.character) == (2, 0, 4)
+    for uri in (main, isr):
+        client.text_document_did_close(lsp.DidCloseTextDocumentParams(lsp.TextDocumentIdentifier(uri)))
 
 
 def _apply(text: str, edits: list[lsp.TextEdit]) -> str:
