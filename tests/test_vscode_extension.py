@@ -45,6 +45,9 @@ def test_settings_commands_and_debugger():
     assert [d["type"] for d in CONTRIB["debuggers"]] == ["mlc"]
     assert '["debug", "--dap"]' in source and 'args: ["lsp"]' in source
     assert '[".venv", "bin", "mlc"]' in source  # the fallback the setting's description promises
+    # the client starts the server for both languages the server answers for (.stim: mlctool/lsp/stim.py)
+    selector = re.search(r"documentSelector: \[(.*?)\],\n", source)[1]
+    assert set(re.findall(r'language: "(\w+)"', selector)) == {"il", "stim"}
 
 
 def test_problem_matcher_reads_mlc_check_output(tmp_path):

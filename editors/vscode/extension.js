@@ -73,7 +73,8 @@ function startClient(context) {
   const command = mlcPath(currentFolder());
   const serverOptions = { command, args: ["lsp"], transport: TransportKind.stdio };
   const clientOptions = {
-    documentSelector: [{ scheme: "file", language: "il" }],
+    // IL sources, and stimulus files (diagnostics as `mlc sim --stimulus`, completion, hover)
+    documentSelector: [{ scheme: "file", language: "il" }, { scheme: "file", language: "stim" }],
     // mlc.toml and modules changed on disk: the server reads the projects again
     synchronize: { fileEvents: vscode.workspace.createFileSystemWatcher("**/{mlc.toml,*.il}") },
     outputChannel: output,

@@ -138,6 +138,13 @@ def _operand_doc(a: Analysis, path: str, text: str) -> str | None:
     names = [n for n, v in a.index.define_values.get(path, {}).items() if v.upper() == name]
     if names and not sym:
         out.append("Symbol: " + ", ".join(names))
+    out += device_use_lines(a, name)
+    return "\n\n".join(out)
+
+
+def device_use_lines(a: Analysis, name: str) -> list[str]:
+    """'Written at: ...', 'Read at: ...' of a device (upper case, as the manual writes it)."""
+    out = []
     reads, writes = device_uses(a, name)
     for verb, places in (("Written", writes), ("Read", reads)):
         if places:
@@ -146,7 +153,7 @@ def _operand_doc(a: Analysis, path: str, text: str) -> str | None:
             out.append(f"{verb} at: " + ", ".join(shown) + more)
     if not reads and not writes:
         out.append("Not used by the project's code.")
-    return "\n\n".join(out)
+    return out
 
 
 def _short(a: Analysis, path: str) -> str:

@@ -14,7 +14,7 @@ from pygls.uris import from_fs_path
 
 from mlctool import __version__
 from mlctool.diagnostics import Diagnostic
-from mlctool.lsp import features
+from mlctool.lsp import features, stim
 from mlctool.lsp.project import Analysis, Place, Workspace
 
 SEVERITY = {"error": lsp.DiagnosticSeverity.Error, "warning": lsp.DiagnosticSeverity.Warning,
@@ -84,6 +84,25 @@ class MlcServer(LanguageServer):
         self.published[key] = uris
 
 
+    def publish_stim(self, uri: str) -> None:
+        """A stimulus file's diagnostics, as `mlc sim --stimulus` gives them, against the
+        target of the mlc.toml above it."""
+        path = path_of(uri)
+        doc = self.workspace.get_text_document(uri)
+        project = self.projects.project_of(path)
+        diags = [] if project.target is None else stim.diagnostics(path, _normalised(doc.source), project.target)
+        self.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(
+            uri, [to_lsp(d) for d in diags], doc.version))
+
+    def publish_all(self) -> None:
+        """Every open file's diagnostics anew (the projects were read again)."""
+        for open_uri in list(self.workspace.text_documents):
+            if _is_il(open_uri):
+                self.publish(open_uri)
+            elif _is_stim(open_uri):
+                self.publish_stim(open_uri)
+
+
 server = MlcServer()
 
 
@@ -91,9 +110,19 @@ def _is_il(uri: str) -> bool:
     return not uri.lower().endswith((".stim", ".toml"))
 
 
+def _is_stim(uri: str) -> bool:
+    return uri.lower().endswith(".stim")
+
+
+def _normalised(text: str) -> str:
+    return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
 @server.feature(lsp.TEXT_DOCUMENT_DID_OPEN)
 def did_open(ls: MlcServer, params: lsp.DidOpenTextDocumentParams) -> None:
     uri = params.text_document.uri
+    if _is_stim(uri):
+        ls.publish_stim(uri)
     if not _is_il(uri):
         return
     ls.projects.open(path_of(uri), params.text_document.text)
@@ -103,6 +132,8 @@ def did_open(ls: MlcServer, params: lsp.DidOpenTextDocumentParams) -> None:
 @server.feature(lsp.TEXT_DOCUMENT_DID_CHANGE)
 def did_change(ls: MlcServer, params: lsp.DidChangeTextDocumentParams) -> None:
     uri = params.text_document.uri
+    if _is_stim(uri):
+        ls.publish_stim(uri)
     if not _is_il(uri):
         return
     ls.projects.open(path_of(uri), ls.workspace.get_text_document(uri).source)
@@ -114,9 +145,7 @@ def did_save(ls: MlcServer, params: lsp.DidSaveTextDocumentParams) -> None:
     uri = params.text_document.uri
     if uri.endswith("mlc.toml"):  # settings changed: every project is read again
         ls.projects.reload()
-        for open_uri in list(ls.workspace.text_documents):
-            if _is_il(open_uri):
-                ls.publish(open_uri)
+        ls.publish_all()
 
 
 @server.feature(lsp.WORKSPACE_DID_CHANGE_WATCHED_FILES)
@@ -124,9 +153,7 @@ def watched_files_changed(ls: MlcServer, params: lsp.DidChangeWatchedFilesParams
     """mlc.toml or a module changed on disk (a git checkout, another editor): read the
     projects again and publish the open files' diagnostics anew."""
     ls.projects.reload()
-    for open_uri in list(ls.workspace.text_documents):
-        if _is_il(open_uri):
-            ls.publish(open_uri)
+    ls.publish_all()
 
 
 @server.feature(lsp.TEXT_DOCUMENT_DID_CLOSE)
@@ -134,10 +161,16 @@ def did_close(ls: MlcServer, params: lsp.DidCloseTextDocumentParams) -> None:
     uri = params.text_document.uri
     if _is_il(uri):
         ls.projects.close(path_of(uri))  # the file on disk counts again
+    elif _is_stim(uri):  # nothing checks a closed stimulus file: its diagnostics go with it
+        ls.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(uri, []))
 
 
 @server.feature(lsp.TEXT_DOCUMENT_HOVER)
 def hover(ls: MlcServer, params: lsp.HoverParams) -> lsp.Hover | None:
+    if _is_stim(params.text_document.uri):
+        return _stim_hover(ls, params)
+    if not _is_il(params.text_document.uri):
+        return None
     path = path_of(params.text_document.uri)
     a = ls.analysis(params.text_document.uri)
     line, col = params.position.line + 1, params.position.character + 1
@@ -151,12 +184,44 @@ def hover(ls: MlcServer, params: lsp.HoverParams) -> lsp.Hover | None:
     return lsp.Hover(lsp.MarkupContent(lsp.MarkupKind.Markdown, "\n\n---\n\n".join(parts)), rng)
 
 
+def _line_text(ls: MlcServer, uri: str, line: int) -> str:
+    doc = ls.workspace.get_text_document(uri)
+    return doc.lines[line].rstrip("\r\n") if line < len(doc.lines) else ""
+
+
+def _stim_hover(ls: MlcServer, params: lsp.HoverParams) -> lsp.Hover | None:
+    """A keyword's form, a device's view and kind, and where the project's program writes and
+    reads it."""
+    uri = params.text_document.uri
+    project = ls.projects.project_of(path_of(uri))
+    if project.target is None:
+        return None
+    line = params.position.line
+    found = stim.hover(_line_text(ls, uri, line), params.position.character + 1, project.target)
+    if found is None:
+        return None
+    text, first, end, device = found
+    if device is not None and project.sources:
+        text += "\n\n" + "\n\n".join(features.device_use_lines(ls.projects.analysis(project.sources[0]), device))
+    return lsp.Hover(lsp.MarkupContent(lsp.MarkupKind.Markdown, text), _range(line + 1, first, line + 1, end))
+
+
+STIM_COMPLETION_KIND = {"keyword": lsp.CompletionItemKind.Keyword, "device": lsp.CompletionItemKind.Variable,
+                        "model": lsp.CompletionItemKind.Class}
+
+
 @server.feature(lsp.TEXT_DOCUMENT_COMPLETION, lsp.CompletionOptions(trigger_characters=[" "]))
 def completion(ls: MlcServer, params: lsp.CompletionParams) -> lsp.CompletionList:
     uri = params.text_document.uri
-    doc = ls.workspace.get_text_document(uri)
     line = params.position.line
-    text = doc.lines[line].rstrip("\r\n") if line < len(doc.lines) else ""
+    text = _line_text(ls, uri, line)
+    if _is_stim(uri):
+        target = ls.projects.project_of(path_of(uri)).target
+        found = stim.completions(text, params.position.character + 1, target) if target else []
+        return lsp.CompletionList(is_incomplete=False, items=[
+            lsp.CompletionItem(c.label, kind=STIM_COMPLETION_KIND[c.kind], detail=c.detail) for c in found])
+    if not _is_il(uri):
+        return lsp.CompletionList(is_incomplete=False, items=[])
     a = ls.analysis(uri)
     items = []
     for c in features.completions(a, path_of(uri), line + 1, params.position.character + 1, text):
@@ -170,6 +235,8 @@ def completion(ls: MlcServer, params: lsp.CompletionParams) -> lsp.CompletionLis
 
 @server.feature(lsp.TEXT_DOCUMENT_DEFINITION)
 def definition(ls: MlcServer, params: lsp.DefinitionParams) -> lsp.Location | None:
+    if not _is_il(params.text_document.uri):  # a .stim file: stimulus features only
+        return None
     a = ls.analysis(params.text_document.uri)
     p = features.definition(a, path_of(params.text_document.uri), params.position.line + 1,
                             params.position.character + 1)
@@ -178,6 +245,8 @@ def definition(ls: MlcServer, params: lsp.DefinitionParams) -> lsp.Location | No
 
 @server.feature(lsp.TEXT_DOCUMENT_REFERENCES)
 def references(ls: MlcServer, params: lsp.ReferenceParams) -> list[lsp.Location]:
+    if not _is_il(params.text_document.uri):  # a .stim file: stimulus features only
+        return []
     a = ls.analysis(params.text_document.uri)
     found = features.references(a, path_of(params.text_document.uri), params.position.line + 1,
                                 params.position.character + 1, params.context.include_declaration)
@@ -186,6 +255,8 @@ def references(ls: MlcServer, params: lsp.ReferenceParams) -> list[lsp.Location]
 
 @server.feature(lsp.TEXT_DOCUMENT_PREPARE_RENAME)
 def prepare_rename(ls: MlcServer, params: lsp.PrepareRenameParams) -> lsp.Range | None:
+    if not _is_il(params.text_document.uri):  # a .stim file: stimulus features only
+        return None
     a = ls.analysis(params.text_document.uri)
     path = path_of(params.text_document.uri)
     line, col = params.position.line + 1, params.position.character + 1
@@ -198,6 +269,8 @@ def prepare_rename(ls: MlcServer, params: lsp.PrepareRenameParams) -> lsp.Range 
 
 @server.feature(lsp.TEXT_DOCUMENT_RENAME)
 def rename(ls: MlcServer, params: lsp.RenameParams) -> lsp.WorkspaceEdit:
+    if not _is_il(params.text_document.uri):  # a .stim file: stimulus features only
+        return lsp.WorkspaceEdit(changes={})
     a = ls.analysis(params.text_document.uri)
     path = path_of(params.text_document.uri)
     line, col = params.position.line + 1, params.position.character + 1
@@ -212,6 +285,8 @@ def rename(ls: MlcServer, params: lsp.RenameParams) -> lsp.WorkspaceEdit:
 
 @server.feature(lsp.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
 def document_symbol(ls: MlcServer, params: lsp.DocumentSymbolParams) -> list[lsp.DocumentSymbol]:
+    if not _is_il(params.text_document.uri):  # a .stim file: stimulus features only
+        return []
     a = ls.analysis(params.text_document.uri)
 
     def convert(s: features.Symbol) -> lsp.DocumentSymbol:
@@ -224,6 +299,8 @@ def document_symbol(ls: MlcServer, params: lsp.DocumentSymbolParams) -> list[lsp
 
 @server.feature(lsp.TEXT_DOCUMENT_FORMATTING)
 def formatting(ls: MlcServer, params: lsp.DocumentFormattingParams) -> list[lsp.TextEdit]:
+    if not _is_il(params.text_document.uri):  # a .stim file: stimulus features only
+        return []
     a = ls.analysis(params.text_document.uri)
     path = path_of(params.text_document.uri)
     new = features.formatted(a, path)
@@ -237,6 +314,8 @@ def formatting(ls: MlcServer, params: lsp.DocumentFormattingParams) -> list[lsp.
 @server.feature(lsp.TEXT_DOCUMENT_CODE_ACTION,
                 lsp.CodeActionOptions(code_action_kinds=[lsp.CodeActionKind.QuickFix]))
 def code_action(ls: MlcServer, params: lsp.CodeActionParams) -> list[lsp.CodeAction]:
+    if not _is_il(params.text_document.uri):  # a .stim file: stimulus features only
+        return []
     uri = params.text_document.uri
     path = path_of(uri)
     a = ls.analysis(uri)
@@ -255,6 +334,8 @@ def code_action(ls: MlcServer, params: lsp.CodeActionParams) -> list[lsp.CodeAct
 
 @server.feature(lsp.TEXT_DOCUMENT_FOLDING_RANGE)
 def folding_range(ls: MlcServer, params: lsp.FoldingRangeParams) -> list[lsp.FoldingRange]:
+    if not _is_il(params.text_document.uri):  # a .stim file: stimulus features only
+        return []
     a = ls.analysis(params.text_document.uri)
     kinds = {"region": lsp.FoldingRangeKind.Region, "comment": lsp.FoldingRangeKind.Comment}
     return [lsp.FoldingRange(first - 1, last - 1, kind=kinds[kind])
@@ -265,6 +346,8 @@ def folding_range(ls: MlcServer, params: lsp.FoldingRangeParams) -> list[lsp.Fol
 def inlay_hint(ls: MlcServer, params: lsp.InlayHintParams) -> list[lsp.InlayHint]:
     """The step address of each instruction, before it (as `mlc fmt --steps renumber` would
     write it)."""
+    if not _is_il(params.text_document.uri):  # a .stim file: stimulus features only
+        return []
     a = ls.analysis(params.text_document.uri)
     found = features.step_addresses(a, path_of(params.text_document.uri), params.range.start.line + 1,
                                     params.range.end.line + 1)

@@ -4,6 +4,7 @@ samples/project (two modules: conveyor.il CALLs P10/P11 exported by pickplace.il
 from __future__ import annotations
 
 import asyncio
+import re
 import shutil
 import sys
 from pathlib import Path
@@ -505,3 +506,61 @@ async def test_code_action_pulse_form_on_nc5(client: LanguageClient, project: Pa
     diags = await _show(client, uri, bad)
     assert not await _actions(client, uri, diags, _line_of(bad, "RSTP"))
     await _show(client, uri, text)
+
+
+_CLI_DIAGNOSTIC = re.compile(r"^(.+?):(\d+):(\d+): (error|warning)\[(\w+)\]: (.*)$", re.M)
+
+
+async def test_stimulus_diagnostics_match_mlc_sim(client: LanguageClient, project: Path):
+    from tests.conftest import run_mlc
+
+    stim = project / "tests" / "pick_cycle.stim"
+    uri = stim.as_uri()
+    text = stim.read_text()
+    assert await _show(client, uri, text) == []  # the sample's scenario is good
+    typed = text + "4s expcet X0=1\n5s Q1=1\nmodel foo\n6s expect D10=99999\n7s X0 pulses 1kHz until 1s\n"
+    diags = await _show(client, uri, typed)
+    scratch = project / "scratch.stim"  # the same text, as `mlc sim --stimulus` reads it
+    scratch.write_text(typed)
+    try:
+        cli = run_mlc("sim", "src/conveyor.il", "src/pickplace.il", "--stimulus", str(scratch), cwd=project)
+    finally:
+        scratch.unlink()
+    assert cli.code == 2
+    expected = {(int(m[2]) - 1, int(m[3]) - 1, m[5], m[6]) for m in _CLI_DIAGNOSTIC.finditer(cli.err + cli.out)}
+    assert len(expected) == 5
+    assert {(d.range.start.line, d.range.start.character, d.code, d.message) for d in diags} == expected
+    await _show(client, uri, text)
+
+
+async def test_stimulus_completion_and_hover(client: LanguageClient, project: Path):
+    stim = project / "tests" / "pick_cycle.stim"
+    uri = stim.as_uri()
+    text = stim.read_text() + "4s \n"
+    await _show(client, uri, text)
+    last = len(text.split("\n")) - 2
+
+    async def labels(line: int, col: int) -> set[str]:
+        got = await client.text_document_completion_async(lsp.CompletionParams(
+            lsp.TextDocumentIdentifier(uri), lsp.Position(line, col)))
+        return {i.label for i in got.items}
+
+    assert {"expect", "force", "release", "power-cycle", "X", "D", "C"} <= await labels(last, 3)
+    assert "LD" not in await labels(last, 3)  # no IL mnemonics in a stimulus file
+    assert await labels(last, 0) == {"scan", "run", "model", "port"}
+    await _show(client, uri, text.replace("4s \n", "model \n"))
+    assert await labels(last, 6) == {"conveyor", "stepper", "vsplc", "xc100"}
+    await _show(client, uri, text)
+    line = _line_of(text, "1s      expect")
+    h = await client.text_document_hover_async(lsp.HoverParams(lsp.TextDocumentIdentifier(uri), lsp.Position(line, 9)))
+    assert "check devices after the scan" in h.contents.value
+    col = text.split("\n")[line].index("D10=0") + 1
+    h = await client.text_document_hover_async(lsp.HoverParams(lsp.TextDocumentIdentifier(uri), lsp.Position(line, col)))
+    assert h.contents.value.startswith("**D10**: 16-bit word, values -32768..32767")
+    lib = _text(project, "pickplace.il")
+    assert f"Written at: src/pickplace.il:{_line_of(lib, 'MOV     K1 STEP') + 1}" in h.contents.value
+    assert (h.range.start.character, h.range.end.character) == (col - 1, col + 2)
+    # the IL features stay out of a stimulus file
+    assert await client.text_document_definition_async(lsp.DefinitionParams(
+        lsp.TextDocumentIdentifier(uri), lsp.Position(line, col))) is None
+    await _show(client, uri, stim.read_text())
