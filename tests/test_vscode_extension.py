@@ -79,3 +79,24 @@ def test_grammar_tests_pass():
                         "test/*.il", "test/*.stim"], cwd=EXT, capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stdout + r.stderr
     assert r.stdout.count("successfuly") == 2, r.stdout
+
+
+@pytest.mark.skipif(shutil.which("node") is None, reason="node is not installed")
+def test_show_ladder_draws_a_module_with_the_other_sources(tmp_path):
+    """`mlc: show ladder` on a module of a project: all of its sources (alone, conveyor.il's
+    CALL P10 has no label and `mlc ladder` draws nothing); a file of no project: itself."""
+    script = (
+        'const fs = require("fs"), path = require("path");'
+        'eval(fs.readFileSync("extension.js", "utf8").match(/function ladderFiles[\\s\\S]*?\\n}\\n/)[0]);'
+        'const root = process.argv[1];'
+        'console.log(JSON.stringify([ladderFiles(path.join(root, "samples/project/src/conveyor.il"),'
+        ' path.join(root, "samples/project")), ladderFiles(path.join(root, "samples/nc5/conveyor.il"),'
+        ' path.join(root, "samples/nc5"))]));')
+    root = EXT.parents[1]
+    r = subprocess.run(["node", "-e", script, str(root)], cwd=EXT, capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    project, alone = json.loads(r.stdout)
+    assert project == [str(root / "samples/project/src/conveyor.il"), str(root / "samples/project/src/pickplace.il")]
+    assert alone == [str(root / "samples/nc5/conveyor.il")]
+    assert run_mlc("ladder", *project, "-o", str(tmp_path / "ladder.html")).code == 0  # they check together
+    assert run_mlc("ladder", project[0], "-o", str(tmp_path / "alone.html")).code == 1

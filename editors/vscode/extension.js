@@ -57,6 +57,21 @@ function projectDir(file) {
   }
 }
 
+/**
+ * The files `mlc ladder` draws for FILE: the project's `sources` (mlc.toml in `cwd`) when FILE
+ * is one of them (a module CALLs labels of the others: alone it does not check), else FILE.
+ * Reads the `sources = ["...", ...]` array with a pattern, not a TOML parser (no npm package).
+ */
+function ladderFiles(file, cwd) {
+  const toml = path.join(cwd, "mlc.toml");
+  if (!fs.existsSync(toml)) {
+    return [file];
+  }
+  const found = /^\s*sources\s*=\s*\[([^\]]*)\]/m.exec(fs.readFileSync(toml, "utf8"));
+  const sources = found ? [...found[1].matchAll(/"([^"]+)"/g)].map((m) => path.resolve(cwd, m[1])) : [];
+  return sources.includes(path.resolve(file)) ? sources : [file];
+}
+
 /** Run `mlc ARGS` as a task in the terminal, with the mlc problem matcher. */
 function runTask(name, args, cwd) {
   const folder = currentFolder();
@@ -99,7 +114,8 @@ function showLadder(context) {
   const panel = vscode.window.createWebviewPanel("mlcLadder", `Ladder: ${path.basename(file)}`,
     vscode.ViewColumn.Beside, { enableScripts: true });
   const draw = () => {
-    cp.execFile(mlcPath(currentFolder()), ["ladder", file, "-o", out, "--title", path.basename(file)], { cwd },
+    const files = ladderFiles(file, cwd);
+    cp.execFile(mlcPath(currentFolder()), ["ladder", ...files, "-o", out, "--title", path.basename(file)], { cwd },
       (err, _stdout, stderr) => {
         if (err) {
           panel.webview.html = `<pre>${escapeHtml(stderr || String(err))}</pre>`;
