@@ -656,6 +656,7 @@ def folding_ranges(a: Analysis, path: str) -> list[tuple[int, int, str]]:
         last = max((n for n in code_lines if first < n < stop), default=first)
         if last > first:
             out.append((first, last, "region"))
+    out += _step_ladder_blocks(a, parsed)
     run_start = None
     for number, raw in enumerate([*parsed.lines, ""], 1):
         is_comment = raw.strip().startswith((";", "//"))
@@ -666,6 +667,33 @@ def folding_ranges(a: Analysis, path: str) -> list[tuple[int, int, str]]:
                 out.append((run_start, number - 1, "comment"))
             run_start = None
     return sorted(out)
+
+
+def _step_ladder_blocks(a: Analysis, parsed) -> list[tuple[int, int, str]]:
+    """Each step of a step ladder (`STL S20`, an instruction that opens a region: VS 2-11)
+    up to its last code line before the next step, its RET, a label or the file's end."""
+    target = a.project.target
+    if target is None:
+        return []
+    out: list[tuple[int, int, str]] = []
+    start: int | None = None
+    last = 0
+    for st in parsed.statements:
+        if st.kind == "directive":
+            continue
+        specs = target.variants_of(st.name.text) if st.kind == "instr" else ()
+        region = specs[0].region if specs else ""
+        ends = st.kind == "label" or region in ("open", "close") or (specs and specs[0].op in ("end", "fend"))
+        if start is not None and ends:
+            if last > start:
+                out.append((start, last, "region"))
+            start = None
+        if region == "open":
+            start = st.line
+        last = st.line
+    if start is not None and last > start:
+        out.append((start, last, "region"))
+    return out
 
 
 def step_addresses(a: Analysis, path: str, first: int, last: int) -> list[tuple[int, int]]:

@@ -564,3 +564,34 @@ async def test_stimulus_completion_and_hover(client: LanguageClient, project: Pa
     assert await client.text_document_definition_async(lsp.DefinitionParams(
         lsp.TextDocumentIdentifier(uri), lsp.Position(line, col))) is None
     await _show(client, uri, stim.read_text())
+
+
+async def test_folding_of_step_ladder_blocks(client: LanguageClient, tmp_path: Path):
+    """VS step ladder (2-11): each STL step folds to its last line before the next step or RET."""
+    ws = tmp_path / "stl"
+    ws.mkdir()
+    (ws / "mlc.toml").write_text('target = "vs"\nsources = ["main.il"]\n')
+    text = ("; a two-step sequence\nLD      M9002\nSET     S0\n\nSTL     S0\nLD      X0\nSET     S20\n\n"
+            "STL     S20\nOUT     Y0\nLD      X1\nSET     S0\nRET\nEND\n")
+    (ws / "main.il").write_text(text)
+    uri = (ws / "main.il").as_uri()
+    assert await _show(client, uri, text) == []
+    folds = await client.text_document_folding_range_async(lsp.FoldingRangeParams(lsp.TextDocumentIdentifier(uri)))
+    assert sorted((f.start_line, f.end_line) for f in folds if f.kind == lsp.FoldingRangeKind.Region) == [
+        (_line_of(text, "STL     S0"), _line_of(text, "SET     S20")),
+        (_line_of(text, "STL     S20"), _line_of(text, "RET") - 1)]
+    client.text_document_did_close(lsp.DidCloseTextDocumentParams(lsp.TextDocumentIdentifier(uri)))
+
+
+async def test_hover_on_a_diagnostic_explains_its_code(client: LanguageClient, project: Path):
+    from mlctool.codes import CODES
+
+    uri = _uri(project, "conveyor.il")
+    text = _text(project, "conveyor.il")
+    bad = text.replace("OUT     CONVEYOR", "OUTT    CONVEYOR")
+    await _show(client, uri, bad)
+    h = await client.text_document_hover_async(lsp.HoverParams(
+        lsp.TextDocumentIdentifier(uri), lsp.Position(_line_of(bad, "OUTT"), 1)))
+    assert f"E201: {CODES['E201'].summary}" in h.contents.value  # `mlc explain E201`
+    assert CODES["E201"].doc.strip().split("\n")[0] in h.contents.value
+    await _show(client, uri, text)
