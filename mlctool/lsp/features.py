@@ -428,7 +428,7 @@ def completions(a: Analysis, path: str, line: int, col: int, line_text: str) -> 
 @dataclass
 class Symbol:
     name: str
-    kind: str  # label | define | rung
+    kind: str  # label | interrupt | define | rung
     line: int
     end_line: int
     col: int = 1
@@ -440,6 +440,7 @@ def document_symbols(a: Analysis, path: str) -> list[Symbol]:
     parsed = a.index.parsed.get(path)
     if parsed is None:
         return []
+    target = a.project.target
     lines = parsed.lines
     out: list[Symbol] = []
     current: Symbol | None = None
@@ -461,11 +462,12 @@ def document_symbols(a: Analysis, path: str) -> list[Symbol]:
                 out.append(Symbol(w.text, "define", number, number, w.col, w.end_col))
             comment = None
             continue
-        if st.kind == "label" or (LABEL.fullmatch(st.name.text) and not st.operands):
+        pointer = target is not None and not st.operands and _pointer(target, st.name.text)
+        if st.kind == "label" or (LABEL.fullmatch(st.name.text) and not st.operands) or pointer:
             if current is not None:
                 current.end_line = number - 1
-            current = Symbol(st.name.text.upper(), "label", number, len(lines), st.name.col,
-                             st.name.end_col, [])
+            current = Symbol(st.name.text.upper(), "interrupt" if pointer else "label", number, len(lines),
+                             st.name.col, st.name.end_col, [])
             out.append(current)
             comment = None
             continue

@@ -19,7 +19,7 @@ from mlctool.lsp.project import Analysis, Place, Workspace
 
 SEVERITY = {"error": lsp.DiagnosticSeverity.Error, "warning": lsp.DiagnosticSeverity.Warning,
             "note": lsp.DiagnosticSeverity.Information}
-SYMBOL_KIND = {"label": lsp.SymbolKind.Function, "define": lsp.SymbolKind.Constant,
+SYMBOL_KIND = {"label": lsp.SymbolKind.Function, "interrupt": lsp.SymbolKind.Event, "define": lsp.SymbolKind.Constant,
                "rung": lsp.SymbolKind.Event}
 COMPLETION_KIND = {"instruction": lsp.CompletionItemKind.Function, "device": lsp.CompletionItemKind.Variable,
                    "symbol": lsp.CompletionItemKind.Constant, "label": lsp.CompletionItemKind.Reference}

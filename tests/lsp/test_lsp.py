@@ -433,6 +433,8 @@ async def test_interrupt_pointer_definition_references_rename(client: LanguageCl
     for new, why in (("FOO", "not an interrupt pointer"), ("IX0P", "used already"), ("IX1P", "another kind")):
         with pytest.raises(Exception, match=why):
             await client.text_document_rename_async(lsp.RenameParams(lsp.TextDocumentIdentifier(main), use, new))
+    symbols = await client.text_document_document_symbol_async(lsp.DocumentSymbolParams(lsp.TextDocumentIdentifier(main)))
+    assert ("IX0P", lsp.SymbolKind.Event) in [(s.name, s.kind) for s in symbols]  # an interrupt routine
     ready = await client.text_document_prepare_rename_async(lsp.PrepareRenameParams(
         lsp.TextDocumentIdentifier(isr), lsp.Position(2, 2)))
     assert (ready.start.line, ready.start.character, ready.end.character) == (2, 0, 4)
