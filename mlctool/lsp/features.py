@@ -9,6 +9,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 from types import SimpleNamespace
+from typing import NamedTuple
 
 from mlctool.codes import CODES
 from mlctool.diagnostics import Diagnostic
@@ -716,8 +717,7 @@ TOKEN_MODIFIERS = ("declaration", "bit", "word", "timer", "counter", "pointer", 
 _COMMENT_START = re.compile(r";|//")
 
 
-@dataclass(frozen=True, slots=True)
-class Token:
+class Token(NamedTuple):  # a tuple: a 10k-line file has some 20k of them
     line: int  # 1-based
     col: int  # 1-based
     length: int
@@ -736,6 +736,7 @@ def semantic_tokens(a: Analysis, path: str) -> list[Token]:
         return []
     by_line = {st.line: st for st in parsed.statements}
     seen: dict[str, tuple[str, tuple[str, ...]] | None] = {}  # operand text -> its token kind
+    has_pointers = target is not None and bool((target.settings.get("interrupts") or {}).get("families"))
 
     def operand(text: str) -> tuple[str, tuple[str, ...]] | None:
         key = text.upper()
@@ -762,7 +763,7 @@ def semantic_tokens(a: Analysis, path: str) -> list[Token]:
                     operands = operands[1:]
             elif st.kind == "label" or (LABEL.fullmatch(name.text) and not operands):
                 out.append(Token(number, name.col, len(name.text), "label", ("declaration",)))
-            elif target is not None and _pointer(target, name.text) and not operands:
+            elif has_pointers and not operands and _pointer(target, name.text):
                 out.append(Token(number, name.col, len(name.text), "label", ("declaration", "interrupt")))
             else:
                 out.append(Token(number, name.col, len(name.text), "keyword"))
@@ -786,7 +787,7 @@ def _pointer(target: Target, text: str):
 
 def _operand_token(a: Analysis, path: str, text: str) -> tuple[str, tuple[str, ...]] | None:
     target = a.project.target
-    if _pointer(target, text):
+    if target.settings.get("interrupts") and _pointer(target, text):
         return "label", ("interrupt",)
     sym = resolve_symbol(a, path, text)
     if sym is None and _is_label(a, path, text):

@@ -411,12 +411,15 @@ def semantic_tokens_full(ls: MlcServer, params: lsp.SemanticTokensParams) -> lsp
     a = ls.analysis(uri)
     types = {t: k for k, t in enumerate(features.TOKEN_TYPES)}
     bits = {m: 1 << k for k, m in enumerate(features.TOKEN_MODIFIERS)}
+    masks: dict[tuple[str, ...], int] = {}  # a file has few distinct modifier sets
     data: list[int] = []
     prev_line, prev_col = 0, 0
     for t in features.semantic_tokens(a, path_of(uri)):
         line, col = t.line - 1, t.col - 1
-        data += [line - prev_line, col - prev_col if line == prev_line else col, t.length, types[t.type],
-                 sum(bits[m] for m in set(t.modifiers))]
+        mask = masks.get(t.modifiers)
+        if mask is None:
+            mask = masks[t.modifiers] = sum(bits[m] for m in set(t.modifiers))
+        data += [line - prev_line, col - prev_col if line == prev_line else col, t.length, types[t.type], mask]
         prev_line, prev_col = line, col
     return lsp.SemanticTokens(data=data)
 
