@@ -71,7 +71,7 @@ class StimCompletion:
 def completions(line_text: str, col: int, target: Target) -> list[StimCompletion]:
     """Keywords where the line's grammar takes one, model kinds after `model`, the target's
     devices where a device name goes (the letters with their ranges)."""
-    from mlctool.devices import MODELS
+    from mlctool.devices.registry import MODELS
 
     code = line_text[:col - 1]
     if len(_code(code).split()) < len(code.split()):  # in a comment
