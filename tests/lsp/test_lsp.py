@@ -119,6 +119,10 @@ async def test_hover_instruction_device_and_symbol(client: LanguageClient, proje
     line = _line_of(text, "OUT     CONVEYOR")
     h = await client.text_document_hover_async(lsp.HoverParams(lsp.TextDocumentIdentifier(uri), lsp.Position(line, 10)))
     assert f"Written at: src/conveyor.il:{line + 1}" in h.contents.value
+    # a 32-bit instruction: both widths' steps, and what the manual says of its flags
+    line = _line_of(text, "DADD")
+    h = await client.text_document_hover_async(lsp.HoverParams(lsp.TextDocumentIdentifier(uri), lsp.Position(line, 1)))
+    assert "Steps: 8 (32-bit), 6 (16-bit ADD)" in h.contents.value and "no flags (旗標信號：無)" in h.contents.value
 
 
 async def test_completion_mnemonics_with_snippets_and_operands(client: LanguageClient, project: Path):
