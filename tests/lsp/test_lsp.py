@@ -553,6 +553,7 @@ async def test_stimulus_completion_and_hover(client: LanguageClient, project: Pa
 
     assert {"expect", "force", "release", "power-cycle", "X", "D", "C"} <= await labels(last, 3)
     assert "LD" not in await labels(last, 3)  # no IL mnemonics in a stimulus file
+    assert "S" not in await labels(last, 3) and "A" in await labels(last, 3)  # NC5's devices, not the VS's
     assert await labels(last, 0) == {"scan", "run", "model", "port"}
     await _show(client, uri, text.replace("4s \n", "model \n"))
     assert await labels(last, 6) == {"conveyor", "stepper", "vsplc", "xc100"}
@@ -601,3 +602,17 @@ async def test_hover_on_a_diagnostic_explains_its_code(client: LanguageClient, p
     assert f"E201: {CODES['E201'].summary}" in h.contents.value  # `mlc explain E201`
     assert CODES["E201"].doc.strip().split("\n")[0] in h.contents.value
     await _show(client, uri, text)
+
+
+async def test_stimulus_of_a_vs_project_has_the_vs_devices(client: LanguageClient, tmp_path: Path):
+    ws = _vs_project(tmp_path)
+    stim = ws / "tests" / "count.stim"  # a stimulus file of the VS project: the VS's devices
+    stim.parent.mkdir()
+    stim.write_text("0ms X10=1\n")
+    assert await _show(client, stim.as_uri(), stim.read_text()) == []
+    got = await client.text_document_completion_async(lsp.CompletionParams(
+        lsp.TextDocumentIdentifier(stim.as_uri()), lsp.Position(0, 4)))
+    assert {"S", "R", "X"} <= {i.label for i in got.items} and "A" not in {i.label for i in got.items}
+    bad = await _show(client, stim.as_uri(), "0ms A0=1\n")  # NC5's A relays are no VS device
+    assert [d.code for d in bad] == ["E602"]
+    client.text_document_did_close(lsp.DidCloseTextDocumentParams(lsp.TextDocumentIdentifier(stim.as_uri())))
