@@ -58,8 +58,9 @@ def batch_cmd(image, target, pattern: str, opts: Options, jobs: int, cluster: st
             bad_input = True
             docs[sc.stim] = None
             continue
-        docs[sc.stim] = json.loads(to_json(sc.result))
-        if not as_json:
+        if as_json:  # (only then: a JSON document per scenario is most of a large batch's output cost)
+            docs[sc.stim] = json.loads(to_json(sc.result))
+        else:
             click.echo(f"{sc.stim}: {summary(sc.result)}")
     passed = sum(sc.ok for sc in scenarios)
     if as_json:

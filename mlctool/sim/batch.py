@@ -22,11 +22,14 @@ there faster than one run after the other:
 
 from __future__ import annotations
 
+import gc
 import os
 import pickle
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
+from itertools import compress
+from operator import itemgetter
 
 import numpy as np
 
@@ -46,7 +49,7 @@ from mlctool.sim.run import (
 )
 from mlctool.sim.scan import DEFAULT_WATCHDOG, load_program
 from mlctool.sim.state import DeviceView, Machine
-from mlctool.sim.stimulus import Stimulus, load_stimulus
+from mlctool.sim.stimulus import NameCache, Stimulus, load_stimulus
 from mlctool.sim.suite import Scenario
 from mlctool.targetapi.model import Target
 from mlctool.targetapi.registry import simulation_of
@@ -281,13 +284,20 @@ class LaneProgram(_RungCodegen):
 def _lane_ready(st: Stimulus, opts: Options, n_scans: int) -> bool:
     if st.models:
         return False
+    period = st.scan_us or opts.scan_us or DEFAULT_SCAN_US
     for e in st.events:
-        if e.kind not in ("set", "expect", "force", "release"):
-            return False
-        views = [v for v, _ in e.assigns] + [c.view for c in e.checks]
-        if any(v.view != "bit" or v.kind not in LANE_KINDS for v in views):
-            return False
-        if e.kind == "expect" and e.scan_index(st.scan_us or opts.scan_us or DEFAULT_SCAN_US) >= n_scans:
+        kind = e.kind
+        if kind == "expect":
+            if e.scan_index(period) >= n_scans:
+                return False
+            for c in e.checks:
+                if c.view.view != "bit" or c.view.kind not in LANE_KINDS:
+                    return False
+        elif kind in ("set", "force", "release"):
+            for v, _ in e.assigns:
+                if v.view != "bit" or v.kind not in LANE_KINDS:
+                    return False
+        else:
             return False
     return all(v.view == "bit" and v.kind in LANE_KINDS for v in opts.watch)
 
@@ -296,27 +306,34 @@ def run_lanes(lp: LaneProgram, group: list[tuple[str, Stimulus]], period: int, n
               opts: Options) -> list[RunResult | None]:
     """Run the scenarios of `group` together; None for a scenario whose expectations failed."""
     slots = dict(lp.slots)
-    for _, st in group:
-        for e in st.events:
-            for v in [v for v, _ in e.assigns] + [c.view for c in e.checks]:
-                slots.setdefault((v.kind, v.number), len(slots))
     n = len(group)
     ALL = (1 << n) - 1
     sets: dict[int, dict[int, list[int]]] = {}  # scan -> slot -> [set mask, clear mask]
     forcing: dict[int, list[tuple[int, int, int | None]]] = {}  # scan -> [(slot, lane bit, value)]
     expects: dict[int, list[tuple[int, object]]] = {}
-    for lane, (_, st) in enumerate(group):
+    for lane, (_, st) in enumerate(group):  # one pass over the events (a batch has ~20 k of them)
         bit = 1 << lane
         for e in st.events:
-            k = e.scan_index(period)
-            if e.kind == "expect":
+            k = e.scan if e.scan is not None else -(-e.time_us // period)  # Event.scan_index
+            kind = e.kind
+            if kind == "expect":
                 expects.setdefault(k, []).append((lane, e))
+                for c in e.checks:
+                    slots.setdefault((c.view.kind, c.view.number), len(slots))
                 continue
             for v, value in e.assigns:
-                slot = slots[(v.kind, v.number)]
-                if e.kind == "set":
-                    masks = sets.setdefault(k, {}).setdefault(slot, [0, 0])
-                    if value:
+                key = (v.kind, v.number)
+                slot = slots.get(key)
+                if slot is None:
+                    slot = slots[key] = len(slots)
+                if kind == "set":
+                    per_scan = sets.get(k)
+                    if per_scan is None:
+                        per_scan = sets[k] = {}
+                    masks = per_scan.get(slot)
+                    if masks is None:  # the usual case: one write of this device in this scan
+                        per_scan[slot] = [bit, 0] if value else [0, bit]
+                    elif value:
                         masks[0] |= bit
                         masks[1] &= ~bit
                     else:
@@ -324,7 +341,7 @@ def run_lanes(lp: LaneProgram, group: list[tuple[str, Stimulus]], period: int, n
                         masks[0] &= ~bit
                 else:
                     forcing.setdefault(k, []).append(
-                        (slot, bit, (1 if value else 0) if e.kind == "force" else None))
+                        (slot, bit, (1 if value else 0) if kind == "force" else None))
     S = [0] * len(slots)
     E = [0] * len(lp.prog.steps)
     fmask: dict[int, int] = {}
@@ -349,19 +366,68 @@ def run_lanes(lp: LaneProgram, group: list[tuple[str, Stimulus]], period: int, n
             for c in e.checks:
                 if not c.holds((S[slots[(c.view.kind, c.view.number)]] >> lane) & 1):
                     failed |= 1 << lane
+    return _lane_results(lp.prog, group, S, slots, failed, period, n_scans, opts)
+
+
+_BITS = bytes.maketrans(b"01", b"\x00\x01")
+
+
+def _picker(indices: list[int]):
+    """seq -> tuple of seq[k] for k in indices (itemgetter, also for one index or none)."""
+    if len(indices) > 1:
+        return itemgetter(*indices)
+    return lambda seq: tuple(seq[k] for k in indices)
+
+
+def _lane_results(prog: Program, group: list[tuple[str, Stimulus]], S: list[int], slots: dict,
+                  failed: int, period: int, n_scans: int, opts: Options) -> list[RunResult | None]:
+    """Each passing lane's RunResult, as a single run reports it: the program's devices and
+    the scenario's own, sorted, by name. The lane words are turned into per-lane rows once
+    (one bit string per device, transposed by zip) and the names and order are worked out
+    once for the union of all lanes' devices, not per lane."""
+    n = len(group)
+    names = program_devices(prog) | set(opts.watch)
+    # the scenarios' own devices (Stimulus.devices()), by object first: a batch's views are
+    # shared objects (NameCache), and hashing a DeviceView is a Python call
+    objs: dict[int, DeviceView] = {}
+    lane_ids = []
+    for _, st in group:
+        own = {id(v): v for e in st.events for v, _ in e.assigns}
+        own.update({id(c.view): c.view for e in st.events for c in e.checks})
+        objs.update(own)
+        lane_ids.append(own)
+    order = sorted(names.union(objs.values()), key=DeviceView.sort_key)
+    rank = {v: k for k, v in enumerate(order)}
+    rank_of = {i: rank[v] for i, v in objs.items()}
+    labels = [v.name for v in order]
+    zeros = bytes(n)
+    columns = []
+    for v in order:
+        slot = slots.get((v.kind, v.number))
+        columns.append(zeros if slot is None else
+                       format(S[slot] & ((1 << n) - 1), f"0{n}b")[::-1].encode().translate(_BITS))
+    rows = zip(*columns) if columns else iter([()] * n)  # rows[lane][k]: the lane's value of order[k]
+    base_set = {rank[v] for v in names}
+    base = sorted(base_set)
+    base_views = [order[k] for k in base]
+    base_labels = [labels[k] for k in base]
+    pick_base = _picker(base)
+    base_flags = bytes(1 if k in base_set else 0 for k in range(len(order)))
+    extras = [{rank_of[i] for i in ids} - base_set for ids in lane_ids]
     out: list[RunResult | None] = []
-    names = program_devices(lp.prog) | set(opts.watch)
-    base = sorted(names, key=DeviceView.sort_key)
-    for lane, (_, st) in enumerate(group):
+    for lane, ((_, st), extra, row) in enumerate(zip(group, extras, rows)):
         if failed >> lane & 1:
             out.append(None)
             continue
-        extra = st.devices() - names
-        views = sorted(names | extra, key=DeviceView.sort_key) if extra else list(base)
-        devices = {}
-        for v in views:
-            slot = slots.get((v.kind, v.number))
-            devices[v.name] = (S[slot] >> lane) & 1 if slot is not None else 0
+        if extra:  # the program's devices and the lane's own, in `order`
+            flags = bytearray(base_flags)
+            for k in extra:
+                flags[k] = 1
+            views = list(compress(order, flags))
+            devices = dict(zip(compress(labels, flags), compress(row, flags)))
+        else:
+            views = list(base_views)
+            devices = dict(zip(base_labels, pick_base(row)))
         outcomes = [ExpectOutcome(e.line, e.text, e.scan_index(period) * period, e.scan_index(period))
                     for e in st.events if e.kind == "expect"]
         outcomes.sort(key=lambda o: (o.scan, o.line))
@@ -728,21 +794,50 @@ def run_batch(image: Image, target: Target, paths: list[str], opts: Options, job
               loaded: dict[str, tuple[Stimulus | None, list]] | None = None) -> tuple[list[Scenario], BatchStats]:
     """One Scenario per path, in the order given. `cluster`: a Dask scheduler's address, the
     scenarios run there in chunks (mlctool/sim/cluster.py; ClusterError when it cannot)."""
-    if loaded is None:
-        loaded = {p: load_stimulus(p, target) for p in paths}
-    if cluster is not None:
-        return _run_on_cluster(cluster, image, target, paths, opts, lanes, loaded)
     stats = BatchStats()
     results: dict[str, Scenario] = {}
-    rest = []
+    paused = gc.isenabled()
+    gc.disable()  # see _run_batch_lanes
+    try:
+        if loaded is None:
+            names = NameCache(target)
+            loaded = {p: load_stimulus(p, target, names) for p in paths}
+        if cluster is None:
+            rest = _run_batch_lanes(image, target, paths, opts, lanes, loaded, results, stats)
+    finally:
+        if paused:
+            gc.enable()
+    if cluster is not None:
+        return _run_on_cluster(cluster, image, target, paths, opts, lanes, loaded)
+    stats.single = len(rest) - stats.reruns
+    rest_set = set(rest)
+    rest = [p for p in paths if p in rest_set]
+    if jobs > 1 and len(rest) > 1:
+        blob = pickle.dumps((image, target, opts))
+        with ProcessPoolExecutor(max_workers=jobs, initializer=_init_worker, initargs=(blob,)) as pool:
+            for p, sc in zip(rest, pool.map(_run_in_worker, rest, chunksize=max(1, len(rest) // (4 * jobs)))):
+                results[p] = sc
+    else:
+        for p in rest:
+            results[p] = run_one(image, target, p, opts, loaded[p])
+    return [results[p] for p in paths], stats
+
+
+def _run_batch_lanes(image: Image, target: Target, paths: list[str], opts: Options, lanes: bool,
+                     loaded: dict, results: dict[str, Scenario], stats: BatchStats) -> list[str]:
+    """The scenarios that can run as lanes, run so (into `results`); returns the others'
+    paths. The cyclic garbage collector is paused meanwhile (and while the stimulus files
+    are read): a batch builds ~100 k small objects (events, tuples, results) that form no
+    cycles and live to the end, and the collector walking them again and again cost a
+    third of a 1024-scenario batch. The scenarios run one by one are outside the pause."""
+    rest: list[str] = []
     lp = wp = None
     if lanes and (opts.engine or "compiled") != "interp" and _lanes_target(target) and not opts.preload:
         prog = load_program(image, target)
         if prog.steps and sum(s.steps for s in prog.steps) <= opts.watchdog:
             lp = LaneProgram(prog)
             lp = lp if lp.ok else None
-            wp = WordLaneProgram(load_program(image, target))
-            wp = wp if wp.ok else None
+            wp = _LazyWordLanes(image, target)
     groups: dict[tuple[int, int], list[tuple[str, Stimulus]]] = {}
     wgroups: dict[tuple[int, int], list[tuple[str, Stimulus]]] = {}
     scratch = Machine(target, 1)
@@ -759,7 +854,7 @@ def run_batch(image: Image, target: Target, paths: list[str], opts: Options, job
             continue
         if lp is not None and _lane_ready(st, opts, n_scans):
             groups.setdefault((period, n_scans), []).append((p, st))
-        elif wp is not None and _word_lane_ready(st, opts, n_scans, scratch):
+        elif wp is not None and wp.program() is not None and _word_lane_ready(st, opts, n_scans, scratch):
             wgroups.setdefault((period, n_scans), []).append((p, st))
         else:
             rest.append(p)
@@ -768,23 +863,30 @@ def run_batch(image: Image, target: Target, paths: list[str], opts: Options, job
             rest += [p for p, _ in group]
             continue
         start = time.perf_counter()
-        outcomes = run_word_lanes(wp, group, period, n_scans, opts, target)
+        outcomes = run_word_lanes(wp.program(), group, period, n_scans, opts, target)
         stats.word_lanes += _take_lanes(group, outcomes, results, rest, stats, time.perf_counter() - start)
     for (period, n_scans), group in groups.items():
         start = time.perf_counter()
         outcomes = run_lanes(lp, group, period, n_scans, opts)
         _take_lanes(group, outcomes, results, rest, stats, time.perf_counter() - start)
-    stats.single = len(rest) - stats.reruns
-    rest = [p for p in paths if p in set(rest)]
-    if jobs > 1 and len(rest) > 1:
-        blob = pickle.dumps((image, target, opts))
-        with ProcessPoolExecutor(max_workers=jobs, initializer=_init_worker, initargs=(blob,)) as pool:
-            for p, sc in zip(rest, pool.map(_run_in_worker, rest, chunksize=max(1, len(rest) // (4 * jobs)))):
-                results[p] = sc
-    else:
-        for p in rest:
-            results[p] = run_one(image, target, p, opts, loaded[p])
-    return [results[p] for p in paths], stats
+    return rest
+
+
+class _LazyWordLanes:
+    """The WordLaneProgram of an image, generated when a scenario first needs it (a batch of
+    bit-only scenarios never does)."""
+
+    def __init__(self, image: Image, target: Target):
+        self.image, self.target = image, target
+        self.done = False
+        self.wp: WordLaneProgram | None = None
+
+    def program(self) -> WordLaneProgram | None:
+        if not self.done:
+            self.done = True
+            wp = WordLaneProgram(load_program(self.image, self.target))
+            self.wp = wp if wp.ok else None
+        return self.wp
 
 
 def _run_on_cluster(address: str, image: Image, target: Target, paths: list[str], opts: Options,

@@ -26,6 +26,11 @@ from mlctool.syntax.source import read_source
 from mlctool.targetapi.model import Target
 
 _TOKEN = re.compile(r"\S+")
+_SCAN_NO = re.compile(r"#[0-9]+")
+# `#250 X0=1` / `100ms X0=1` (Parser.set_line): every part too short to hold a number of more
+# than MAX_DIGITS digits (mlctool/limits.py), so long_number() cannot find one
+_SET_LINE = re.compile(r"([ \t]*)(#[0-9]{1,9}|[0-9][0-9.]{0,14}[A-Za-z]{1,3})([ \t]+)"
+                       r"([A-Za-z][^\s=#]{0,15}=[^\s=#]{1,16})[ \t]*")
 KEYWORDS = ("expect", "force", "release", "power-cycle")
 DIRECTIVES = ("scan", "run", "model", "port")  # the words that may start a line instead of a time
 
@@ -143,18 +148,37 @@ def _range(view: DeviceView) -> tuple[int, int]:
     return -32768, 32767
 
 
+class NameCache:
+    """Device names and assignments already read, for the stimulus files of one batch (one
+    target): `M5` and `M5=1` are read once, not once per file. Only successes are kept, and a
+    view or value depends on nothing but its text and the target, so a cached result is the
+    one the parser would compute again."""
+
+    def __init__(self, target: Target):
+        self.target = target
+        self.views: dict[str, DeviceView] = {}
+        self.items: dict[str, tuple[DeviceView, int | float]] = {}  # `M5=1` of a set line
+
+
 class _Parser:
-    def __init__(self, path: str, text: str, target: Target):
+    def __init__(self, path: str, text: str, target: Target, cache: NameCache | None = None):
         self.st = Stimulus(path, text.split("\n"))
         self.target = target
         self.diags: list[Diagnostic] = []
         self.last_time = 0
+        if cache is None or cache.target is not target:
+            cache = NameCache(target)
+        self.views = cache.views
+        self.items = cache.items
 
     def err(self, line: int, col: int, length: int, code: str, msg: str) -> None:
         self.diags.append(diag(self.st.path, Span.at(line, col, length), code, msg))
 
     def run(self) -> Stimulus:
         for no, raw in enumerate(self.st.lines, 1):
+            m = _SET_LINE.fullmatch(raw)
+            if m is not None and self.set_line(no, m):
+                continue
             body = _strip_comment(raw)
             toks = [(m.group(), m.start() + 1) for m in _TOKEN.finditer(body)]
             if not toks:
@@ -219,6 +243,32 @@ class _Parser:
             raise StimError("a time needs an action: DEV=VALUE, expect ..., force ..., release ..., "
                             "power-cycle")
         self.action(Event(scan, time_us, "set", no, toks[1][1], " ".join(t for t, _ in toks)), toks[1:])
+
+    def set_line(self, no: int, m: re.Match) -> bool:
+        """The most common line, `#250 X0=1` or `100ms X0=1`, read without tokenizing: the
+        same Event as line() gives, through the same view() and value(). False (nothing
+        recorded) when any part is wrong: line() then reads it again and reports it."""
+        when, item = m[2], m[4]
+        try:
+            if when[0] == "#":
+                scan, time_us = int(when[1:]), None  # at most 9 digits (_SET_LINE)
+                if scan > MAX_SCANS:
+                    return False
+            else:
+                scan, time_us = None, parse_time(when)
+            assign = self.items.get(item)
+            if assign is None:
+                name, value = item.split("=", 1)
+                view = self.view(name, 1)
+                if view.kind.startswith(SIGNAL):
+                    return False
+                assign = self.items[item] = (view, self.at(1, lambda: parse_value(value, view)))
+        except StimError:
+            return False
+        if time_us is not None:
+            self.last_time = time_us
+        self.st.events.append(Event(scan, time_us, "set", no, m.start(4) + 1, f"{when} {item}", [assign]))
+        return True
 
     @staticmethod
     def at(offset: int, fn):
@@ -324,10 +374,15 @@ class _Parser:
         ev.assigns = [(view, (ev.time_us, period, end) + ((views[1], sign) if len(views) == 2 else ()))]
 
     def view(self, name: str, offset: int) -> DeviceView:
+        view = self.views.get(name)
+        if view is not None:
+            return view
         try:
-            return parse_device_name(name, self.target)
+            view = self.views[name] = parse_device_name(name, self.target)
+            return view
         except NameError_ as e:
             raise StimError(str(e), offset, "E602") from None
+
 
     def check(self, t: str, col: int, offset: int) -> Check:
         m = re.fullmatch(r"([^=!]+)(!=|=)(.+)", t)
@@ -366,13 +421,20 @@ def _near(word: str, known: tuple[str, ...]) -> str:
 
 def _strip_comment(raw: str) -> str:
     """`#` starts a comment, except `#250` (a scan number) at the start of a line or after `run`."""
+    hashes = raw.count("#")
+    if not hashes:  # the line up to its last token (\S and str.isspace agree on blanks)
+        return raw.rstrip()
+    if hashes == 1:
+        first = raw.split(None, 1)
+        if first and first[0].startswith("#"):  # `#250 X0=1`, or a comment line
+            return raw.rstrip() if _SCAN_NO.fullmatch(first[0]) else ""
     out = []
     for m in _TOKEN.finditer(raw):
         t = m.group()
         if t.startswith("#"):
             first = not out
             after_run = len(out) == 1 and out[0].lower() == "run"
-            if not (re.fullmatch(r"#[0-9]+", t) and (first or after_run)):
+            if not (_SCAN_NO.fullmatch(t) and (first or after_run)):
                 break
         out.append(t)
     return _rejoin(raw, len(out))
@@ -389,25 +451,28 @@ def _rejoin(raw: str, count: int) -> str:
 
 
 def _scan_number(text: str) -> int:
-    if not re.fullmatch(r"#[0-9]+", text):
+    if not _SCAN_NO.fullmatch(text):
         raise StimError(f"{text!r} is not a scan number (e.g. #250)")
     if len(text) > 11 or int(text[1:]) > MAX_SCANS:
         raise StimError(f"{text!r} is past the bound of a run, {MAX_SCANS:,} scans")
     return int(text[1:])
 
 
-def parse_stimulus_text(path: str, text: str, target: Target) -> tuple[Stimulus, list[Diagnostic]]:
-    p = _Parser(path, text, target)
+def parse_stimulus_text(path: str, text: str, target: Target,
+                        cache: NameCache | None = None) -> tuple[Stimulus, list[Diagnostic]]:
+    """`cache`: names and values read by earlier files of the same batch (NameCache)."""
+    p = _Parser(path, text, target, cache)
     st = p.run()
     return st, p.diags
 
 
-def load_stimulus(path: str, target: Target) -> tuple[Stimulus | None, list[Diagnostic]]:
+def load_stimulus(path: str, target: Target,
+                  cache: NameCache | None = None) -> tuple[Stimulus | None, list[Diagnostic]]:
     src, diags = read_source(path)
     if src is None:
         return None, diags
-    return parse_stimulus_text(path, src.text, target)
+    return parse_stimulus_text(path, src.text, target, cache)
 
 
-__all__ = ["MAX_SCANS", "MAX_TIME_US", "Check", "Event", "ModelSpec", "Stimulus", "StimError", "load_stimulus",
+__all__ = ["MAX_SCANS", "MAX_TIME_US", "Check", "Event", "ModelSpec", "NameCache", "Stimulus", "StimError", "load_stimulus",
            "parse_stimulus_text", "parse_time", "parse_value"]

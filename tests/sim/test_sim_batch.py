@@ -201,3 +201,40 @@ def test_word_lanes_match_single_runs(tmp_path, monkeypatch):
     assert stats.word_lanes > 15 and stats.reruns > 5
     assert [s.result for s in lanes] == [s.result for s in single]
     assert [[d.message for d in s.diagnostics] for s in lanes] == [[d.message for d in s.diagnostics] for s in single]
+
+
+def test_lane_results_are_single_runs_in_order(tmp_path, monkeypatch):
+    """Lanes report exactly the single run's result, device order included (the JSON order):
+    scenarios that name devices outside the program (each its own), the same device written
+    `M7` and `m7`, scan-number and time lines, several items on a line, comments, forces,
+    expectations that hold and fail (run again alone), and a scenario with a bad line."""
+    import random
+
+    monkeypatch.chdir(tmp_path)
+    rnd = random.Random(11)
+    paths = []
+    for k in range(96):
+        lines = ["# generated"]
+        for _ in range(12):
+            dev = rnd.choice(["X0", "X1", "X2", "X3", "X4", "X5", "M0", f"M{rnd.randrange(10, 40)}",
+                              f"m{rnd.randrange(10, 40)}", f"Y{rnd.randrange(8)}", f"A{rnd.randrange(3)}"])
+            when = rnd.choice([f"#{rnd.randrange(30)}", f"{rnd.randrange(0, 300, 10)}ms"])
+            lines.append(f"{when} {dev}={rnd.randrange(2)}" + rnd.choice(["", " X1=0", "  # note"]))
+        if k % 3 == 0:
+            lines += [f"{rnd.randrange(0, 100, 10)}ms force X2=1", f"{rnd.randrange(100, 200, 10)}ms release X2"]
+        if k % 4 == 0:
+            lines.append(f"{rnd.randrange(0, 300, 10)}ms expect M0={rnd.randrange(2)} M{rnd.randrange(50, 60)}=0")
+        if k == 50:
+            lines.append("#5 M7=2")
+        (tmp_path / f"s{k:02}.stim").write_text("\n".join(lines) + "\nrun 300ms\n")
+        paths.append(f"s{k:02}.stim")
+    image = image_of(PROGRAM)
+    lanes, stats = run_batch(image, NC5, paths, Options())
+    single, _ = run_batch(image, NC5, paths, Options(), lanes=False)
+    assert stats.lanes > 60 and stats.reruns > 3 and lanes[50].result is None
+    for a, b in zip(lanes, single):
+        assert a.result == b.result, a.stim
+        if a.result is not None:
+            assert list(a.result.devices.items()) == list(b.result.devices.items()), a.stim
+            assert a.result.views == b.result.views
+        assert [(d.code, d.message) for d in a.diagnostics] == [(d.code, d.message) for d in b.diagnostics]

@@ -126,3 +126,49 @@ def test_mistyped_keywords_name_the_nearest(line, col, hint):
 def test_no_hint_when_nothing_is_near():
     _, diags = parse_stimulus_text("s.stim", "70ms zzz\nqqq 1s\n", NC5)
     assert [d.span.line for d in diags] == [1, 2] and not any("did you mean" in d.message for d in diags)
+
+
+# lines the set-line fast path (`#250 X0=1`, `100ms X0=1`) reads, and look-alikes it must leave
+# to the full parser: bad names, values, times, signals, comments, blanks, extra items
+_FAST_LINES = ["#0 X0=1", "#250 M5=0", "  #7\tm5=1  ", "10ms X1=1", "1.5s Y0=0", "100us D0=25",
+               "10ms D0=H00FF", "#3 K4M0=H00FF", "#3 X9=1", "#3 M99999=1", "#3 M5=2", "#3 Q5=1",
+               "10xs X0=1", "#1 X0=1 # comment", "#1 X0=1 X1=0", "#99999999999 X0=1", "#999999999 X0=1",
+               "0.0000001s X0=1", "10ms X0==1", "10ms =1", "10ms XC1.pos=1", "#2 D0:f=1.5",
+               "#2 D0=1.5", "+10ms X0=1", "5ms X0=on", "#1 expect=1", "# comment only", "",
+               "#1 X0=" + "1" * 30, "10ms M" + "9" * 25 + "=1", "\u00a0#1 X0=1", "#1 X0=1\u00a0"]
+
+
+def _parsed(text: str, cache=None):
+    st, diags = parse_stimulus_text("s.stim", text, NC5, cache)
+    events = [(e.scan, e.time_us, e.kind, e.line, e.col, e.text, e.assigns, e.checks) for e in st.events]
+    return events, [(d.code, d.span.line, d.span.col, d.message) for d in diags]
+
+
+def test_set_line_fast_path_reads_as_the_full_parser(monkeypatch):
+    """Every line above, alone and all together in random orders, gives the same events and
+    diagnostics with the fast path as without it (a pattern that never matches)."""
+    import random
+    import re
+
+    from mlctool.sim import stimulus
+
+    rnd = random.Random(3)
+    texts = list(_FAST_LINES) + ["\n".join(rnd.sample(_FAST_LINES, len(_FAST_LINES))) for _ in range(20)]
+    fast = [_parsed(t) for t in texts]
+    monkeypatch.setattr(stimulus, "_SET_LINE", re.compile(r"(?!)"))
+    full = [_parsed(t) for t in texts]
+    assert fast == full
+    assert any(events for events, _ in fast) and any(diags for _, diags in fast)
+
+
+def test_name_cache_shared_by_files_changes_nothing():
+    """A NameCache carried from file to file (a batch) gives each file the events and the
+    diagnostics it gets alone; a failed name is not remembered as a success."""
+    from mlctool.sim.stimulus import NameCache
+
+    texts = ["#1 M5=1\n#2 m5=0\n10ms expect M5=0", "#1 M99999=1\n#2 M5=1", "#1 M99999=1\n#1 X0=1 M5=0",
+             "#4 D0=7\n#5 D0=70000"]
+    cache = NameCache(NC5)
+    assert [_parsed(t, cache) for t in texts] == [_parsed(t) for t in texts]
+    assert [_parsed(t, cache) for t in texts] == [_parsed(t) for t in texts]  # now all cached
+    assert "M99999" not in cache.views and "M5" in cache.views

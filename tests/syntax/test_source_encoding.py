@@ -94,3 +94,23 @@ def test_utf8_files_never_import_the_detector(tmp_path):
         out = subprocess.run([MLC_COMMAND[0], "-c", probe, name], cwd=tmp_path, capture_output=True,
                              text=True, env={"PATH": "/usr/bin:/bin", "PYTHONPATH": str(ROOT)}).stdout
         assert out.strip().endswith(expect), out
+
+
+def test_read_bounded_reads_what_the_file_holds_up_to_the_limit(tmp_path, monkeypatch):
+    """read_bounded asks for the size fstat gives (plus one byte), and reads on when the file
+    turns out longer (it grew meanwhile), never past the limit."""
+    import os
+    from types import SimpleNamespace
+
+    from mlctool.syntax import source
+
+    path = tmp_path / "f.stim"
+    path.write_bytes(b"x" * 100)
+    for limit in (1, 50, 100, 101, 1000):
+        with open(path, "rb") as f:
+            assert len(source.read_bounded(f, limit)) == min(100, limit)
+    real = os.fstat
+    monkeypatch.setattr(source.os, "fstat", lambda fd: SimpleNamespace(st_size=10, st_mode=real(fd).st_mode))
+    for limit in (5, 11, 12, 60, 101, 1000):
+        with open(path, "rb") as f:
+            assert len(source.read_bounded(f, limit)) == min(100, limit)
