@@ -70,6 +70,9 @@ class Image:
     # directives of all modules as written, (module path, text): tables kept beside the code
     # (`.table` rows) reach the simulator this way
     directives: list[tuple[str, str]] = field(default_factory=list)
+    # SHA-256 (hex) of the linked object file read (`mlc sim prog.mlx`), "" for a program
+    # built from sources: with it the compiled engine's code is cached on disk (mlctool/cache.py)
+    digest: str = ""
 
     @property
     def total_steps(self) -> int:

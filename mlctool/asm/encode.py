@@ -69,7 +69,7 @@ def image_from_object(obj: ObjectFile) -> Image:
     for u in obj.units:
         symbols.update(u.symbols)
     return Image(obj.target, list(obj.instrs), [(u.path, u.first, u.end) for u in obj.units], symbols,
-                 [(u.path, d.text) for u in obj.units for d in u.directives])
+                 [(u.path, d.text) for u in obj.units for d in u.directives], obj.digest)
 
 
 def unit_instrs(obj: ObjectFile, k: int) -> list:

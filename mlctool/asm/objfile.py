@@ -67,6 +67,7 @@ class ObjectFile:
     instrs: list[Instr]  # Instr.file is the path of its unit
     unit_of: list[int]  # unit index of each instruction
     inserted: frozenset[int] = frozenset()  # indices of linker-inserted instructions
+    digest: str = ""  # SHA-256 (hex) of the bytes it was decoded from; "" when built in memory
 
     @property
     def total_steps(self) -> int:
@@ -348,20 +349,6 @@ class _Decoder:
             raise r.bad("bad string index")
         return self.strings[k]
 
-    def operand(self, r: _Reader) -> Operand:
-        kind = self.str(r)
-        flags = r.uint()
-        number = r.uint()
-        value = r.f64() if flags & 2 else self.str(r) if flags & 4 else r.sint()
-        digits = r.uint()
-        decimals = r.uint()
-        index = (self.str(r), r.uint()) if flags & 1 else None
-        bit = r.uint() if flags & 8 else 0
-        unit = self.str(r) if flags & 16 else ""
-        dev = self.target.devices.get(kind[2:] if kind.startswith("Kn") else kind)
-        radix = dev.radix if dev is not None else 10  # how the target writes the number (octal X/Y)
-        return Operand(kind, number, value, digits, index, decimals, bit, radix, unit)
-
 
 def _validate(k: int, spec, operands, texts, table, steps, target) -> None:
     """The shape the target's tables give an instruction, so a well-formed but wrong object
@@ -418,17 +405,26 @@ def validate(obj: ObjectFile, target: Target) -> None:
             _plain(name, "symbol name")
             _plain(value, "symbol value")
     labels = next((s for s in target.instructions.values() if s.cls == "label"), None)
+    # an instruction's spec and operands checked once per distinct pair: decode() shares equal
+    # operands, so the pair is known by the objects' ids (alive in `obj` meanwhile)
+    checked: set[tuple] = set()
     for k, ins in enumerate(obj.instrs):
-        where = f"instruction {k} ({ins.mnemonic})"
-        _position(ins.line, ins.col, where)
+        if not (0 <= ins.line <= MAX_LINES and 0 <= ins.col <= MAX_COL):
+            _position(ins.line, ins.col, f"instruction {k} ({ins.mnemonic})")
         for text in ins.texts:
-            _plain(text, f"{where}: operand as written")
-        for op in ins.operands:
-            _operand_shape(op, where)
-        problems = rules.errors(ins.spec, ins.operands)
-        if problems:
-            raise _bad(f"{where}: {problems[0]}")
+            if _CONTROL.search(text):
+                _plain(text, f"instruction {k} ({ins.mnemonic}): operand as written")
+        form = (id(ins.spec), *map(id, ins.operands))
+        if form not in checked:
+            where = f"instruction {k} ({ins.mnemonic})"
+            for op in ins.operands:
+                _operand_shape(op, where)
+            problems = rules.errors(ins.spec, ins.operands)
+            if problems:
+                raise _bad(f"{where}: {problems[0]}")
+            checked.add(form)
         if ins.table:
+            where = f"instruction {k} ({ins.mnemonic})"
             lo, hi = target.krange(ins.spec.width)
             if not all(lo <= v <= hi for v in ins.table):
                 raise _bad(f"{where}: a table entry outside K{lo}..K{hi}")
@@ -446,6 +442,7 @@ def decode(data: bytes, target: Target) -> ObjectFile:
     try:
         obj = _decode(kind, sections, target)
         validate(obj, target)
+        obj.digest = data[-TRAILER:].hex()  # the seal check_envelope verified
         return obj
     except ObjectError:
         raise
@@ -469,38 +466,10 @@ def _decode(kind: str, sections: dict[bytes, bytes], target: Target) -> ObjectFi
         directives = tuple(Directive(r.uint(), r.uint(), d.str(r)) for _ in range(r.uint()))
         units.append(Unit(path, library, first, end, (), {}, directives))
 
-    r = d.reader(b"LINE")
-    lines = [(r.uint(), r.uint(), r.uint(), r.uint()) for _ in range(r.uint())]
-
-    r = d.reader(b"CODE")
-    instrs: list[Instr] = []
-    unit_of: list[int] = []
-    inserted = set()
-    count = r.uint()
-    if count != len(lines):
-        raise ObjectError("E502", f"{count} instructions but {len(lines)} line-table entries")
-    for k in range(count):
-        mnemonic = d.str(r)
-        spec = target.instruction(mnemonic)
-        if spec is None or spec.mnemonic != mnemonic:
-            raise ObjectError("E503", f"instruction {mnemonic!r} does not exist on target {target.name}"
-                              + (f" model {target.model}" if target.model else ""))
-        if r.uint() & FLAG_INSERTED:
-            inserted.add(k)
-        steps, addr = r.uint(), r.uint()
-        operands = tuple(d.operand(r) for _ in range(r.uint()))
-        variants = target.variants_of(mnemonic)
-        if len(variants) > 1:  # OUT Y0 / OUT T0 K50: the operands tell the variant
-            spec = choose_variant(variants, len(operands), operands[0] if operands else None)
-        texts = tuple(d.str(r) for _ in range(r.uint()))
-        table = tuple(r.sint() for _ in range(r.uint()))
-        _validate(k, spec, operands, texts, table, steps, target)
-        laddr, unit, line, col = lines[k]
-        if laddr != addr or unit >= len(units):
-            raise ObjectError("E502", f"line table disagrees with code at instruction {k}")
-        instrs.append(Instr(spec, operands, texts, steps, addr, units[unit].path, line, col, table))
-        unit_of.append(unit)
-
+    lines = _varints(sections[b"LINE"])
+    if not lines or (len(lines) - 1) != 4 * lines[0]:
+        raise ObjectError("E502", "malformed line table")
+    instrs, unit_of, inserted = _decode_code(sections[b"CODE"], d.strings, target, lines, units)
     addr = 0
     for k, ins in enumerate(instrs):
         if ins.addr != addr:
@@ -519,6 +488,183 @@ def _decode(kind: str, sections: dict[bytes, bytes], target: Target) -> ObjectFi
         name = d.str(r)  # (a subscript assignment would read the value first)
         units[unit].symbols[name] = d.str(r)
     return ObjectFile(kind, target_name, units, instrs, unit_of, frozenset(inserted))
+
+
+def _varints(payload: bytes) -> list[int]:
+    """Every LEB128 number of a section that holds nothing else, in one pass over its bytes."""
+    out = []
+    n = shift = 0
+    for b in payload:
+        if b < 0x80:
+            out.append(n | b << shift)
+            n = shift = 0
+        else:
+            n |= (b & 0x7F) << shift
+            shift += 7
+            if shift > 63:
+                raise ObjectError("E502", "bad number in a section")
+    if shift:
+        raise ObjectError("E502", "truncated number at the end of a section")
+    return out
+
+
+def _long_uint(data: bytes, pos: int) -> tuple[int, int]:
+    """The LEB128 number at `pos` whose first byte has its high bit set: (value, next pos)."""
+    n = shift = 0
+    while True:
+        if pos >= len(data) or shift > 63:
+            raise ObjectError("E502", f"bad number at byte {pos}")
+        b = data[pos]
+        pos += 1
+        n |= (b & 0x7F) << shift
+        shift += 7
+        if not b & 0x80:
+            return n, pos
+
+
+def _decode_code(data: bytes, strings: list[str], target: Target, lines: list[int],
+                 units: list[Unit]) -> tuple[list[Instr], list[int], set[int]]:
+    """The CODE section in one loop (a 64k-step program has ~750 k numbers in it): each number
+    read inline (one byte below 0x80, _long_uint otherwise); equal operands decoded once and
+    shared (Operand is frozen); an instruction's form (spec, operands, steps) checked by
+    _validate once per distinct form. Same results and errors as reading field by field."""
+    pos = 0
+    v = data[pos]
+    pos += 1
+    if v > 0x7F:
+        v, pos = _long_uint(data, pos - 1)
+    count = v
+    if count != lines[0]:
+        raise ObjectError("E502", f"{count} instructions but {lines[0]} line-table entries")
+    specs: dict[int, tuple] = {}  # string index of the mnemonic -> (spec, variants)
+    radix: dict[int, int] = {}  # string index of an operand kind -> its radix
+    operands_of: dict[tuple, Operand] = {}  # the numbers of an operand -> the Operand
+    forms: dict[tuple, tuple] = {}  # (mnemonic, steps, operand keys, texts, table) -> (spec, operands)
+    paths = [u.path for u in units]
+    instrs: list[Instr] = []
+    unit_of: list[int] = []
+    inserted = set()
+    f64 = struct.Struct("<d").unpack_from
+    for k in range(count):
+        v = data[pos]
+        pos += 1
+        if v > 0x7F:
+            v, pos = _long_uint(data, pos - 1)
+        mn = v
+        hit = specs.get(mn)
+        if hit is None:
+            if mn >= len(strings):
+                raise ObjectError("E502", f"bad string index at byte {pos}")
+            mnemonic = strings[mn]
+            spec = target.instruction(mnemonic)
+            if spec is None or spec.mnemonic != mnemonic:
+                raise ObjectError("E503", f"instruction {mnemonic!r} does not exist on target {target.name}"
+                                  + (f" model {target.model}" if target.model else ""))
+            variants = target.variants_of(mnemonic)
+            hit = specs[mn] = (spec, variants if len(variants) > 1 else None)
+        fields = []  # flags, steps, addr, operand count: four numbers
+        for _ in range(4):
+            v = data[pos]
+            pos += 1
+            if v > 0x7F:
+                v, pos = _long_uint(data, pos - 1)
+            fields.append(v)
+        flags, steps, addr, nops = fields
+        if flags & FLAG_INSERTED:
+            inserted.add(k)
+        keys = []
+        ops = []
+        for _ in range(nops):
+            start = pos
+            num = []  # kind, flags, number
+            for _ in range(3):
+                v = data[pos]
+                pos += 1
+                if v > 0x7F:
+                    v, pos = _long_uint(data, pos - 1)
+                num.append(v)
+            oflags = num[1]
+            if oflags & 2:
+                if pos + 8 > len(data):
+                    raise ObjectError("E502", f"truncated float at byte {pos}")
+                pos += 8
+            v = data[pos]  # the value (string index or zigzag integer), or digits after a float
+            pos += 1
+            if v > 0x7F:
+                v, pos = _long_uint(data, pos - 1)
+            rest = 2 + (2 if oflags & 1 else 0) + (1 if oflags & 8 else 0) + (1 if oflags & 16 else 0)
+            if oflags & 2:
+                rest -= 1  # that number was the digits
+            for _ in range(rest):
+                v = data[pos]
+                pos += 1
+                if v > 0x7F:
+                    v, pos = _long_uint(data, pos - 1)
+            key = data[start:pos]  # an operand's bytes say all of it
+            op = operands_of.get(key)
+            if op is None:
+                op = operands_of[key] = _operand_from(key, strings, target, radix, f64)
+            keys.append(key)
+            ops.append(op)
+        v = data[pos]
+        pos += 1
+        if v > 0x7F:
+            v, pos = _long_uint(data, pos - 1)
+        texts = []
+        for _ in range(v):
+            t = data[pos]
+            pos += 1
+            if t > 0x7F:
+                t, pos = _long_uint(data, pos - 1)
+            texts.append(strings[t])  # IndexError: malformed contents (decode)
+        v = data[pos]
+        pos += 1
+        if v > 0x7F:
+            v, pos = _long_uint(data, pos - 1)
+        table = []
+        for _ in range(v):
+            t = data[pos]
+            pos += 1
+            if t > 0x7F:
+                t, pos = _long_uint(data, pos - 1)
+            table.append(t >> 1 if not t & 1 else -(t >> 1) - 1)
+        form = (mn, steps, tuple(keys), len(texts), tuple(table))
+        known = forms.get(form)
+        if known is None:
+            spec, variants = hit
+            operands = tuple(ops)
+            if variants is not None:  # OUT Y0 / OUT T0 K50: the operands tell the variant
+                spec = choose_variant(variants, len(operands), operands[0] if operands else None)
+            _validate(k, spec, operands, texts, table, steps, target)
+            known = forms[form] = (spec, operands, tuple(table))
+        spec, operands, table_t = known
+        at = 1 + 4 * k
+        laddr, unit, line, col = lines[at:at + 4]
+        if laddr != addr or unit >= len(units):
+            raise ObjectError("E502", f"line table disagrees with code at instruction {k}")
+        instrs.append(Instr(spec, operands, tuple(texts), steps, addr, paths[unit], line, col, table_t))
+        unit_of.append(unit)
+    return instrs, unit_of, inserted
+
+
+def _operand_from(raw: bytes, strings: list[str], target: Target, radix: dict[int, int], f64) -> Operand:
+    """One operand's bytes (as _operand wrote them) -> Operand."""
+    r = _Reader(raw)
+    k = r.uint()
+    flags = r.uint()
+    number = r.uint()
+    value = r.f64() if flags & 2 else strings[r.uint()] if flags & 4 else r.sint()
+    digits = r.uint()
+    decimals = r.uint()
+    index = (strings[r.uint()], r.uint()) if flags & 1 else None
+    bit = r.uint() if flags & 8 else 0
+    unit = strings[r.uint()] if flags & 16 else ""
+    kind = strings[k]
+    rdx = radix.get(k)
+    if rdx is None:
+        dev = target.devices.get(kind[2:] if kind.startswith("Kn") else kind)
+        rdx = radix[k] = dev.radix if dev is not None else 10  # how the target writes the number (octal X/Y)
+    return Operand(kind, number, value, digits, index, decimals, bit, rdx, unit)
 
 
 def read_header_target(data: bytes) -> str:

@@ -12,7 +12,7 @@ import os
 from collections.abc import Callable
 
 from mlctool.sim import scan as _scan
-from mlctool.sim.compile import compile_program
+from mlctool.sim.codecache import compiled as compiled_code
 from mlctool.sim.decode import Program, Step
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, end_of_scan, run_scan, run_steps
 from mlctool.sim.state import Machine, SimFault
@@ -157,7 +157,7 @@ class Scanner:
             raise ValueError(f"unknown engine {engine!r}; engines: {', '.join(ENGINES)}")
         self.prog = prog
         self.m = m
-        self.code = compile_program(prog) if engine == "compiled" else None
+        self.code = compiled_code(prog) if engine == "compiled" else None  # disk-cached for objects
         self.engine = "compiled" if self.code is not None else "interp"
         self._zero_t = bytearray(len(m.t_seen))  # a bytearray: a bytes source is copied first
         self._checked = False
