@@ -58,19 +58,14 @@ def folder() -> str:
 
 
 def fingerprint() -> str:
-    """This mlctool and this Python: the version, and the name, size and modification time of
-    every file of the package (an edited or upgraded mlctool never reads an older entry)."""
+    """This mlctool and this Python: Python's version, and the name, size and modification
+    time of every file of the package (an edited or upgraded mlctool never reads an older
+    entry)."""
     global _fingerprint
     if _fingerprint is None:
         import mlctool
 
         h = hashlib.sha256(f"{sys.version}\0{sys.implementation.cache_tag}\0".encode())
-        try:
-            from importlib.metadata import version
-
-            h.update(version("mlctool").encode())
-        except Exception:  # noqa: BLE001 - not installed as a distribution: the files say it
-            pass
         root = os.path.dirname(os.path.abspath(mlctool.__file__))
         for path, dirs, files in os.walk(root):
             dirs[:] = sorted(d for d in dirs if d != "__pycache__")
@@ -91,6 +86,12 @@ def key(*parts: str | bytes) -> bytes:
         h.update(len(b).to_bytes(8, "little"))
         h.update(b)
     return h.digest()
+
+
+def target_identity(target) -> str:
+    """What of a target (as a command sees it: model, capacity, settings from mlc.toml) an
+    entry derived for it can depend on beyond its packaged tables (those are fingerprint()'s)."""
+    return repr((target.name, target.model, target.capacity, target.settings, sorted(target.devices.items())))
 
 
 def _usable(path: str) -> bool:

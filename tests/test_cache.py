@@ -102,7 +102,7 @@ def test_sim_of_an_object_uses_the_cache_and_gives_the_same_result(folder, tmp_p
     plain = _sim(tmp_path)
     monkeypatch.delenv(cache.ENV_SWITCH)
     assert _sim(tmp_path) == plain
-    (entry,) = _entries(folder)
+    (entry,) = [p for p in _entries(folder) if p.name.startswith(codecache.KIND)]
     codecache._MEMO.clear()
 
     def refuse(prog):
@@ -126,3 +126,37 @@ def test_programs_from_sources_are_not_cached(folder, tmp_path):
     (tmp_path / "p.il").write_text(SOURCE)
     r = run_mlc("sim", "p.il", "--scans", "3", cwd=tmp_path)
     assert r.code == 0 and not _entries(folder)
+
+
+def test_decoded_objects_come_back_equal_from_the_cache(folder, tmp_path, monkeypatch):
+    """A decoded and validated object is kept; the next decode of the same bytes for the same
+    target rebuilds it from the entry, equal to a fresh decode (specs are the target's own
+    objects); a damaged entry or another target decodes afresh; bad objects keep their
+    diagnostics (never cached)."""
+    from mlctool.asm import objfile
+    from mlctool.targetapi import load_target
+
+    nc5 = load_target("nc5")
+    (tmp_path / "p.il").write_text("LD X0\nMOV K5 D0V1\nDMOV F1.5 D10\nOUT Y0\nLD X1\nCJ P10\nP10:\nEND\n")
+    assert run_mlc("build", "p.il", "-o", "p.mlx", cwd=tmp_path).code == 0
+    data = (tmp_path / "p.mlx").read_bytes()
+    monkeypatch.setenv(cache.ENV_SWITCH, "off")
+    fresh = objfile.decode(data, nc5)
+    monkeypatch.delenv(cache.ENV_SWITCH)
+    assert objfile.decode(data, nc5) == fresh
+    (entry,) = [p for p in _entries(folder) if p.name.startswith("object-")]
+    with monkeypatch.context() as m:
+        m.setattr(objfile, "_decode", lambda *a: pytest.fail("decoded again"))
+        again = objfile.decode(data, nc5)
+    assert again == fresh and again.digest == fresh.digest == data[-32:].hex()
+    assert all(a.spec is b.spec for a, b in zip(again.instrs, fresh.instrs))
+    entry.write_bytes(entry.read_bytes()[:-3])  # damaged: decoded and validated again
+    assert objfile.decode(data, nc5) == fresh
+    with pytest.raises(objfile.ObjectError) as e:  # another target: not this entry
+        objfile.decode(data, load_target("vs"))
+    assert e.value.code == "E503"
+    bad = bytearray(data)
+    bad[40] ^= 0xFF
+    with pytest.raises(objfile.ObjectError) as e:
+        objfile.decode(bytes(bad), nc5)
+    assert e.value.code == "E502"

@@ -437,17 +437,98 @@ def validate(obj: ObjectFile, target: Target) -> None:
 
 
 def decode(data: bytes, target: Target) -> ObjectFile:
-    """Bytes -> ObjectFile, Instr objects rebuilt against `target`. Raises ObjectError."""
+    """Bytes -> ObjectFile, Instr objects rebuilt against `target`. Raises ObjectError.
+
+    An object this mlctool has decoded and validated for this target before (the same bytes:
+    its SHA-256 seal) is rebuilt from the on-disk cache (mlctool/cache.py) instead: a 64k-step
+    program in ~0.1 s instead of ~0.6 s. Only objects that passed validate() get an entry, and
+    a damaged or foreign entry is ignored (decoded and validated again)."""
     kind, sections = check_envelope(data)
+    digest = data[-TRAILER:].hex()  # the seal check_envelope verified
+    key = _cache_key(digest, target)
+    if key is not None:
+        obj = _from_cache(key, target, digest)
+        if obj is not None:
+            return obj
     try:
         obj = _decode(kind, sections, target)
         validate(obj, target)
-        obj.digest = data[-TRAILER:].hex()  # the seal check_envelope verified
-        return obj
+        obj.digest = digest
     except ObjectError:
         raise
     except (ValueError, IndexError, KeyError, OverflowError, TypeError, struct.error) as e:
         raise ObjectError("E502", f"malformed contents ({type(e).__name__})") from e
+    if key is not None:
+        _to_cache(key, obj, target)
+    return obj
+
+
+# ------------------------------------------------------------------ the decoded-object cache
+
+_CACHE_KIND = "object"
+
+
+def _cache_key(digest: str, target: Target) -> bytes | None:
+    from mlctool import cache
+
+    if not cache.enabled():
+        return None
+    return cache.key(_CACHE_KIND, digest, cache.target_identity(target))
+
+
+def _to_cache(key: bytes, obj: ObjectFile, target: Target) -> None:
+    """The validated object as plain values: each operand once, instructions as indices."""
+    from mlctool import cache
+
+    operand_index: dict[int, int] = {}
+    operands: list[tuple] = []
+    specs: dict[tuple[str, int], int] = {}  # (mnemonic, index among its variants) -> spec number
+    variant_of: dict[int, tuple[str, int]] = {}
+    rows = []
+    for ins in obj.instrs:
+        ops = []
+        for op in ins.operands:
+            k = operand_index.get(id(op))
+            if k is None:
+                k = operand_index[id(op)] = len(operands)
+                operands.append((op.kind, op.number, op.value, op.digits, op.index, op.decimals, op.bit,
+                                 op.radix, op.unit))
+            ops.append(k)
+        named = variant_of.get(id(ins.spec))
+        if named is None:
+            variants = target.variants_of(ins.spec.mnemonic)
+            j = next((j for j, v in enumerate(variants) if v is ins.spec), None)
+            if j is None:
+                return  # a spec the target does not hand out: not kept
+            named = variant_of[id(ins.spec)] = (ins.spec.mnemonic, j)
+        sk = specs.setdefault(named, len(specs))
+        rows.append((sk, tuple(ops), ins.texts, ins.steps, ins.addr, ins.line, ins.col, ins.table))
+    units = [(u.path, u.library, u.first, u.end, u.exports, u.symbols,
+              tuple((d.line, d.col, d.text) for d in u.directives)) for u in obj.units]
+    cache.store(_CACHE_KIND, key, (obj.kind, obj.target, units, list(specs), operands, rows,
+                                   obj.unit_of, sorted(obj.inserted)))
+
+
+def _from_cache(key: bytes, target: Target, digest: str) -> ObjectFile | None:
+    """The object _to_cache kept under `key`, or None (no entry, or one that does not fit)."""
+    from mlctool import cache
+
+    value = cache.load(_CACHE_KIND, key, lambda v: isinstance(v, tuple) and len(v) == 8)
+    if value is None:
+        return None
+    try:
+        kind, target_name, unit_rows, spec_names, operand_rows, rows, unit_of, inserted = value
+        specs = [target.variants_of(mnemonic)[j] for mnemonic, j in spec_names]
+        operands = [Operand(*row) for row in operand_rows]
+        units = [Unit(path, library, first, end, exports, symbols, tuple(Directive(*d) for d in directives))
+                 for path, library, first, end, exports, symbols, directives in unit_rows]
+        paths = [u.path for u in units]
+        instrs = [Instr(specs[sk], tuple([operands[k] for k in ops]), texts, steps, addr, paths[unit], line,
+                        col, table)
+                  for (sk, ops, texts, steps, addr, line, col, table), unit in zip(rows, unit_of, strict=True)]
+        return ObjectFile(kind, target_name, units, instrs, list(unit_of), frozenset(inserted), digest)
+    except (ValueError, TypeError, IndexError, KeyError):
+        return None
 
 
 def _decode(kind: str, sections: dict[bytes, bytes], target: Target) -> ObjectFile:

@@ -15,6 +15,7 @@ import click
 from mlctool.asm import program_from_paths
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    collector_paused,
     config_option,
     encoding_option,
     examples,
@@ -27,7 +28,6 @@ from mlctool.cli.common import (
 )
 from mlctool.cli.sim_batch import batch_cmd, is_batch
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
-from mlctool.sim.batch import Options
 from mlctool.sim.decode import unsimulated
 from mlctool.sim.engine import ENGINE_ENV, ENGINES
 from mlctool.sim.output import json_value, run_diagnostics, summary, to_json
@@ -136,7 +136,8 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     # however the command ends (an error, Ctrl-C, --max-wall), no staged output is left behind
     click.get_current_context().with_resource(plan)
     target = get_target(_object_target(list(program), target_name) or target_name, config)
-    image, diags, lines = program_from_paths(list(program), target, config)
+    with collector_paused():
+        image, diags, lines = program_from_paths(list(program), target, config)
     if image is None:
         show([d for d in diags if d.severity == "error"], lines)
         sys.exit(2)
@@ -155,6 +156,8 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         if watch_diags:
             show(watch_diags, {})
             sys.exit(2)
+        from mlctool.sim.batch import Options  # (numpy: only batches need it)
+
         opts = Options(scan_us, until_us, scans, watch_views, watchdog, engine, preload)
         sys.exit(batch_cmd(image, target, stim_path, opts, jobs, cluster, as_json, junit_path, program, lines, plan))
 
@@ -177,9 +180,10 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         from mlctool.ladder.report import PowerProbe
 
         power = PowerProbe(period)
-    sim = Simulation(image, target, st, models, period, watch_views,
-                     trace=vcd_path is not None or report_path is not None, watchdog=watchdog,
-                     probe=power, preload=preload, pulse_window=window)
+    with collector_paused():
+        sim = Simulation(image, target, st, models, period, watch_views,
+                         trace=vcd_path is not None or report_path is not None, watchdog=watchdog,
+                         probe=power, preload=preload, pulse_window=window)
     vcd_stream = None
     if vcd_path and window is None and report_path is None:
         # streamed to a temporary file beside the VCD as the run goes (memory bounded by the

@@ -15,7 +15,6 @@ import click
 from mlctool.cli.common import show
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.fileio import Outputs
-from mlctool.sim.batch import Options, run_batch
 from mlctool.sim.cluster import ClusterError, cluster_diagnostic
 from mlctool.sim.output import summary, to_json
 
@@ -33,7 +32,7 @@ def expand(pattern: str) -> tuple[list[str], list[Diagnostic]]:
     return paths, []
 
 
-def batch_cmd(image, target, pattern: str, opts: Options, jobs: int, cluster: str | None, as_json: bool,
+def batch_cmd(image, target, pattern: str, opts, jobs: int, cluster: str | None, as_json: bool,
               junit_path: str | None, program: tuple[str, ...], lines: dict[str, list[str]],
               plan: Outputs) -> int:
     """Run, report and return the exit status (0 all passed, 1 a scenario failed, 2 bad input)."""
@@ -43,6 +42,8 @@ def batch_cmd(image, target, pattern: str, opts: Options, jobs: int, cluster: st
         return 2
     for p in paths:  # E606: the planned --junit is one of the stimulus files the pattern found
         plan.add_input(p)
+    from mlctool.sim.batch import run_batch  # (numpy: imported by batches only)
+
     try:
         scenarios, stats = run_batch(image, target, paths, opts, jobs, cluster=cluster)
     except ClusterError as e:

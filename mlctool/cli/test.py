@@ -113,7 +113,12 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
         show([d for d in diags if d.severity == "error"], lines)
         sys.exit(2)
     try:
-        scenarios = run_all(image, target, stims, sources, jobs, with_coverage, cluster)
+        if with_coverage:
+            scenarios = run_all(image, target, stims, sources, jobs, with_coverage, cluster)
+        else:  # a batch: bit-sliced or numpy lanes where the program and stimuli allow (same results)
+            from mlctool.sim.batch import Options, run_batch
+
+            scenarios = run_batch(image, target, stims, Options(), jobs, cluster=cluster)[0]
     except ClusterError as e:
         show([cluster_diagnostic(e)], {})
         sys.exit(2)

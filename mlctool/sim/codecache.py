@@ -24,11 +24,6 @@ _MEMO_SIZE = 8
 _NEEDED = {"code": CodeType, "starts": list, "block_steps": list, "linemap": list}
 
 
-def target_identity(target) -> str:
-    """What of a target the generated code can depend on beyond its name."""
-    return repr((target.name, target.model, target.capacity, target.settings, sorted(target.devices.items())))
-
-
 def _sound(value) -> bool:
     if value == ("none",):
         return True
@@ -51,7 +46,7 @@ def compiled(prog: Program) -> Code | None:
     digest = getattr(prog.image, "digest", "")
     if not digest or not cache.enabled():
         return compile_program(prog)
-    key = cache.key(KIND, digest, target_identity(prog.target))
+    key = cache.key(KIND, digest, cache.target_identity(prog.target))
     if key in _MEMO:
         _MEMO.move_to_end(key)
         return _MEMO[key]

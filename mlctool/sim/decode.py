@@ -112,17 +112,26 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
     steps: list[Step] = []
     starts = rung_starts(image.instrs)
     routines = actions(target)
+    # accessors are read-only after construction: one per distinct (operand, width, text,
+    # use), shared by the steps (an object's decoded operands are shared objects, so the
+    # operand's id names it; ids stay valid while `image` holds the operands)
+    refs: dict[tuple, Ref] = {}
     for k, ins in enumerate(image.instrs):
         spec = ins.spec
         contact_like = spec.cls in ("load", "and", "or") and spec.api is None
         ops = []
         for o_spec, op, text in zip(spec.operands, ins.operands, ins.texts, strict=False):
             as_bits = contact_like or (spec.op == "vrt" and o_spec.role == "S")
-            dev = target.devices.get(op.device) if not op.is_const else None
-            if dev is not None and dev.kind == "pointer":
-                ops.append(Ref(op, 16, dev.hi, text))
-                continue
-            ops.append(decode_operand(op, spec.width, target, text, as_bits))
+            key = (id(op), spec.width, text, as_bits)
+            ref = refs.get(key)
+            if ref is None:
+                dev = target.devices.get(op.device) if not op.is_const else None
+                if dev is not None and dev.kind == "pointer":
+                    ref = Ref(op, 16, dev.hi, text)
+                else:
+                    ref = decode_operand(op, spec.width, target, text, as_bits)
+                refs[key] = ref
+            ops.append(ref)
         step = Step(ins, k, tuple(ops), spec.width, ins.steps, ins.table,
                     new_rung=starts[k])
         op = spec.op
@@ -170,8 +179,13 @@ _INTEGER_ROLE = {"fint": "D", "fdot": "S"}
 def program_devices(prog: Program) -> set[DeviceView]:
     """Every device the program names, in the view its instruction uses it."""
     out: set[DeviceView] = set()
+    seen: set[tuple] = set()  # (spec, operands) by id: a repeated instruction names nothing new
     for s in prog.steps:
         spec = s.ins.spec
+        form = (id(spec), *map(id, s.ins.operands))
+        if form in seen:
+            continue
+        seen.add(form)
         for o_spec, op in zip(spec.operands, s.ins.operands, strict=False):
             out.update(_views(prog.target, spec, o_spec, op, s.ins.operands))
     return out

@@ -13,7 +13,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 from mlctool.devices.base import DeviceModel, ModelIO, ParamError
-from mlctool.devices.registry import MODELS
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image
 from mlctool.sim import seriallink, signals
@@ -111,6 +110,8 @@ class RunResult:
 def build_models(st: Stimulus, target: Target, watch: Sequence[DeviceView] = ()
                  ) -> tuple[list[DeviceModel], list[Diagnostic]]:
     models, diags, built = [], [], []
+    if st.models:  # (the models' modules: only when a stimulus names one, ~0.1 s of imports)
+        from mlctool.devices.registry import MODELS
     for spec in st.models:
         cls = MODELS.get(spec.kind)
         if cls is None:

@@ -131,14 +131,8 @@ def _run_chunk(shared, chunk: list[tuple[str, tuple]]) -> list[Scenario]:
 def run_all(image: Image, target: Target, stims: list[str], sources: list[str], jobs: int = 1,
             coverage: bool = False, cluster: str | None = None) -> list[Scenario]:
     """The scenarios' outcomes in the order of `stims`: here, in `jobs` processes, or on the
-    Dask scheduler at `cluster` (ClusterError when it cannot be used).
-
-    Without coverage the scenarios run as a batch (mlctool/sim/batch.py: bit-sliced or numpy
-    lanes where the program and the stimulus allow, with the results of one run each)."""
-    if not coverage:
-        from mlctool.sim.batch import Options, run_batch  # (batch imports Scenario from here)
-
-        return run_batch(image, target, stims, Options(), jobs, cluster=cluster)[0]
+    Dask scheduler at `cluster` (ClusterError when it cannot be used). (`mlc test` without
+    coverage runs its scenarios with mlctool/sim/batch.py's run_batch instead.)"""
     if cluster is not None:
         from mlctool.sim.cluster import map_chunks
 
