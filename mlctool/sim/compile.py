@@ -59,6 +59,7 @@ from mlctool.sim.codegen import (
 from mlctool.sim.compile_ops import OpsCode
 from mlctool.sim.decode import FLOW_OPS, Program, Step
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, GroupRef
+from mlctool.sim.pycompile import compile_parts
 from mlctool.sim.state import s16, s32
 
 COMPILER_VERSION = "11"
@@ -67,7 +68,7 @@ COMPILER_VERSION = "11"
 class Code:
     """A program compiled to Python: the code object and what the driver needs to run it."""
 
-    def __init__(self, key: str, code: CodeType, filename: str, starts: list[int],
+    def __init__(self, key: str, code: CodeType | tuple[CodeType, ...], filename: str, starts: list[int],
                  block_steps: list[int], linemap: list[int], source: str,
                  consts: dict[str, dict] | None = None, used: frozenset[str] = frozenset(),
                  groups: list[dict] | None = None, dyn: list[tuple] | None = None):
@@ -187,7 +188,7 @@ class _Gen(OpsCode):
             self.nsteps = block_steps[-1]
             self.block(j, block, len(starts))
         source = "\n".join(self.lines) + "\n"
-        code = compile(source, self.filename, "exec")
+        code = compile_parts(self.lines, self.filename)  # (in parts: compile()'s memory, pycompile.py)
         return Code(self.key, code, self.filename, starts, block_steps, self.linemap, source,
                     self.consts, frozenset(self.all_used), self.groups, self.dyn)
 

@@ -116,6 +116,7 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
     # use), shared by the steps (an object's decoded operands are shared objects, so the
     # operand's id names it; ids stay valid while `image` holds the operands)
     refs: dict[tuple, Ref] = {}
+    combined: dict[tuple[str, str], Callable] = {}
     for k, ins in enumerate(image.instrs):
         spec = ins.spec
         contact_like = spec.cls in ("load", "and", "or") and spec.api is None
@@ -137,7 +138,11 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
         op = spec.op
         if op in semantics.CONTACTS:
             contact = semantics.CONTACTS[op]
-            step.run = _combine(spec.cls, probe.contact(contact) if probe else contact)
+            if probe:
+                step.run = _combine(spec.cls, probe.contact(contact))
+            else:  # the step comes as an argument: one routine per (class, contact) serves all
+                key = (spec.cls, op)
+                step.run = combined.get(key) or combined.setdefault(key, _combine(spec.cls, contact))
         elif op in routines:
             step.run = routines[op]
         elif op in flow:

@@ -14,6 +14,7 @@ from collections.abc import Callable
 from mlctool.sim import scan as _scan
 from mlctool.sim.codecache import compiled as compiled_code
 from mlctool.sim.decode import Program, Step
+from mlctool.sim.pycompile import global_names, run_parts
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, end_of_scan, run_scan, run_steps
 from mlctool.sim.state import Machine, SimFault
 
@@ -174,14 +175,17 @@ class Scanner:
                    "WD": DEFAULT_WATCHDOG,
                    "FLT": _fault, "JMP": _drop_loops, "NB": len(code.starts),
                    "BLK": {st: j for j, st in enumerate(code.starts)}, **code.consts}
-        for s in prog.steps:
-            g[f"S{s.index}"] = s
+        used = global_names(code.code)  # the steps and accessors the code names (not all of them:
+        for s in prog.steps:            # a 256k-instruction program had ~550 k such globals)
+            if f"S{s.index}" in used:
+                g[f"S{s.index}"] = s
             for k, ref in enumerate(s.ops):
-                g[f"O{s.index}_{k}"] = ref
+                if f"O{s.index}_{k}" in used:
+                    g[f"O{s.index}_{k}"] = ref
         self.g = g
         self._lx, self._watchdog = g["LX"], g["WD"]
         self._rebind()
-        exec(code.code, g)  # noqa: S102 - our own generated code
+        run_parts(code.code, g)  # our own generated code (compile.py, in parts: pycompile.py)
         self.fns: list[Callable] = [g[f"b{j}"] for j in range(len(code.starts))] + [self._past_end]
         self.bsteps = [*code.block_steps, 0]
 
