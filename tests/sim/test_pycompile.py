@@ -23,7 +23,8 @@ def test_parts_define_what_the_whole_source_defines():
     whole, cut = {f"G{k}": k for k in range(5)}, {f"G{k}": k for k in range(5)}
     exec(compile("\n".join(lines) + "\n", "<gen>", "exec"), whole)
     run_parts(parts, cut)
-    assert [cut[f"f{j}"](j) for j in range(50)] == [whole[f"f{j}"](j) for j in range(50)]
+    calls = [j for j in range(50) if j != 21]  # f21(21) raises
+    assert [cut[f"f{j}"](j) for j in calls] == [whole[f"f{j}"](j) for j in calls]
     assert {f"G{k}" for k in range(5)} <= global_names(parts) and "K" in global_names(parts)
 
     def line_of_failure(ns):
