@@ -657,13 +657,33 @@ def _word_lane_ready(st: Stimulus, opts: Options, n_scans: int, m: Machine) -> b
 
 
 class _Scratch:
-    """One Machine through which lane values are converted exactly as a single run does."""
+    """One Machine through which lane values are converted exactly as a single run does.
+    Conversions are remembered (a value's raw slots, a raw pattern's value): a campaign
+    writes and reads the same few values again and again."""
 
     def __init__(self, target: Target, n: int):
         self.m = Machine(target, n)
+        self.raws: dict[tuple, list] = {}
+        self.values: dict[tuple, int | float] = {}
 
     def raw(self, view: DeviceView, value) -> list[tuple[tuple[str, int], int]]:
         """The slot values `view.write(m, value)` leaves."""
+        key = (view, type(value), value)
+        hit = self.raws.get(key)
+        if hit is None:
+            hit = self.raws[key] = self._raw(view, value)
+        return hit
+
+    def value(self, view: DeviceView, keys: tuple, raws: tuple) -> int | float:
+        """read() of the view whose slots `keys` hold `raws`."""
+        key = (view, raws)
+        hit = self.values.get(key)
+        if hit is None:
+            got = dict(zip(keys, raws))
+            hit = self.values[key] = self.read(view, got.__getitem__)
+        return hit
+
+    def _raw(self, view: DeviceView, value) -> list[tuple[tuple[str, int], int]]:
         slots = _view_slots(view, self.m)
         view.write(self.m, value)
         out = [(key, int(arr[i])) for key, arr, i in slots]
@@ -749,22 +769,45 @@ def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], perio
         for lane, e in events:
             if e.kind == "expect" and lane not in failed:
                 for c in e.checks:
-                    if not c.holds(scratch.read(c.view, lambda key, lane=lane: S[slots[key]][lane].item())):
+                    keys = tuple(key for key, _, _ in _view_slots(c.view, scratch.m))
+                    raws = tuple(S[slots[key]][lane].item() for key in keys)
+                    if not c.holds(scratch.value(c.view, keys, raws)):
                         failed.add(lane)
     final = {key: S[i].tolist() for key, i in slots.items()}
+    return _word_results(wp.prog, group, final, failed, period, n_scans, opts, scratch)
+
+
+def _word_results(prog: Program, group: list[tuple[str, Stimulus]], final: dict, failed: set[int],
+                  period: int, n_scans: int, opts: Options, scratch: _Scratch) -> list[RunResult | None]:
+    """As _lane_results: the union of all lanes' views sorted and named once, each view's
+    values for all lanes converted once per distinct raw pattern, then one row per lane."""
+    n = len(group)
+    names = program_devices(prog) | set(opts.watch)
+    own = [st.devices() for _, st in group]
+    order = sorted(names.union(*own), key=DeviceView.sort_key)
+    rank = {v: k for k, v in enumerate(order)}
+    labels = [v.name for v in order]
+    columns = []
+    for v in order:
+        slots = _view_slots(v, scratch.m)
+        if slots is None:  # a device the lanes never touch: as at power-on
+            columns.append([v.read(scratch.m)] * n)
+            continue
+        keys = tuple(key for key, _, _ in slots)
+        cols = [final.get(key) or [0] * n for key in keys]
+        columns.append([scratch.value(v, keys, raws) for raws in zip(*cols)])
+    base_set = {rank[v] for v in names}
+    base_flags = bytes(1 if k in base_set else 0 for k in range(len(order)))
     out: list[RunResult | None] = []
-    names = program_devices(wp.prog) | set(opts.watch)
-    for lane, (_, st) in enumerate(group):
+    for lane, ((_, st), views_of_lane, row) in enumerate(zip(group, own, zip(*columns) if columns else [()] * n)):
         if lane in failed:
             out.append(None)
             continue
-        views = sorted(names | st.devices(), key=DeviceView.sort_key)
-        devices = {}
-        for v in views:
-            if _view_slots(v, scratch.m) is None:
-                devices[v.name] = v.read(scratch.m)  # a device the lanes never touch: as at power-on
-            else:
-                devices[v.name] = scratch.read(v, lambda key, lane=lane: final[key][lane] if key in final else 0)
+        flags = bytearray(base_flags)
+        for v in views_of_lane:
+            flags[rank[v]] = 1
+        views = list(compress(order, flags))
+        devices = dict(zip(compress(labels, flags), compress(row, flags)))
         outcomes = [ExpectOutcome(e.line, e.text, e.scan_index(period) * period, e.scan_index(period))
                     for e in st.events if e.kind == "expect"]
         outcomes.sort(key=lambda o: (o.scan, o.line))
