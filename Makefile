@@ -52,6 +52,8 @@ bench: $(BENCH_STAMP)
 	$(BENCH_BIN)/python bench/check_speed.py
 	$(BENCH_BIN)/python bench/build_speed.py
 	$(BENCH_BIN)/python bench/sim_speed.py
+	$(BENCH_BIN)/python bench/batch_speed.py
+	$(BENCH_BIN)/python bench/start_memory.py
 
 clean:
 	rm -rf $(VENV) $(BENCH_VENV) out .pytest_cache
