@@ -209,11 +209,12 @@ SOURCES = {"TBL": "page note (S1 table Q0-Q31 or name, S2 4 words, D1 Y0-Y3, D2 
 # check_constraints, mlctool/check/blocks.py): "kn4" every Kn operand is K4 (CRC 6-16);
 # "disjoint-blocks" S1, S2 and D blocks of n may not overlap (BK+/BK- 6-17, W240);
 # "unique-destination" each D device by one instruction of the program (DUTY 6-16, E240);
-# "no-index-hhsc" the HHSC registers are not indexed (DHHCMV 6-16, E209).
 # ZRST D1/D2 one kind, no 16/32-bit counter mix, D1 <= D2 (6-6, W220); "full-width-kn"
 # rotate KnY/KnM/KnS only K4 (K8) (6-5, E220); "n2-within-n1" SFTR..WSFL n2 <= n1 (6-5),
 # "smov-digits" SMOV m2 <= m1, m2 <= n (6-3) (E221); "same-kn" WSFR/WSFL S and D one
 # attribute and one Kn size, "same-kn-bits" BMOV bit groups one Kn size (6-3, 6-5; E222).
+# "no-index-hhsc" the HHSC registers are not indexed (DHHCMV 6-16, E209); "latched:D1" D1 in
+# a latched area, else cleared at power-off and STOP->RUN (HOUR 6-15, W241).
 CONSTRAINTS = {
     "ZRST": ["same-kind", "no-counter-width-mix", "ascending"], "CRC": ["kn4"], "BK+": ["disjoint-blocks"],
     "BK-": ["disjoint-blocks"], "DUTY": ["unique-destination"], "DHHCMV": ["no-index-hhsc"],
@@ -221,6 +222,7 @@ CONSTRAINTS = {
     **{r: ["n2-within-n1"] for r in ("SFTR", "SFTL")},
     "WSFR": ["n2-within-n1", "same-kn"], "WSFL": ["n2-within-n1", "same-kn"],
     "SMOV": ["smov-digits"], "BMOV": ["same-kn-bits"],
+    "HOUR": ["latched:D1"],
 }
 ONCE = {"MTR", "HKY", "DSW", "SEGL", "PR", "SORT", "DHSCT", "DABS"}  # "只能使用一次" (vs_reading.md 3)
 FREE = {"SRET", "IRET", "EI", "DI", "FEND", "FOR", "NEXT", "WDT"}

@@ -5,7 +5,9 @@ ZRST pair rules of resolve.py), each from a manual page's note:
 - "disjoint-blocks": the S1, S2 and D blocks of n elements (n a constant) do not overlap
   (VS BK+/BK-, 6-17: overlapping blocks are an operation error at run time) -> W240;
 - "no-index-hhsc": an operand naming a hardware counter register (target.toml
-  [hardware_counters]) is not index-modified (VS DHHCMV, 6-16) -> E209.
+  [hardware_counters]) is not index-modified (VS DHHCMV, 6-16) -> E209;
+- "latched:ROLE": the operand ROLE lies in a latched area of its device (devices.toml
+  `latched = true`), else its value is lost at power-off (VS HOUR D1, 6-15) -> W241.
 
 Program-wide ones ("unique-destination") are in check/blocks.py.
 """
@@ -38,7 +40,24 @@ def constraint_problems(t: Target, spec: InstrSpec, ops: list[Operand], texts: l
             if o.kind == "D" and o.index and o.number in regs:
                 out.append((k, "E209", f"{texts[k]}: a hardware counter register of {spec.mnemonic} "
                             f"cannot be index-modified ({spec.section})"))
+    for c in spec.constraints:
+        if c.startswith("latched:"):
+            out += _not_latched(t, spec, ops, texts, c.split(":", 1)[1])
     return out
+
+
+def _not_latched(t: Target, spec: InstrSpec, ops: list[Operand], texts: list[str], role: str
+                 ) -> list[tuple[int, str, str]]:
+    k = next((i for i, o in enumerate(spec.operands) if o.role == role), None)
+    if k is None or k >= len(ops) or ops[k].is_const or ops[k].index or ops[k].is_group:
+        return []
+    dev = t.devices.get(ops[k].device)
+    if dev is None or any(a.latched and a.lo <= ops[k].number <= a.hi for a in dev.areas):
+        return []
+    kept = ", ".join(f"{dev.name_of(a.lo)}-{dev.name_of(a.hi)}" for a in dev.areas if a.latched)
+    return [(k, "W241", f"{spec.mnemonic} {role} = {texts[k]} is not latched: its value is cleared at "
+             f"power-off and at STOP->RUN" + (f"; use a latched register ({kept})" if kept else "")
+             + f" ({spec.section})")]
 
 
 def _overlaps(spec: InstrSpec, ops: list[Operand], texts: list[str]) -> list[tuple[int, str, str]]:

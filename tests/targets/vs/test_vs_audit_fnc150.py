@@ -44,6 +44,7 @@ STATIC = [
     # ---- 6-15
     pytest.param("HOUR K1000 D7000 Y0", "HOUR K1000 R23999 Y0", "E208", 2, id="FNC169-D1-2-words"),
     pytest.param("DHOUR K1000 R23997 Y0", "DHOUR K1000 R23998 Y0", "E208", 2, id="FNC169-D1-3-words"),
+    pytest.param("HOUR K1000 D7000 Y0", "HOUR K1000 D100 Y0", "W241", 2, id="FNC169-D1-latched"),
     # ---- 6-16
     pytest.param("DUTY K10 K5 M9334", "DUTY K10 K5 M9335", "E205", 2, id="FNC186-D-M9330-M9334"),
     pytest.param("DUTY K10 K5 M9330;DUTY K1 K1 M9331", "DUTY K10 K5 M9330;LD X1;DUTY K1 K1 M9330",
@@ -200,6 +201,9 @@ RUNS = [
     pytest.param("LD X0\nHOUR K1000 D7000 Y0\n",
                  "0ms D7000=32767 D7001=3598 X0=1\n3s expect D7000=32767 D7001=0 Y0=1",
                  id="FNC169-stops-at-the-largest-value"),
+    pytest.param("LD X0\nHOUR K1000 D7000 Y0\nHOUR K1000 D100 Y1\n",
+                 "0ms D7000=5 D7001=10 D100=5 D101=10 X0=1\n990ms expect D7000=5 D100=5\n1s power-cycle\n"
+                 "1s expect D7000=5 D7001=10 D100=0 D101=0", id="FNC169-general-D1-cleared-at-power-off"),
     # FNC 170 GRY D0 K4Y20, FNC 171 GBIN K4X20 D0: 6513 <-> Gray H15C9
     pytest.param("LD X20\nGRY D0 K4Y20\n", "0ms D0=6513 X20=1\n0ms expect K4Y20=H15C9 " + NO_ERROR,
                  id="FNC170-page-example"),
