@@ -266,6 +266,8 @@ RUNS = [
                  "0ms expect D20=101 D21=102 D60:d=70001 D64:d=6", id="FNC192-constant-S2-and-32-bit-n"),
     pytest.param("LD X0\nBK+ D0 D10 D3 K5\n", "0ms D3=9 X0=1\n0ms expect D3=9 " + OP_ERROR,
                  id="FNC192-overlap-op-error"),
+    pytest.param("LD X0\nBK+ D0 D10 D20 D100\n", "0ms D100=0 D20=4 X0=1\n0ms expect D20=4 " + OP_ERROR,
+                 id="FNC192-n-below-1-op-error"),
     pytest.param("LD X0\nBK-P D0 D10 D20 K5\n",
                  "0ms D0=-32768 D10=1 D1=9 D11=4 X0=1\n0ms expect D20=32767 D21=5 M9021=0 " + NO_ERROR,
                  id="FNC193-page-example-no-flags"),
@@ -355,6 +357,10 @@ RUNS = [
                  id="FNC213-214-page-examples-carry"),
     pytest.param("LD X0\nSFRP D0 K4\n", "0ms D0=H0007 X0=1\n0ms expect D0=0 M9022=0",
                  id="FNC213-last-bit-out-0"),
+    pytest.param("LD X0\nPOP D0 D101 K3\n", "0ms D0=5 D101=7 X0=1\n0ms expect D101=7 D0=5 " + OP_ERROR,
+                 id="FNC212-pointer-past-the-file-op-error"),
+    pytest.param("LD X0\nSFR D0 K0\n", "0ms D0=H00F1 M9022=1 X0=1\n0ms expect D0=H00F1 M9022=1 " + NO_ERROR,
+                 id="FNC213-n-0-nothing-moves"),
     # ---- 6-20 comparison contacts: the page's program
     pytest.param("LD= K100 D0\nAND X0\nOUT Y0\nLD X1\nANDD<> C235 K10\nORD<= D100 D200\nOUT Y1\n",
                  "0ms D0=100 X0=1 X1=1\n0ms expect Y0=1 Y1=1\n10ms D0=99 C235:d=10 D100:d=70000 "
