@@ -37,8 +37,14 @@ def _as_code(value) -> Code | None:
     if value == ("none",):
         return None
     code = Code.__new__(Code)
-    code.__dict__.update(value[1])
+    code.__dict__.update(value[1])  # (TypeError if Code ever gets __slots__: compiled() recompiles)
     return code
+
+
+def _as_value(code: Code | None):
+    if code is None:
+        return ("none",)
+    return ("code", dict(vars(code)))
 
 
 def compiled(prog: Program) -> Code | None:
@@ -51,11 +57,18 @@ def compiled(prog: Program) -> Code | None:
         _MEMO.move_to_end(key)
         return _MEMO[key]
     value = cache.load(KIND, key, _sound)
-    if value is not None:
-        code = _as_code(value)
-    else:
+    code = None
+    try:
+        if value is not None:
+            code = _as_code(value)
+    except (TypeError, AttributeError):  # an entry Code can no longer take: compiled again
+        value = None
+    if value is None:
         code = compile_program(prog)
-        cache.store(KIND, key, ("none",) if code is None else ("code", dict(vars(code))))
+        try:
+            cache.store(KIND, key, _as_value(code))
+        except TypeError:  # a Code without a __dict__: not kept
+            pass
     _MEMO[key] = code
     while len(_MEMO) > _MEMO_SIZE:
         _MEMO.popitem(last=False)
