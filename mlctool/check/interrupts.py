@@ -92,8 +92,20 @@ def check_interrupts(module: Module, target: Target) -> list[Diagnostic]:
     units: dict[tuple[str, int], Instr] = {}
     routine: Instr | None = None  # the pointer whose routine is open
     section = target.settings["interrupts"].get("section", "")
+    timers = target.settings["interrupts"].get("routine_timers")
+    has_steps = any(i.spec.op == "stl" for i in instrs)
     for ins in instrs:
         cls, op = ins.spec.cls, ins.spec.op
+        if routine is not None and timers and op == "tmr" and not ins.operands[0].index \
+                and not timers[0] <= ins.operands[0].number <= timers[1]:
+            out.append(diag(ins.file, Span(ins.line, ins.col, ins.line, ins.col + len(ins.mnemonic)), "W222",
+                            f"{ins.texts[0]} in interrupt routine {routine.texts[0]}: a routine times with "
+                            f"T{timers[0]}-T{timers[1]} only (2-5-3), which the CPU times at END"))
+        if routine is not None and has_steps and op in ("set", "out", "step_set", "step_out") \
+                and ins.operands and ins.operands[0].kind == "S":
+            out.append(diag(ins.file, Span(ins.line, ins.col, ins.line, ins.col + len(ins.mnemonic)), "W223",
+                            f"{ins.mnemonic} {ins.texts[0]} in interrupt routine {routine.texts[0]}: a program "
+                            "with step ladder may not drive step relays from an interrupt routine (4-4)"))
         if cls == "interrupt":
             p = pointer_numbered(ins.operands[0].number, target)
             name = p.name if p else ins.texts[0]

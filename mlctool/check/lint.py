@@ -64,6 +64,61 @@ def double_coils(instrs: list[Instr], code: str = "W401") -> list[Diagnostic]:
     return out
 
 
+def _steps(instrs: list[Instr]) -> tuple[list[int | None], set[tuple[int, int]], dict[int, list[Instr]]]:
+    """Per instruction the step (S number) whose STL block it lies in (None: none); the pairs of
+    adjacent steps (one transfers to the other by SET/OUT S inside its block); per step the
+    transfers written in it."""
+    step_of_region: dict[int, int] = {}
+    steps: list[int | None] = []
+    for ins, region in zip(instrs, exclusive_regions(instrs), strict=True):
+        if ins.spec.region == "open":
+            step_of_region[region] = ins.operands[0].number
+        steps.append(step_of_region.get(region) if region else None)
+    adjacent: set[tuple[int, int]] = set()
+    transfers: dict[int, list[Instr]] = {}
+    for ins, step in zip(instrs, steps, strict=True):
+        if step is not None and ins.spec.op in ("step_set", "step_out") and ins.operands[0].kind == "S" \
+                and not ins.operands[0].index:
+            target = ins.operands[0].number
+            adjacent |= {(step, target), (target, step)}
+            transfers.setdefault(step, []).append(ins)
+    return steps, adjacent, transfers
+
+
+def _timers_driven_twice(instrs: list[Instr]) -> list[Diagnostic]:
+    """W402: a timer or counter driven by two instructions. ANS times its own timer ("請勿在程序
+    中使用已在本指令中使用過的計時器編號", VS 6-6). Two steps of a step ladder that are not
+    adjacent may share a timer, with different presets ("非相接的狀態，可以使用同一編號的計時器",
+    VS 4-4): only one of them is live at a time."""
+    steps, adjacent, _ = _steps(instrs)
+    first: dict[tuple[str, int], list[tuple[Instr, int | None]]] = {}
+    out = []
+    for ins, step in zip(instrs, steps, strict=True):
+        if ins.spec.op not in ("tmr", "cnt", "ans"):
+            continue
+        key = (ins.operands[0].kind, ins.operands[0].number)
+        seen = first.setdefault(key, [])
+        clash = next((f for f, fs in seen if step is None or fs is None or fs == step or (fs, step) in adjacent), None)
+        if clash is not None:
+            out.append(_at(ins, None, "W402", f"{ins.texts[0]} is also driven at {_where(clash)}"))
+        seen.append((ins, step))
+    return out
+
+
+def _step_branches(instrs: list[Instr], limit: int = 8) -> list[Diagnostic]:
+    """W224: more than 8 transfers out of one step ("每一個選擇性分歧或並進式分歧，最多只能有 8個
+    分歧點", VS 4-4)."""
+    _, _, transfers = _steps(instrs)
+    out = []
+    for step, moves in transfers.items():
+        targets = list(dict.fromkeys(m.operands[0].number for m in moves))
+        if len(targets) > limit:
+            first_over = next(m for m in moves if m.operands[0].number == targets[limit])
+            out.append(_at(first_over, None, "W224", f"step S{step} branches to {len(targets)} steps; "
+                           f"a divergence has at most {limit} branches (4-4)"))
+    return out
+
+
 def _span(first: int, words: int) -> str:
     """Registers as the manual writes a pair: (D1, D0); D0-D3 for longer spans."""
     return f"(D{first + 1}, D{first})" if words == 2 else f"D{first}-D{first + words - 1}"
@@ -73,11 +128,8 @@ def lint_module(module: Module, target: Target, referenced: set[int]) -> list[Di
     instrs = module.instrs
     out = double_coils(instrs)
 
-    def timer_key(ins):
-        # ANS times its own timer: "請勿在程序中使用已在本指令中使用過的計時器編號" (VS 6-6)
-        return (ins.operands[0].kind, ins.operands[0].number) if ins.spec.op in ("tmr", "cnt", "ans") else None
-
-    out += [_at(i, None, "W402", f"{i.texts[0]} is also driven at {_where(f)}") for i, f in _first_seen(instrs, timer_key)]
+    out += _timers_driven_twice(instrs)
+    out += _step_branches(instrs)
 
     # multi-word D operands (32-bit pairs, the 32-bit product of a 16-bit MUL, the quotient and
     # remainder of DIV: OperandSpec.words) overlapping other uses of their registers

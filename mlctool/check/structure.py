@@ -112,6 +112,40 @@ def check_rungs(module: Module, target: Target, broken: frozenset[int] = frozens
     return out
 
 
+def _call_nesting(instrs: list[Instr], labels: dict[int, int], sub_start: int, limit: int) -> list[Diagnostic]:
+    """E307 at a CALL that would open level limit+1 (VS 6-2 "巢狀式子程序呼叫不可超過 5層": the
+    CPU does not run it, error 6702). A subroutine runs from its label to its first SRET; only
+    CALLs of a written P number are followed (an indexed one is the simulator's to see)."""
+    def calls(first: int, last: int) -> list[Instr]:
+        return [i for i in instrs[first:last] if i.spec.op == "call" and not i.operands[0].index]
+
+    def body(p: int) -> list[Instr]:
+        k = labels.get(p)
+        if k is None:
+            return []
+        end = next((j for j in range(k + 1, len(instrs)) if instrs[j].spec.op in ("sret", "end")), len(instrs))
+        return calls(k + 1, end)
+
+    out: list[Diagnostic] = []
+    reported: set[int] = set()
+
+    def walk(ins: Instr, level: int, chain: tuple[int, ...]) -> None:
+        p = ins.operands[0].number
+        if level > limit:
+            if id(ins) not in reported:
+                reported.add(id(ins))
+                path = " -> ".join(f"P{q}" for q in chain + (p,))
+                out.append(_at(ins, "E307", f"CALL nested {level} deep ({path}); the limit is {limit}: "
+                               "the CPU does not run it (6-2 CALL, error 6702)"))
+            return
+        for inner in body(p):
+            walk(inner, level + 1, chain + (p,))
+
+    for ins in calls(0, sub_start):
+        walk(ins, 1, ())
+    return out
+
+
 def check_layout(module: Module, target: Target, exported: dict[int, str], is_called: set[int],
                  broken: frozenset[int] = frozenset()) -> list[Diagnostic]:
     """END, FEND, labels, jumps, FOR/NEXT. `exported` maps P -> module of every module's exports."""
@@ -190,6 +224,7 @@ def check_layout(module: Module, target: Target, exported: dict[int, str], is_ca
             stack.clear()
     for f in stack:
         out.append(_at(f, "E306", "FOR without NEXT"))
+    out += _call_nesting(instrs, labels, sub_start, target.settings["call_depth"])
 
     capacity = target.capacity
     if module.total_steps > capacity:

@@ -177,6 +177,9 @@ def bmov(m: Machine, s) -> None:
     if isinstance(src, WordRef) and isinstance(dst, WordRef) and src.kind != "C" and dst.kind != "C":
         words_s, a = _words(m, src, n)
         words_d, b = _words(m, dst, n)
+        # DECISION (as FMOV and MEAN, 6-3/6-6 "只有有效範圍會被傳送"): a block running past the
+        # device's end moves only the part inside both ranges
+        n = max(0, min(n, len(words_s) - a, len(words_d) - b))
         words_d[b:b + n] = words_s[a:a + n]
         for k in range(n):
             m.writer[(dst.kind, b + k)] = m.pc
@@ -190,6 +193,7 @@ def fill(m: Machine, s) -> None:
     n = s.ops[2].get(m)
     size = 2 if s.width == 32 else 1
     dst, b = _words(m, s.ops[1], n * size)
+    n = max(0, min(n, (len(dst) - b) // size))  # "只有有效範圍會被傳送" (6-3 FMOV)
     v = s.ops[0].get(m)
     for k in range(n):
         dst[b + k * size] = v & 0xFFFF
@@ -328,6 +332,49 @@ def zrst(m: Machine, s) -> None:
     a, b = d1.addr(m), d2.addr(m)
     for k in range(a, max(a, b) + 1):
         base.clear(m, d1, k)
+
+
+# ------------------------------------------------------------------ step monitor (4-5)
+
+def step_monitor(m: Machine) -> None:
+    """M9047 On: D9040-D9047 hold the numbers of the On step relays, lowest first (0 past the
+    last), M9046 is On when some step is (4-5). DECISION: refreshed before every scan (the
+    END of the previous one), so the program reads the steps as the last scan left them;
+    with M9047 Off they are left as they are."""
+    mon = m.target.settings["step_monitor"]
+    if not m.bits["M"][mon["enable"]]:
+        return
+    first, last = mon["registers"]
+    on = [n for n, b in enumerate(m.bits["S"]) if b][:last - first + 1]
+    for k in range(last - first + 1):
+        m.words["D"][first + k] = on[k] if k < len(on) else 0
+    m.bits["M"][mon["any"]] = 1 if on else 0
+
+
+# ------------------------------------------------------------------ device clear (2-14-1)
+
+def device_clear(m: Machine) -> None:
+    """M9031 On: every non-latched Y, M, S, T, C, D, R is cleared, the special relays and
+    registers excepted; M9032 On: every latched one (2-14-1). DECISION: done before each scan
+    the relay is On (the END of the scan that turned it On), as FX M8031/M8032 do at END."""
+    cfg = m.target.settings["device_clear"]
+    which = {latched for relay, latched in ((cfg["non_latched"], False), (cfg["latched"], True))
+             if m.bits["M"][relay]}
+    if not which:
+        return
+    for kind in cfg["kinds"]:
+        for a in m.target.devices[kind].areas:
+            if a.latched not in which or "special" in a.name or a.write == "absent":
+                continue
+            for n in range(a.lo, a.hi + 1):
+                if kind == "T":
+                    m.reset_timer(n)
+                elif kind == "C":
+                    m.reset_counter(n)
+                elif kind in m.bits:
+                    m.bits[kind][n] = 0
+                else:
+                    m.words[kind][n] = 0
 
 
 BASIC_ACTIONS = {

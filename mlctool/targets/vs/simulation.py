@@ -12,7 +12,7 @@ import importlib
 from mlctool.targetapi.simulation import Simulation
 from mlctool.targets.vs import clock, hsc
 from mlctool.targets.vs.interrupts import Interrupts
-from mlctool.targets.vs.routines import BASIC_ACTIONS
+from mlctool.targets.vs.routines import BASIC_ACTIONS, device_clear, step_monitor
 from mlctool.targets.vs.special_devices import SPECIAL_DEVICES
 
 # module -> its table of op -> routine
@@ -67,7 +67,8 @@ SIMULATION = Simulation(
     # before every scan, on the targets whose target.toml has one of the settings: the
     # virtual calendar's registers, the high-speed counters counted up to the scan's start
     scan_hooks=((clock.refresh, ("rtc",)),
-                (hsc.catch_up, ("high_speed_counters", "hardware_counters"))),
+                (hsc.catch_up, ("high_speed_counters", "hardware_counters")),
+                (step_monitor, ("step_monitor",)), (device_clear, ("device_clear",))),
     interrupts=Interrupts,
     special_devices=SPECIAL_DEVICES,
 )

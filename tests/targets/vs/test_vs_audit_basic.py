@@ -57,6 +57,25 @@ CHECKS = [
     # 2-6-2: "32位元計數器，OUT C指令的元件號碼不可用VZ寄存器索引。但是，其設定值可用VZ寄存器索引"
     pytest.param("LD X0\nOUT C200Z0 K5\nEND", [("E209", 2)], id="2-6-2-no-index"),
     pytest.param("LD X0\nOUT C200 D0Z0\nLD X1\nOUT C0Z0 K5\nEND", [], id="2-6-2-preset-index-legal"),
+    # 2-5-3 (4): "中斷子程序...中的計時器，一定要使用 T192∼T199計時器"
+    pytest.param("LD X0\nOUT Y0\nFEND\nIX0P:\nLD M9000\nOUT T0 K10\nLD M9000\nOUT T192 K10\nIRET\nEND", [("W222", 6)],
+                 id="2-5-3-interrupt-timers"),
+    # 4-4 item 9: a program with step ladder may not drive step relays in an interrupt routine
+    pytest.param("LD M9002\nSET S20\nSTL S20\nLD X0\nSET S21\nSTL S21\nLD X1\nSET S20\nRET\nFEND\nIX0P:\n"
+                 "LD M9000\nSET S21\nLD M9000\nSET M5\nIRET\nEND", [("W223", 13)], id="4-4-no-steps-in-interrupts"),
+    # 4-4 item 10: adjacent steps may not share a timer; steps that are not adjacent may, with
+    # different presets
+    pytest.param("LD M9002\nSET S20\nSTL S20\nOUT T0 K10\nLD T0\nSET S21\nSTL S21\nOUT T0 K20\nLD T0\nSET S20\nRET\nEND",
+                 [("W402", 8)], id="4-4-adjacent-steps-timer"),
+    pytest.param("LD M9002\nSET S20\nSTL S20\nOUT T0 K10\nLD T0\nSET S21\nSTL S21\nOUT Y1\nLD X1\nSET S22\nSTL S22\n"
+                 "OUT T0 K20\nLD T0\nSET S23\nSTL S23\nOUT Y3\nLD X3\nSET S20\nRET\nEND", [], id="4-4-non-adjacent-steps-timer"),
+    # 4-4: "每一個選擇性分歧或並進式分歧，最多只能有 8個分歧點"
+    pytest.param("LD M9002\nSET S20\nSTL S20\n" + "".join(f"LD X{k}\nSET S{30 + k}\n" for k in range(8))
+                 + "LD X10\nSET S40\n" + "".join(f"STL S{30 + k}\nOUT Y{k}\n" for k in range(8))
+                 + "STL S40\nOUT Y10\nRET\nEND", [("W224", 21)], id="4-4-eight-branches"),
+    # 4-4: no MC/MCR in SFC; a step relay heads one step only
+    pytest.param("LD M9002\nSET S20\nSTL S20\nLD X0\nMC N0\nOUT Y0\nMCR N0\nRET\nEND", [("E902", 5)], id="4-4-no-mc-in-steps"),
+    pytest.param("LD M9002\nSET S20\nSTL S20\nOUT Y0\nSTL S20\nOUT Y1\nRET\nEND", [("E902", 5)], id="4-4-step-once"),
     # 2-3: M8192-M8999 do not exist; special M9000-M9511
     pytest.param("LD X0\nOUT M8500\nEND", [("E205", 2)], id="2-3-m-ranges"),
     # 2-14-1 ■ read-only specials: the system drives them
@@ -174,6 +193,26 @@ SIMS = [
     pytest.param("LD M9000\nOUT Y0\nLD M9001\nOUT Y1\nLD M9002\nOUT Y2\nLDI M9003\nOUT Y3\nLD M9013\nOUT Y4",
                  "0ms expect Y0=1 Y1=0 Y2=1 Y3=1\n10ms expect Y2=0 Y3=0\n400ms expect Y4=1\n600ms expect Y4=0\n1.4s expect Y4=1",
                  id="2-14-system-relays"),
+    # 2-14-1: M9031 clears the non-latched devices, M9032 the latched ones (special devices kept)
+    pytest.param("LD X0\nSET M0\nSET M2000\nSET Y1\nMOV K5 D0\nMOV K6 D7000\nMOV K7 R0\nLD X1\nOUT M9031\nLD X2\nOUT M9032",
+                 "0ms X0=1 D9039=3\n10ms X0=0 X1=1\n10ms expect M9031=1 M0=1 D0=5\n20ms X1=0\n"
+                 "20ms expect M0=0 Y1=0 D0=0 R0=0 M2000=1 D7000=6 D9039=3\n30ms X2=1\n40ms X2=0\n"
+                 "40ms expect M2000=0 D7000=0 D9039=3",
+                 id="2-14-1-device-clear"),
+    # 2-3, 2-4, 2-5, 2-6, 2-8: latched ranges keep their state over a power cycle (M2000-M3999,
+    # S500-S899 and S1000-S1499, T246-T255, C100-C199 and C220-C255, D7000-D8999); R does not
+    pytest.param("LD X0\nSET M0\nSET M2000\nSET S0\nSET S500\nSET S1000\nSET S1500\nMOV K5 D0\nMOV K6 D7000\n"
+                 "MOV K7 R0\nLD X0\nOUT C0 K10\nLD X0\nOUT C100 K10\nLD X0\nOUT C200 K10\nLD X0\nOUT C220 K10\n"
+                 "LD X1\nOUT T0 K100\nLD X1\nOUT T250 K100",
+                 "0ms X0=1 X1=1\n200ms X0=0 X1=0\n250ms power-cycle\n260ms expect M0=0 M2000=1 S0=0 S500=1 S1000=1 "
+                 "S1500=0 D0=0 D7000=6 R0=0 C0:w=0 C100:w=1 C200:d=0 C220:d=1 T250:w=1 T0:w=0", id="2-latched-ranges"),
+    # 2-5-5: a contact written before its coil sees the timer one scan later (the +Ts of the
+    # accuracy formula)
+    pytest.param("LD T0\nOUT Y0\nLD X0\nOUT T0 K1", "0ms X0=1\n100ms expect T0=1 Y0=0\n110ms expect Y0=1",
+                 id="2-5-5-contact-before-coil"),
+    # 2-5-3: T192-T199 are timed at END, so a subroutine not run every scan may use them
+    pytest.param("LD X0\nCALL P1\nFEND\nP1\nLD M9000\nOUT T192 K5\nSRET", "0ms X0=1\n10ms X0=0\n600ms expect T192=1",
+                 id="2-5-3-t192-in-subroutine"),
     # 2-14-1 / 2-14-3: an operation error turns M9067 and M9004 On, code in D9067; the PLC runs on
     pytest.param("LD M9000\nDIV D0 D1 D2\nLD M9000\nINC D10", "0ms D0=1 D1=0\n10ms expect M9067=1 M9004=1 D9067=6706 D10=2",
                  id="2-14-operation-error"),
@@ -185,6 +224,11 @@ SIMS = [
     # 4-6-1: OUT Sx transfers to a step of another flow; the source resets itself
     pytest.param("LD M9002\nSET S0\nSTL S0\nOUT Y0\nLD X0\nOUT S30\nSTL S30\nOUT Y1\nRET",
                  "0ms expect S0=1\n10ms X0=1\n20ms expect S0=0 S30=1 Y1=1 Y0=0", id="4-6-1-out-other-flow"),
+    # 4-5: M9047 On: the On steps' numbers in D9040-D9047, lowest first, and M9046. DECISION:
+    # refreshed before each scan (the END of the previous one)
+    pytest.param("LD M9000\nOUT M9047\nLD M9002\nSET S20\nSET S5\nLD X0\nRST S5\nRST S20",
+                 "0ms D9042=7\n10ms expect M9046=1 D9040=5 D9041=20 D9042=0\n20ms X0=1\n30ms expect M9046=0 D9040=0",
+                 id="4-5-step-monitor"),
     # 4-5: M9040 On inhibits every transfer (single-step operation)
     pytest.param("LD M9002\nSET S0\nLD X5\nOUT M9040\nSTL S0\nLD X0\nSET S20\nSTL S20\nOUT Y1\nRET",
                  "0ms X5=1 X0=1\n30ms expect S0=1 S20=0\n40ms X5=0\n50ms expect S20=1 S0=0", id="4-5-m9040-inhibit"),

@@ -35,6 +35,12 @@ CHECKS = [
     pytest.param("LD X0\nCJ P1\nLD X1\nCALL P1\nFEND\nP1\nSRET\nEND", [("E305", 2)], id="FNC00-cj-call-share"),
     # 6-2 CJ: P0-P1023 (and program labels, together at most 1024)
     pytest.param("LD X0\nCJ P1024\nEND", [("E205", 2)], id="FNC00-p-range"),
+    # 6-2 CALL: "巢狀式子程序呼叫不可超過 5層": the 6th level (P6, called at line 22) is refused;
+    # a subroutine calling itself never ends its chain
+    pytest.param("LD X0\nCALL P1\nFEND\nP1\nLD X0\nCALL P2\nSRET\nP2\nLD X0\nCALL P3\nSRET\nP3\nLD X0\nCALL P4\nSRET\nP4\nLD X0\nCALL P5\nSRET\nP5\nLD X0\nCALL P6\nSRET\nP6\nLD X0\nINC D0\nSRET\nEND", [("E307", 22)], id="FNC01-nesting-5"),
+    pytest.param("LD X0\nCALL P1\nFEND\nP1\nLD X1\nCALL P1\nSRET\nEND", [("E307", 6)], id="FNC01-recursion"),
+    pytest.param("LD X0\nCALL P1\nLD X1\nCALL P2\nFEND\nP1\nLD X0\nCALL P2\nSRET\nP2\nLD X0\nINC D0\nSRET\nEND", [],
+                 id="FNC01-nesting-legal"),
     # 6-2 CALL: "子程序必須寫在 FEND指令之後"
     pytest.param("LD X0\nCALL P1\nP1\nSRET\nFEND\nEND", [("E305", 2), ("E305", 4)], id="FNC01-after-fend"),
     # 6-2 FEND: several FENDs: subroutines between the last FEND and END
@@ -214,6 +220,11 @@ SIMS = [
     # 6-3 FMOV: the page's example: K0 into D100-D104
     pytest.param("LD X20\nFMOV K0 D100 K5", "0ms D100=1 D104=5 D105=6\n10ms X20=1\n10ms expect D100=0 D104=0 D105=6",
                  id="FNC16-page-example"),
+    # 6-3 FMOV: "如果 D 所指定的範圍超過該元件的使用範圍時，只有有效範圍會被傳送" (R23999 is the last R)
+    pytest.param("LD M9000\nFMOV K7 R23998 K5", "0ms expect R23998=7 R23999=7", id="FNC16-in-range-only"),
+    # 6-3 BMOV past the device's end: DECISION as FMOV: only the part inside both ranges moves
+    pytest.param("LD M9000\nBMOV R23998 D0 K5", "0ms R23998=4 R23999=8 D2=9\n0ms expect D0=4 D1=8 D2=9",
+                 id="FNC15-in-range-only"),
     # 6-3 XCH: the page's examples, 16 and 32 bits
     pytest.param("LD X20\nXCHP D100 D200\nLD X21\nDXCHP D0 D300",
                  "0ms X20=1 X21=1 D100=1 D200=2 D0:d=70000 D300:d=2\n0ms expect D100=2 D200=1 D300:d=70000 D0:d=2",
@@ -341,6 +352,8 @@ SIMS = [
     # 6-6 MEAN: the page's example: D0-D4 averaged into D10, remainder dropped
     pytest.param("LD X20\nMEAN D0 D10 K5", "0ms X20=1 D0=1 D1=2 D2=3 D3=4 D4=8\n0ms expect D10=3",
                  id="FNC45-page-example"),
+    # 6-6 MEAN: "如果被指定的元件號碼超出範圍，則只有在合法範圍內的元件會被處理"
+    pytest.param("LD M9000\nMEAN R23998 D0 K5", "0ms R23998=4 R23999=8\n0ms expect D0=6", id="FNC45-in-range-only"),
     # 6-6 ANS: the page's example: X20 and X21 On over 1.5 s -> S900 On and kept
     pytest.param("LD X20\nAND X21\nANS T0 K15 S900\nLD X0\nANR",
                  "0ms X20=1 X21=1\n1.4s expect S900=0\n1.6s expect S900=1\n1.7s X21=0\n1.8s expect S900=1 T0:w=0\n"
