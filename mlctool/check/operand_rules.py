@@ -1,6 +1,7 @@
 """The operand rules an instruction page states beyond kinds and ranges (device numbers ending
 in 0, Kn sizes, operands that must agree, per-model constant ranges, outputs, timers or
-inputs only one instruction may use, blocks that may not overlap): E230-E235, W230, E206.
+inputs only one instruction may use, blocks that may not overlap, instructions used in
+pairs, relays the PLC clears itself): E230-E235, W230-W232, E206.
 
 Generic: the rules are data, `operand_rules.toml` in the target's tables folder (the Vigor VS
 pages, docs/vs-audit.md); a target without the file gets none of these diagnostics. Only
@@ -285,5 +286,23 @@ def _own_input(users: list[Instr], instrs: list[Instr], rule: dict, target: Targ
     return out
 
 
+def _paired(users: list[Instr], instrs: list[Instr], rule: dict, target: Target) -> list[Diagnostic]:
+    if not users or any(i.spec.api == rule["with"] for i in instrs):
+        return []
+    partner = rule["partner"]
+    return [_at(ins, "W231", f"{ins.mnemonic} without a {partner} in the program ({rule['section']})")
+            for ins in users]
+
+
+def _no_reset(users: list[Instr], instrs: list[Instr], rule: dict, target: Target) -> list[Diagnostic]:
+    if not users:
+        return []
+    relays = set(rule["relays"])
+    return [_at(ins, "W232", f"RST M{ins.operands[0].number}: the PLC clears it itself when the send is "
+                f"done ({rule['section']})")
+            for ins in instrs if ins.mnemonic == "RST" and ins.operands and ins.operands[0].kind == "M"
+            and ins.operands[0].number in relays and not ins.operands[0].index]
+
+
 _PROGRAM_RULES = {"one_user": _one_user, "own_timer": _own_timer, "blocks_apart": _blocks_apart,
-                  "own_input": _own_input}
+                  "own_input": _own_input, "paired": _paired, "no_reset": _no_reset}

@@ -242,6 +242,22 @@ def test_spd_input_is_no_interrupt_input():
     assert [c for c, _ in found(il.format("IX2P")) if c[0] == "E"] == []
 
 
+def test_zpush_zpop_in_pairs():
+    # 6-11 FNC 102/103: "兩個指令必須配對使用"
+    assert [c for c, _ in found(program("ZPUSH D0", "ZPOP D0")) if c == "W231"] == []
+    assert ("W231", 2) in found(program("ZPUSH D0", "MOV K0 D0"))
+    assert ("W231", 4) in found(program("MOV K0 D0", "ZPOP D0"))
+
+
+def test_rs_send_request_is_not_reset_by_the_program():
+    # 6-10 FNC 80: "M9100在資料傳送結束後會自動變為OFF，請不要用程序RST M9100"
+    rs = "RS D0 D200 D100 D201 K1"
+    assert ("W232", 4) in found(program(rs, "RST M9100"))
+    assert ("W232", 4) in found(program(rs, "RST M9120"))
+    assert [c for c, _ in found(program(rs, "RST M9101")) if c == "W232"] == []  # the receive flag: reset it
+    assert [c for c, _ in found(program("MOV K0 D0", "RST M9100")) if c == "W232"] == []  # no RS
+
+
 # ------------------------------------------------------------------ run-time rules
 
 # (program without END, stimulus with expectations, whether an operation error is expected)
@@ -318,6 +334,10 @@ RUNS = [
     # 6-12 FNC 117 DEVAL: a result below 2^-126 turns M9021 On
     pytest.param("LD X0\nDEVAL D0 D100\n", "0ms D0:h=H4531 D1:h=H342D D2:h=H0035 X0=1\n"
                  "0ms expect M9021=1 M9020=0\n", False, id="FNC117-borrow-flag"),
+    # 6-7 FNC 59 PLSR: S3 above 32000 ms is 32000 (1000 Hz / 32 s: 31 Hz after 1 s), below 0 is 0
+    pytest.param("LD X20\nDPLSR K1000 K30000 D0 Y0\nLD X21\nPLSR K1000 K30000 D2 Y1\n",
+                 "0ms D0:d=40000 D2=-5 X20=1 X21=1\n0ms expect D9370:d=1000\n1s expect D9350:d=31\n",
+                 False, id="FNC59-S3-clamped"),
     # 6-7 FNC 58 PWM: t > T is an operation error (6-7 page)
     pytest.param("LD X20\nPWM D0 K100 Y0\n", "0ms D0=101 X20=1\n10ms expect Y0=0 M9067=1\n",
                  True, id="FNC58-t-above-T"),
