@@ -54,22 +54,17 @@ def foreign_specials(modules: list[Module], target: Target) -> list[Diagnostic]:
                   for o, s in zip(ins.operands, ins.spec.operands, strict=False)
                   if o.is_group and not s.writes and ins.spec.api is not None]
     out, seen = [], set()
-    for ins, kind, number in writes:
-        key = (kind, number)
-        if key in seen or key in read or any(k == kind and lo <= number <= hi for k, lo, hi in read_spans):
-            continue
-        diag_ = _foreign(fams, ins, kind, number, target, "written but never read")
-        if diag_ is not None:
-            seen.add(key)
-            out.append(diag_)
-    for ins, kind, number in reads:
-        key = (kind, number)
-        if key in seen or key in written or any(k == kind and lo <= number <= hi for k, lo, hi in spans):
-            continue
-        diag_ = _foreign(fams, ins, kind, number, target, "read but never written")
-        if diag_ is not None:
-            seen.add(key)
-            out.append(diag_)
+    # (places, devices that make a place ordinary use, the ranges that do too, what it says)
+    for places, ordinary, ranges, how in ((writes, read, read_spans, "written but never read"),
+                                          (reads, written, spans, "read but never written")):
+        for ins, kind, number in places:
+            key = (kind, number)
+            if key in seen or key in ordinary or any(k == kind and lo <= number <= hi for k, lo, hi in ranges):
+                continue
+            found = _foreign(fams, ins, kind, number, target, how)
+            if found is not None:
+                seen.add(key)
+                out.append(found)
     return out
 
 
