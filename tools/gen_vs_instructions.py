@@ -156,7 +156,8 @@ OPERANDS = {
     "TFH": [op("D1", "D R", "rw"), op("S", WS), op("D2", BD, "w")],
     "TFK": [op("D1", "D R", "rw"), op("S", WS), op("D2", BD, "w")],
     "RND": [op("D", WD, "w")],
-    "DUTY": [op("n1", WS), op("n2", WS), op("D", "M", "w", ranges={"M": [[9330, 9334]]})],
+    # n1, n2 >= 0 ("n1或n2<0 ... 運算錯誤", 6-16)
+    "DUTY": [n("n1", 0, 32767, kinds=WS), n("n2", 0, 32767, kinds=WS), op("D", "M", "w", ranges={"M": [[9330, 9334]]})],
     "CRC": [op("S", "KnX KnY KnM KnS T C D R"), op("D", WD, "w"), n(lo=1, hi=256)],
     "DHSCT": [op("S1", "D R"), n("m", 1, 16, kinds="K H"), op("S2", "C", ranges=HSC), op("D", BD, "w"),
               n(lo=1, hi=16, kinds="K H")],
@@ -176,7 +177,12 @@ OPERANDS = {
     "SFL": [op("D", WD, "rw"), n(lo=0, hi=15, kinds="K H")],
     "WTOB": [op("S", WS), op("D", WD, "w"), n()], "BTOW": [op("S", WS), op("D", WD, "w"), n()],
     "POP": [op("S", WS), op("D", WD, "w"), n(lo=2, hi=512)],
-    "FDEL": [op("S", WD, "rw"), op("D", WD, "w"), n()], "FINS": [op("S", WS), op("D", WD, "rw"), n()],
+    # n > 0 (6-19: "n的值必須>0"; its upper bound, the table's count, is known at run time only)
+    "FDEL": [op("S", WD, "rw"), op("D", WD, "w"), n(lo=1, hi=32767)],
+    "FINS": [op("S", WS), op("D", WD, "rw"), n(lo=1, hi=32767)],
+    # n >= 0 (6-18: a negative n is an operation error; n = 0 gives the empty string)
+    "RIGHT": [op("S", STRS), op("D", STRD, "w"), n(lo=0, hi=32767)],
+    "LEFT": [op("S", STRS), op("D", STRD, "w"), n(lo=0, hi=32767)],
 }
 OPERANDS["DECMP"] = [op("S1", FS), op("S2", FS), op("D", BD, "w", bits=3)]
 OPERANDS["DEZCP"] = [op("S1", FS), op("S2", FS), op("S", FS), op("D", BD, "w", bits=3)]
@@ -222,6 +228,7 @@ CONSTRAINTS = {
     **{r: ["n2-within-n1"] for r in ("SFTR", "SFTL")},
     "WSFR": ["n2-within-n1", "same-kn"], "WSFL": ["n2-within-n1", "same-kn"],
     "SMOV": ["smov-digits"], "BMOV": ["same-kn-bits"],
+    **{r: ["timer-preset"] for r in ("TFT", "TFH", "TFK")},  # S outside 0-32767 is 0 (6-15, W221)
     "HOUR": ["latched:D1"],
 }
 ONCE = {"MTR", "HKY", "DSW", "SEGL", "PR", "SORT", "DHSCT", "DABS"}  # "只能使用一次" (vs_reading.md 3)

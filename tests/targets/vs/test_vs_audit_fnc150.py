@@ -45,10 +45,14 @@ STATIC = [
     pytest.param("HOUR K1000 D7000 Y0", "HOUR K1000 R23999 Y0", "E208", 2, id="FNC169-D1-2-words"),
     pytest.param("DHOUR K1000 R23997 Y0", "DHOUR K1000 R23998 Y0", "E208", 2, id="FNC169-D1-3-words"),
     pytest.param("HOUR K1000 D7000 Y0", "HOUR K1000 D100 Y0", "W241", 2, id="FNC169-D1-latched"),
+    pytest.param("TFT D0 K32767 M0", "TFT D0 K-5 M0", "W221", 2, id="FNC176-preset-0-32767"),
+    pytest.param("TFH D0 K0 M0", "TFH D0 K-1 M0", "W221", 2, id="FNC177-preset-0-32767"),
+    pytest.param("TFK D0 K100 M0", "TFK D0 K-100 M0", "W221", 2, id="FNC178-preset-0-32767"),
     # ---- 6-16
     pytest.param("DUTY K10 K5 M9334", "DUTY K10 K5 M9335", "E205", 2, id="FNC186-D-M9330-M9334"),
     pytest.param("DUTY K10 K5 M9330;DUTY K1 K1 M9331", "DUTY K10 K5 M9330;LD X1;DUTY K1 K1 M9330",
                  "E240", 4, id="FNC186-D-once"),
+    pytest.param("DUTY K0 K0 M9330", "DUTY K-1 K5 M9330", "E206", 2, id="FNC186-n-not-negative"),
     pytest.param("CRC D0 D100 K256", "CRC D0 D100 K257", "E206", 2, id="FNC188-n-1-256"),
     pytest.param("CRC K4M0 D100 K2", "CRC K2M0 D100 K1", "E207", 2, id="FNC188-K4-source"),
     pytest.param("CRC D0 K4Y0 K2", "CRC D0 K3Y0 K1", "E207", 2, id="FNC188-K4-destination"),
@@ -61,7 +65,11 @@ STATIC = [
     # ---- 6-18
     pytest.param('$+ "ABCDEFGHIJKLMNOPQRSTUVWXYZ012345" D0 D100',
                  '$+ "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456" D0 D100', "E203", 2, id="FNC202-32-characters"),
+    pytest.param("RIGHT D0 D40 K0", "RIGHT D0 D40 K-1", "E206", 2, id="FNC204-n-not-negative"),
+    pytest.param("LEFT D0 D40 K5", "LEFT D0 D40 K-2", "E206", 2, id="FNC205-n-not-negative"),
     # ---- 6-19
+    pytest.param("FDEL D50 D0 K1", "FDEL D50 D0 K0", "E206", 2, id="FNC210-n-above-0"),
+    pytest.param("FINS K99 D0 K1", "FINS K99 D0 K0", "E206", 2, id="FNC211-n-above-0"),
     pytest.param("POP D0 D101 K512", "POP D0 D101 K1", "E206", 2, id="FNC212-n-2-512"),
     pytest.param("SFRP D0 K15", "SFRP D0 K16", "E206", 2, id="FNC213-n-0-15"),
     pytest.param("SFLP D1 K0", "SFLP D1 K-1", "E206", 2, id="FNC214-n-0-15"),
@@ -346,7 +354,7 @@ RUNS = [
                  id="FNC210-n-1-to-count-op-error"),
     pytest.param("LD X0\nFINSP K99 D0 K4\n", "0ms D0=3 D1=10 D2=20 D3=30 X0=1\n0ms expect D0=4 D4=99",
                  id="FNC211-n-count-plus-1"),
-    pytest.param("LD X0\nFINSP K99 D0 K0\n", "0ms D0=3 X0=1\n0ms expect D0=3 " + OP_ERROR,
+    pytest.param("LD X0\nFINSP K99 D0 D20\n", "0ms D0=3 D20=0 X0=1\n0ms expect D0=3 " + OP_ERROR,
                  id="FNC211-n-0-op-error"),
     pytest.param("LD X0\nPOPP D0 D101 K10\n",
                  "0ms D0=2 D1=11 D2=22 X0=1\n0ms expect D101=22 D0=1 M9020=0\n10ms X0=0\n20ms X0=1\n"
