@@ -313,6 +313,8 @@ RUNS = [
                  id="FNC201-not-a-number-op-error"),
     pytest.param('LD X0\n$+ "AB" "CDE" D0\n', "0ms X0=1\n0ms expect D0:h=H4241 D1:h=H4443 D2:h=H45",
                  id="FNC202-concatenates-with-terminator"),
+    pytest.param("LD X0\n$+ D0 D10 D20\n", "0ms D0=0 D10=0 D20=HFFFF X0=1\n0ms expect D20=0",
+                 id="FNC202-both-empty-0000H"),
     pytest.param('LD X0\n$MOV "AB" D0\n$+ D0 D0 D0\n', "0ms X0=1\n0ms expect " + OP_ERROR,
                  id="FNC202-same-device-op-error"),
     pytest.param('LD X0\n$MOV "I LIKE VIGOR" D0\nLEN D0 D30\n', "0ms X0=1\n0ms expect D30=12",
@@ -336,6 +338,9 @@ RUNS = [
                  id="FNC206-outside-the-string-op-error"),
     pytest.param('LD X0\n$MOV "I LIKE VIGOR" D0\n$MOV "LOVE168" D110\nMIDW D110 D0 D204\n',
                  "0ms D204=3 D205=4 X0=1\n0ms expect D0:h=H2049 D1:h=H4F4C D2:h=H4556", id="FNC207-page-example"),
+    pytest.param('LD X0\n$MOV "I LIKE VIGOR" D30\n$MOV "LOVE168" D110\nMIDW D110 D30 D206\n',
+                 "0ms D206=8 D207=-1 X0=1\n0ms expect D33:h=H4C20 D34:h=H564F D35:h=H3145 D36=0",
+                 id="FNC207-minus-1-whole-S1-only-what-fits"),
     pytest.param('LD X0\n$MOV "VIGOR" D0\n$MOV "AB" D110\nMIDW D110 D0 D204\n',
                  "0ms D204=9 D205=1 X0=1\n0ms expect " + OP_ERROR, id="FNC207-position-outside-op-error"),
     pytest.param('LD X0\n$MOV "VIGOR" D100\n$MOV "I LIKE VIGOR" D60\nINSTR D100 D60 D40 K3\n'
@@ -412,9 +417,15 @@ RUNS = [
                  + NO_ERROR, id="FNC260-page-example"),
     pytest.param("LD X0\nDABIN D0 D10\n", "0ms D0=H412D D1=H3120 D2=H3532 D10=4 X0=1\n0ms expect D10=4 "
                  + OP_ERROR, id="FNC260-bad-character-op-error"),
+    pytest.param("LD X0\nDDABIN D0 D10\n",
+                 "0ms D0=H322D D1=H3431 D2=H3437 D3=H3338 D4=H3436 D5=H0038 X0=1\n0ms expect D10:d=-2147483648 "
+                 + NO_ERROR + "\n10ms D1=H3232 D2=H3232 D3=H3232 D4=H3232 D5=H3232\n10ms expect D10:d=-2147483648 "
+                 + OP_ERROR, id="FNC260-32-bit-range"),
     # FNC 261 BINDA D10 D0: 125 -> " " "  125" + 0000H (M9091 Off) / nothing (M9091 On)
     pytest.param("LD X0\nBINDA D10 D0\n", "0ms D10=125 D3=HFFFF X0=1\n0ms expect D0:h=H2020 D1:h=H3120 "
                  "D2:h=H3532 D3=0", id="FNC261-page-example-M9091-off"),
+    pytest.param("LD X0\nDBINDA D10 D0\n", "0ms D10:d=-123456789 X0=1\n0ms expect D0:h=H202D D1:h=H3231 "
+                 "D2:h=H3433 D3:h=H3635 D4:h=H3837 D5:h=H0039", id="FNC261-32-bit-last-high-byte-00H"),
     pytest.param("LD M9000\nOUT M9091\nLD X0\nBINDA D10 D0\n", "0ms D10=-125 D3=7 X0=1\n0ms expect "
                  "D0:h=H202D D1:h=H3120 D2:h=H3532 D3=7", id="FNC261-M9091-on-no-terminator"),
     # ---- 8-3 positioning (no ramps: D9343 = D9344 = 0)
@@ -430,6 +441,8 @@ RUNS = [
     pytest.param("LD M0\nDDRVR K100 K1000 Y0 Y4\n", "0ms D9343=0 D9344=0 M0=1\n90ms expect M9342=0 M9340=1\n"
                  "110ms expect M9342=1 D9354:d=100\n200ms M0=0\n200ms expect M9342=0 M9340=0",
                  id="FNC303-done-M9342-until-off-busy-M9340"),
+    pytest.param("LD M0\nLIR D1000 K0\n", "0ms D1000=500 D1001=100 D1002=300 D1003=4000 D1004=3000 M0=1\n"
+                 "0ms expect Y0=0 " + OP_ERROR, id="FNC315-bias-above-run-speed-op-error"),
     pytest.param("LD M0\nDDRVA K1000 K1000 Y0 Y4\n", "0ms D9343=0 D9344=0 D9348=2000 M0=1\n"
                  "100ms expect D9350:d=2000\n", id="FNC304-override-D9348"),
     pytest.param("LD M0\nDDRVA K1000 K1000 Y0 Y4\n", "0ms D9343=0 D9344=0 D9348=0 M0=1\n"
