@@ -76,6 +76,9 @@ def rung_text(s: DebugSession) -> str:
     console.print(item_text(sheet, it, cols, 200), end="")
     art = "\n".join(line.rstrip() for line in console.export_text().splitlines())
     rows = [s.where(), art.rstrip("\n")]
+    if s.n >= 0 and not s.m.bus:  # mid-scan on a dead rail: closed contacts light no coil
+        rows.append(" rail Off (an MC block whose condition is Off, or a step that is not active):"
+                    " no rung here has power, whatever its contacts (VS 3-6, 4-1-3)")
     for i in item_range(it):
         ins = s.steps[i].ins
         mark = "▶" if s.n >= 0 and i == s.pc else " "

@@ -37,9 +37,18 @@ class Program:
     target: Target
 
 
-def _combine(cls: str, contact: Callable) -> Callable:
+# the ops that move the rail (VS 3-6 MC/MCR, 4-6-1 STL/RET): a program holding one has rungs
+# whose rail may be Off (m.bus), and then every point of such a rung is Off (_railed)
+RAIL_OPS = frozenset({"stl", "ret", "mc", "mcr"})
+# the ones that set the rail themselves: they run whatever its state
+_RAIL_SETTERS = frozenset({"stl", "ret", "mcr"})
+
+
+def _combine(cls: str, contact: Callable, railed: bool = False) -> Callable:
     """Contacts update the rung result by their class (2.2 LD/AND/OR). A contact is always
-    evaluated, even when the result is already decided, so edge memories stay current."""
+    evaluated, even when the result is already decided, so edge memories stay current.
+    `railed`: the program moves the rail, so an OR is ANDed with it too (a parallel branch
+    hangs on the same dead rail as the load: VS 3-6)."""
     if cls == "load":
         def run(m, s):
             v = contact(m, s) and m.bus  # the rail is Off in an inactive MC block or STL step
@@ -53,11 +62,31 @@ def _combine(cls: str, contact: Callable) -> Callable:
         def run(m, s):
             v = contact(m, s)
             m.acc = m.acc and v
+    elif railed:
+        def run(m, s):
+            v = contact(m, s)
+            m.acc = (m.acc or v) and m.bus
     else:
         def run(m, s):
             v = contact(m, s)
             m.acc = m.acc or v
     return run
+
+
+def _railed(run: Callable) -> Callable:
+    """A step of a program that moves the rail: while the rail is Off (an MC block whose
+    condition is Off, VS 3-6; a step ladder block run once more after its step went Off,
+    4-1-3) the step's rung has no power, whatever its contacts, INV or block operators made
+    of the result: the step runs with the result Off (OUT coils and ordinary timers Off,
+    SET/RST, retentive timers, counters and application instructions idle) and leaves it Off."""
+    def gated(m, s):
+        if not m.bus:
+            m.acc = False
+            r = run(m, s)
+            m.acc = False
+            return r
+        return run(m, s)
+    return gated
 
 
 class NotSimulated(Exception):
@@ -117,6 +146,7 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
     # operand's id names it; ids stay valid while `image` holds the operands)
     refs: dict[tuple, Ref] = {}
     combined: dict[tuple[str, str], Callable] = {}
+    railed = any(ins.spec.op in RAIL_OPS for ins in image.instrs)
     for k, ins in enumerate(image.instrs):
         spec = ins.spec
         contact_like = spec.cls in ("load", "and", "or") and spec.api is None
@@ -139,10 +169,10 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
         if op in semantics.CONTACTS:
             contact = semantics.CONTACTS[op]
             if probe:
-                step.run = _combine(spec.cls, probe.contact(contact))
+                step.run = _combine(spec.cls, probe.contact(contact), railed)
             else:  # the step comes as an argument: one routine per (class, contact) serves all
                 key = (spec.cls, op)
-                step.run = combined.get(key) or combined.setdefault(key, _combine(spec.cls, contact))
+                step.run = combined.get(key) or combined.setdefault(key, _combine(spec.cls, contact, railed))
         elif op in routines:
             step.run = routines[op]
         elif op in flow:
@@ -153,6 +183,8 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
             step.run = _pulsed(step.run)
         if probe:
             step.run = probe.step(step.run, spec.cls)
+        if railed and op not in semantics.CONTACTS and op not in _RAIL_SETTERS:
+            step.run = _railed(step.run)  # outside the probe: it sees the rung as it runs
         steps.append(step)
     labels = {s.ins.operands[0].number: s.index for s in steps if s.ins.spec.cls == "label"}
     end = next((s.index for s in steps if s.ins.spec.op == "end"), None)

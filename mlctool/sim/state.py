@@ -102,7 +102,7 @@ class Machine:
         # power rail of the rung being evaluated: Off inside an MC block whose condition is
         # Off or an STL step that is not active (loads are ANDed with it)
         self.bus = True
-        self.mc_stack: list[bool] = []  # MC: the bus of each open level
+        self.mc_stack: list[bool] = []  # MC: the rail inside each open level, innermost last
         self.stl_step: int | None = None  # the step relay of the STL block being executed
         self.stl_leaving: set[int] = set()  # steps that transferred: reset at the end of the scan
         self.fx_state: dict[int, object] = {}  # step index -> memory of an FX routine (SORT, PID)

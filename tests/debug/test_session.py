@@ -226,3 +226,24 @@ def test_replay_equivalence(commands):
         s.step_scan()
     got = machine_state(s.m)
     assert got == plain_state(s, stimulus_text(s), s.scan)
+
+
+def test_rung_view_says_when_the_rail_is_off(tmp_path):
+    """VS 3-6: stopped inside an Off MC block, the rung view says the rail is Off (its closed
+    contacts still show `conducts`: the contact is closed, the rung has no power)."""
+    from mlctool.debug.rung import rung_text
+    vs = load_target("vs")
+    il = tmp_path / "mc.il"
+    il.write_text("LD M100\nMC N0\nLD X0\nOR X1\nOUT Y0\nMCR N0\nEND\n", encoding="utf-8")
+    stim = tmp_path / "mc.stim"
+    stim.write_text("0ms X1=1\n", encoding="utf-8")
+    s = load_session([str(il)], str(stim), vs, checkpoint_every=4)
+    for _ in range(4):  # LD M100, MC N0, LD X0, OR X1: stopped before OUT Y0
+        s.step()
+    text = rung_text(s)
+    assert "OUT Y0" in s.where() and "rail Off" in text and "conducts" in text
+    s.m.bits["M"][100] = 1
+    s.step_scan()
+    for _ in range(4):
+        s.step()
+    assert "OUT Y0" in s.where() and "rail Off" not in rung_text(s)

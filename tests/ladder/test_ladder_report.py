@@ -52,3 +52,20 @@ def test_power_trace_marks_conducting_contacts_and_driven_outputs():
     assert states[1] == {0, 3, 4, 7, 8}  # X1 On breaks Y0; the X2 edge drives Y1 for one scan
     assert states[2] == {1}  # X0 Off, X1 Off, X2 held: no edge
     assert states[3] == {0, 1, 2, 5, 6}  # CJ taken: the rung at 7-8 is not executed
+
+
+def test_power_trace_shows_no_driven_output_in_an_off_mc_block():
+    """VS 3-6: the output of a rung inside an Off MC block is not lit even when an OR branch's
+    contact conducts (the contact itself is lit: it is closed, like a PLC monitor shows it)."""
+    from vskit import VS, image_of
+    # 0 LD M100, 1 MC N0, 2 LD X0, 3 OR X1, 4 OUT Y0, 5 MCR N0, 6 END
+    trace = PowerProbe(10_000)
+    sim = Simulation(image_of("LD M100\nMC N0\nLD X0\nOR X1\nOUT Y0\nMCR N0\nEND"), VS,
+                     Stimulus("<none>", []), [], 10_000, [], False, probe=trace)
+    for k, m100 in enumerate((0, 1)):
+        sim.m.now_us = k * 10_000
+        sim.m.bits["X"][1] = 1
+        sim.m.bits["M"][100] = m100
+        run_scan(sim.prog, sim.m)
+    assert trace.on.get(0, set()) == {3}  # X1 closed; MC, Y0 not driven
+    assert trace.on.get(1, set()) == {0, 1, 3, 4}

@@ -79,15 +79,19 @@ def step_out(m: Machine, s) -> None:
 # ------------------------------------------------------------------ master control (3-6)
 
 def mc(m: Machine, s) -> None:
-    m.mc_stack.append(m.bus)
+    """MC Nn moves the rail behind its condition: level n's rail is the outer rail AND the
+    condition. m.mc_stack holds the rail inside each open level, innermost last (RET after a
+    step ladder inside the block goes back to it)."""
     m.bus = m.bus and m.acc
+    m.mc_stack.append(m.bus)
 
 
 def mcr(m: Machine, s) -> None:
-    """MCR Nn closes level n and every deeper one."""
+    """MCR Nn closes level n and every deeper one: the rail is level n-1's again (the
+    left-hand rail after MCR N0)."""
     n = s.ins.operands[0].number
     if n < len(m.mc_stack):
-        m.bus = m.mc_stack[n]
+        m.bus = m.mc_stack[n - 1] if n else True
         del m.mc_stack[n:]
     m.acc = False
 

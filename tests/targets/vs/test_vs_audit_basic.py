@@ -124,6 +124,16 @@ SIMS = [
                  "LD X1\nSET M10\nMCR N0",
                  "0ms X0=1 X1=1\n10ms X2=1\n500ms expect Y20=1 T0:w=5 T250:w=5 C0:w=1 M10=1\n510ms X0=0\n"
                  "520ms expect Y20=0 T0:w=0 T250:w=5 C0:w=1 M10=1", id="3-6-mc-off"),
+    # 3-6: an Off block has no power whatever its contacts: an OR (ORB, MPS branch) of an On
+    # contact does not bring it back; OUT coils and the general timer Off, the retentive timer,
+    # the counter and the SET coil keep; an inner level inside the Off block is Off too
+    pytest.param("LD M100\nMC N0\nLD X0\nOR X1\nOUT Y0\nLD X0\nOR X1\nOUT T0 K100\nLD X0\nOR X1\n"
+                 "OUT T250 K100\nLD X0\nOR X2\nOUT C0 K5\nLD X0\nOR X1\nSET M10\nLD X1\nMPS\nOUT Y1\nMPP\n"
+                 "LD X0\nOR X1\nANB\nOUT Y2\nLD X0\nOR X1\nMC N1\nLD X0\nOR X1\nOUT Y3\nMCR N1\nMCR N0\n"
+                 "LD X1\nOUT Y4",
+                 "0ms M100=1 X1=1\n10ms X2=1\n500ms expect Y0=1 Y1=1 Y2=1 Y3=1 T0:w=5 T250:w=5 C0:w=1 M10=1\n"
+                 "510ms M100=0\n520ms expect Y0=0 Y1=0 Y2=0 Y3=0 Y4=1 T0:w=0 T250:w=5 C0:w=1 M10=1",
+                 id="3-6-mc-off-or"),
     # 3-6: nested levels: the page's 2-level form, N1 inside N0
     pytest.param("LD X0\nMC N0\nLD X1\nOUT Y20\nLD X2\nMC N1\nLD M10\nOUT Y21\nMCR N1\nMCR N0",
                  "0ms X0=1 X1=1 X2=1 M10=1\n0ms expect Y20=1 Y21=1\n10ms X2=0\n10ms expect Y20=1 Y21=0\n"
