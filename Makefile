@@ -35,7 +35,8 @@ demo: $(STAMP)
 	@echo "project built into samples/project/build/; test and coverage reports in out/"
 
 # the benchmarks run in their own venv: the simulator's peers (awlsim, pyrung) are not test
-# dependencies, and pyrung's pyclickplc pins an older pymodbus than mlctool needs
+# dependencies, and pyrung's pyclickplc pins an older pymodbus than mlctool needs; mlctool
+# goes in with its cluster extra (bench/batch_speed.py's Dask LocalCluster figures)
 BENCH_VENV := .venv-bench
 BENCH_BIN := $(BENCH_VENV)/bin
 BENCH_STAMP := $(BENCH_VENV)/.installed
@@ -44,7 +45,7 @@ $(BENCH_STAMP): pyproject.toml
 	$(PY) -m venv $(BENCH_VENV)
 	$(BENCH_BIN)/pip install --quiet --upgrade pip
 	$(BENCH_BIN)/pip install --quiet awlsim pyrung
-	$(BENCH_BIN)/pip install --quiet -e .
+	$(BENCH_BIN)/pip install --quiet -e '.[cluster]'
 	touch $(BENCH_STAMP)
 
 bench: $(BENCH_STAMP)
