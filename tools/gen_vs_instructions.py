@@ -91,7 +91,8 @@ OPERANDS = {
             op("D", "S", "w", ranges={"S": [[900, 999]]})],
     "REF": [op("D", "X Y", ranges={"X": [[0, 0], [8, 8]], "Y": [[0, 0]]}), n(lo=8, hi=16, kinds="K H")],
     "REFF": [n(lo=0, hi=60)],
-    "MTR": [op("S", "X"), op("D1", "Y", "w"), op("D2", BD, "w"), n(lo=2, hi=8, kinds="K H")],
+    # S occupies 8 inputs (6-7 FNC 52 note)
+    "MTR": [op("S", "X", bits=8), op("D1", "Y", "w"), op("D2", BD, "w"), n(lo=2, hi=8, kinds="K H")],
     # D: Y0-Y7 or an interrupt pointer IHC0-IHC7 (I10-I80, target.toml [interrupts]) (6-7 note)
     "DHSCS": [op("S1", WS), op("S2", "C", ranges=HSC),
               op("D", "Y I", "w", ranges={"Y": [[0, 7]], "I": [[10, 80]]})],
@@ -115,10 +116,12 @@ OPERANDS = {
     "RAMP": [op("S1", "D R"), op("S2", "D R"), op("D", "D R", "rw", words=[2, 4]), n(lo=1, hi=32767)],
     "SORT": [op("S", "D R"), n("m1", 1, 32, kinds="K H"), n("m2", 1, 6, kinds="K H"), op("D", "D R", "w"),
              n("n", 1, 6)],
-    "TKY": [op("S", BS), op("D1", WD, "w"), op("D2", BD, "w", bits=11)],
-    "HKY": [op("S", "X"), op("D1", "Y", "w"), op("D2", WD, "w"), op("D3", BD, "w")],
-    "DSW": [op("S", "X"), op("D1", "Y", "w"), op("D2", WD, "w"), n(lo=1, hi=2, kinds="K H")],
-    "SEGL": [op("S", WS), op("D", "Y", "w"), n(lo=0, hi=7, kinds="K H")],
+    # points occupied (6-9 notes): TKY S 10; HKY S 4, D1 4, D3 8; DSW S 4 (8 for n = 2), D1 4;
+    # SEGL D 8 (12 for n = 4-7): the smaller extent where it depends on n
+    "TKY": [op("S", BS, bits=10), op("D1", WD, "w"), op("D2", BD, "w", bits=11)],
+    "HKY": [op("S", "X", bits=4), op("D1", "Y", "w", bits=4), op("D2", WD, "w"), op("D3", BD, "w", bits=8)],
+    "DSW": [op("S", "X", bits=4), op("D1", "Y", "w", bits=4), op("D2", WD, "w"), n(lo=1, hi=2, kinds="K H")],
+    "SEGL": [op("S", WS), op("D", "Y", "w", bits=8), n(lo=0, hi=7, kinds="K H")],
     "ASC": [op("S", "$"), op("D", "T C D R", "w")],
     "PR": [op("S", "T C D R"), op("D", "Y", "w", bits=10)],
     "FROM": [n("m1", 1, 16), n("m2", 0, 32767), op("D", WD, "w"), n(lo=1, hi=32767)],

@@ -158,6 +158,10 @@ CHECKS = [
     # ---- the pages' operand notes beyond kinds and ranges (targets/vs/operand_rules.toml)
     pytest.param("VS3", "REF X10 K8", "REF X10 K16", "E232", id="FNC50-n-by-D"),
     pytest.param("VS3", 'ASC "ABCDEFGH" D0', 'ASC "ABCDEFGHI" D0', "E206", id="FNC76-up-to-8-letters"),
+    pytest.param("VS3", "TKY X360 D0 M0", "TKY X370 D0 M0", "E208", id="FNC70-S-10-points"),
+    pytest.param("VS3", "HKY X374 Y20 D0 M0", "HKY X375 Y20 D0 M0", "E208", id="FNC71-S-4-points"),
+    pytest.param("VS3", "DSW X374 Y374 D0 K1", "DSW X20 Y375 D0 K1", "E208", id="FNC72-D1-4-points"),
+    pytest.param("VS3", "SEGL D0 Y370 K0", "SEGL D0 Y371 K0", "E208", id="FNC74-D-8-points"),
     pytest.param("VS3", "MTR X20 Y20 M0 K2", "MTR X21 Y20 M0 K2", "E230", id="FNC52-S-ends-in-0"),
     pytest.param("VS3", "MTR X20 Y10 M10 K2", "MTR X20 Y10 M15 K2", "E230", id="FNC52-D2-ends-in-0"),
     pytest.param("VS3", "DHSCR K200 C235 C235", "DHSCR K200 C235 C236", "E232", id="FNC54-D-is-S2"),
