@@ -64,6 +64,8 @@ OPERANDS = {
     # 16x16 -> 32-bit product / quotient + remainder in (D, D+1); 32-bit: four words (6-4 notes)
     "MUL": [op("S1", WS), op("S2", WS), op("D", WD, "w", words=[2, 4])],
     "DIV": [op("S1", WS), op("S2", WS), op("D", WD, "w", words=[2, 4])],
+    # BCD: S = 0-9,999 (32-bit 0-99,999,999), "超出...的範圍，則PLC認定為運算錯誤" (6-3)
+    "BCD": [op("S", WS, range=[0, 9999], range32=[0, 99999999]), op("D", WD, "w")],
     "CMP": CMP3, "ZCP": [op("S1", WS), op("S2", WS), op("S", WS), op("D", BD, "w", bits=3)],
     "SMOV": [op("S", WS), n("m1", 1, 4, kinds="K H"), n("m2", 1, 4, kinds="K H"), op("D", WD, "w"),
              n("n", 1, 4, kinds="K H")],
@@ -213,7 +215,8 @@ OPS = {
 }
 CMP_OPS = {"=": "cmp_eq", ">": "cmp_gt", "<": "cmp_lt", "<>": "cmp_ne", "<=": "cmp_le", ">=": "cmp_ge"}
 # operand sources other than the default (kinds of MUL/DIV from 5-1/5-2, only D's words from the note)
-SOURCES = {"TBL": "page note (S1 table Q0-Q31 or name, S2 4 words, D1 Y0-Y3, D2 Y0-Y7)", "MUL": GENERAL, "DIV": GENERAL}
+SOURCES = {"TBL": "page note (S1 table Q0-Q31 or name, S2 4 words, D1 Y0-Y3, D2 Y0-Y7)", "MUL": GENERAL, "DIV": GENERAL,
+           "BCD": GENERAL}
 # Cross-operand and program-wide rules, checked generically (mlctool/check/resolve.py
 # check_constraints, mlctool/check/blocks.py): "kn4" every Kn operand is K4 (CRC 6-16);
 # "disjoint-blocks" S1, S2 and D blocks of n may not overlap (BK+/BK- 6-17, W240);
@@ -232,6 +235,8 @@ CONSTRAINTS = {
     "WSFR": ["n2-within-n1", "same-kn"], "WSFL": ["n2-within-n1", "same-kn"],
     "SMOV": ["smov-digits"], "BMOV": ["same-kn-bits"],
     **{r: ["timer-preset"] for r in ("TFT", "TFH", "TFK")},  # S outside 0-32767 is 0 (6-15, W221)
+    # operation errors a constant shows already (E206): DIV by K0 (6-4), BIN of a non-BCD H (6-3)
+    "DIV": ["nonzero-divisor"], "BIN": ["bcd-source"],
     "HOUR": ["latched:D1"],
 }
 ONCE = {"MTR", "HKY", "DSW", "SEGL", "PR", "SORT", "DHSCT", "DABS"}  # "只能使用一次" (vs_reading.md 3)

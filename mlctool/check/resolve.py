@@ -528,6 +528,15 @@ class _Resolver:
             if rule in rules and rng and v is not None and not rng[0] <= v <= rng[1]:
                 self.report(args[1], "W221", f"preset {args[1].text} is outside K{rng[0]}-K{rng[1]}: "
                             f"the PLC takes it as K{taken} ({spec.section})")
+        if "nonzero-divisor" in rules and const(1) == 0:  # VS 6-4 DIV: "當除數等于 0時，PLC認定為運算錯誤"
+            self.report(args[1], "E206", f"{spec.mnemonic} by {args[1].text}: a divisor of 0 is an operation "
+                        f"error, the CPU does not divide ({spec.section})")
+            ok = False
+        v = const(0)
+        if "bcd-source" in rules and v is not None and any((v >> (4 * k)) & 0xF > 9 for k in range(spec.width // 4)):
+            self.report(args[0], "E206", f"{spec.mnemonic} {args[0].text}: not a BCD value, an operation error "
+                        f"({spec.section})")
+            ok = False
         if "n2-within-n1" in rules:  # SFTR/SFTL/WSFR/WSFL n2 = 1-n1
             bound(3, 2, "<=")
         if "smov-digits" in rules:  # SMOV m2 = 1-m1, n = m2-4

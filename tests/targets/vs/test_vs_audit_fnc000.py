@@ -75,6 +75,14 @@ CHECKS = [
     pytest.param("LD X20\nDROL D0 K32\nLD X21\nROL D2 K0\nEND", [], id="FNC31-n-range-32"),
     pytest.param("LD X20\nRCR D0 K17\nEND", [("E206", 2)], id="FNC32-n-range"),
     pytest.param("LD X20\nDRCL D0 K33\nEND", [("E206", 2)], id="FNC33-n-range"),
+    # 6-3 BCD: S outside 0-9,999 (32-bit 0-99,999,999) is an operation error: a constant is refused
+    pytest.param("LD X20\nBCD K10000 D0\nDBCD K100000000 D2\nBCD K9999 D4\nDBCD K99999999 D6\nEND",
+                 [("E206", 2), ("E206", 3)], id="FNC18-s-range"),
+    # 6-3 BIN: a source that is not BCD is an operation error: a constant one is refused
+    pytest.param("LD X20\nBIN H12A4 D0\nBIN K10 D1\nBIN H1234 D2\nEND", [("E206", 2), ("E206", 3)], id="FNC19-bcd-source"),
+    # 6-4 DIV: "當除數等于 0時，PLC認定為運算錯誤": a constant K0 divisor is refused
+    pytest.param("LD X20\nDIV D0 K0 D2\nDDIV D0 K0 D4\nDIV D0 K3 D8\nEND", [("E206", 2), ("E206", 3)],
+                 id="FNC23-divisor-zero"),
     # 6-5: "D指定為KnY,KnM,KnS時，16位元指令只能指定K4Y,K4M,K4S，32位元指令只能指定K8Y,K8M,K8S"
     pytest.param("LD X20\nROR K2Y0 K1\nDROL K4M0 K1\nRCR K4S0 K1\nDRCL K8Y0 K1\nEND", [("E220", 2), ("E220", 3)],
                  id="FNC30-whole-word-kn"),
