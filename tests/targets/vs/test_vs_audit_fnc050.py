@@ -338,6 +338,9 @@ RUNS = [
     # 6-12 FNC 117 DEVAL: a result below 2^-126 turns M9021 On
     pytest.param("LD X0\nDEVAL D0 D100\n", "0ms D0:h=H4531 D1:h=H342D D2:h=H0035 X0=1\n"
                  "0ms expect M9021=1 M9020=0\n", False, id="FNC117-borrow-flag"),
+    # 6-7 FNC 57 PLSY: S2 changed while running is ignored ("S2之變更則視為無效")
+    pytest.param("LD X20\nPLSY K1000 D0 Y0\n", "0ms D0=100 X20=1\n50ms D0=1000\n"
+                 "200ms expect D9352:d=100 M9342=1\n", False, id="FNC57-S2-read-at-start"),
     # 6-7 FNC 59 PLSR: S3 above 32000 ms is 32000 (1000 Hz / 32 s: 31 Hz after 1 s), below 0 is 0
     pytest.param("LD X20\nDPLSR K1000 K30000 D0 Y0\nLD X21\nPLSR K1000 K30000 D2 Y1\n",
                  "0ms D0:d=40000 D2=-5 X20=1 X21=1\n0ms expect D9370:d=1000\n1s expect D9350:d=31\n",
