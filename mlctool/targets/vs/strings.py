@@ -92,7 +92,13 @@ def _concat(m: Machine, s) -> None:
 
 
 def _len(m: Machine, s) -> None:
-    s.ops[1].set(m, len(read_string(m, s.ops[0])))
+    """LEN S D: the characters before the 00H terminator (FNC 203); more than 32767 (an R
+    string can hold 48000) is the page's operation error, D unchanged."""
+    n = len(read_string(m, s.ops[0]))
+    if n > 32767:
+        op_error(m, s, f"the string has {n} characters, more than 32767")
+        return
+    s.ops[1].set(m, n)
 
 
 def _side(right: bool):

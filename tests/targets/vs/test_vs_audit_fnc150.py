@@ -319,6 +319,9 @@ RUNS = [
                  id="FNC202-same-device-op-error"),
     pytest.param('LD X0\n$MOV "I LIKE VIGOR" D0\nLEN D0 D30\n', "0ms X0=1\n0ms expect D30=12",
                  id="FNC203-length"),
+    pytest.param("LD M9000\nMOV K0 Z0\nFOR K40\nLD M9000\nFMOV H4141 R0Z0 K512\nADD Z0 K512 Z0\nNEXT\n"
+                 "LD M9000\nMOV K0 R16384\nLD X0\nLEN R0 D0\nLEN R16385 D1\n",
+                 "0ms D0=5 X0=1\n0ms expect D0=5 D1=8190 " + OP_ERROR, id="FNC203-over-32767-characters-op-error"),
     pytest.param("LD X0\nLEN R23999 D0\n", "0ms R23999:h=H4141 X0=1\n0ms expect D0=0 " + OP_ERROR,
                  id="FNC203-no-terminator-op-error"),
     pytest.param('LD X0\n$MOV "I LIKE VIGOR" D0\nRIGHT D0 D40 K5\nRIGHT D0 D50 K0\n',
