@@ -237,7 +237,7 @@ CONSTRAINTS = {
     **{r: ["timer-preset"] for r in ("TFT", "TFH", "TFK")},  # S outside 0-32767 is 0 (6-15, W221)
     # operation errors a constant shows already (E206): DIV by K0 (6-4), BIN of a non-BCD H (6-3)
     "DIV": ["nonzero-divisor"], "BIN": ["bcd-source"],
-    "HOUR": ["latched:D1"],
+    "HOUR": ["latched:D1"], "DHSCT": ["rows:S1:m:3"],  # m rows of 3 registers from S1 (6-21, E208)
 }
 ONCE = {"MTR", "HKY", "DSW", "SEGL", "PR", "SORT", "DHSCT", "DABS"}  # "只能使用一次" (vs_reading.md 3)
 FREE = {"SRET", "IRET", "EI", "DI", "FEND", "FOR", "NEXT", "WDT"}

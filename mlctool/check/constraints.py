@@ -6,6 +6,8 @@ ZRST pair rules of resolve.py), each from a manual page's note:
   (VS BK+/BK-, 6-17: overlapping blocks are an operation error at run time) -> W240;
 - "no-index-hhsc": an operand naming a hardware counter register (target.toml
   [hardware_counters]) is not index-modified (VS DHHCMV, 6-16) -> E209;
+- "rows:TABLE:COUNT:WORDS": the operand TABLE holds COUNT (a constant operand) rows of WORDS
+  registers, all within its device (VS DHSCT S1, m rows of 3, 6-21) -> E208;
 - "latched:ROLE": the operand ROLE lies in a latched area of its device (devices.toml
   `latched = true`), else its value is lost at power-off (VS HOUR D1, 6-15) -> W241.
 
@@ -43,7 +45,28 @@ def constraint_problems(t: Target, spec: InstrSpec, ops: list[Operand], texts: l
     for c in spec.constraints:
         if c.startswith("latched:"):
             out += _not_latched(t, spec, ops, texts, c.split(":", 1)[1])
+        elif c.startswith("rows:"):
+            out += _rows_past_the_end(t, spec, ops, texts, *c.split(":")[1:])
     return out
+
+
+def _rows_past_the_end(t: Target, spec: InstrSpec, ops: list[Operand], texts: list[str],
+                       table: str, rows: str, words: str) -> list[tuple[int, str, str]]:
+    roles = [o.role for o in spec.operands]
+    if table not in roles or rows not in roles:
+        return []
+    k, r = roles.index(table), roles.index(rows)
+    if k >= len(ops) or r >= len(ops):
+        return []
+    tab, count = ops[k], ops[r]
+    dev = t.devices.get(tab.device) if not tab.is_const else None
+    if dev is None or tab.index or count.kind not in ("K", "H") or not isinstance(count.value, int):
+        return []
+    last = tab.number + count.value * int(words) - 1
+    if last <= dev.hi:
+        return []
+    return [(k, "E208", f"{texts[k]}: a table of {count.value} rows of {words} registers would occupy "
+             f"{dev.name_of(tab.number)}-{dev.name_of(last)}, past {dev.name_of(dev.hi)} ({spec.section})")]
 
 
 def _not_latched(t: Target, spec: InstrSpec, ops: list[Operand], texts: list[str], role: str

@@ -83,6 +83,7 @@ STATIC = [
     pytest.param("DHSCT D0 K16 C235 Y4 K16", "DHSCT D0 K17 C235 Y4 K3", "E206", 2, id="FNC280-m-1-16"),
     pytest.param("DHSCT D0 K6 C235 Y4 K1", "DHSCT D0 K6 C235 Y4 K0", "E206", 2, id="FNC280-n-1-16"),
     pytest.param("DHSCT D0 K6 C255 Y4 K3", "DHSCT D0 K6 C234 Y4 K3", "E205", 2, id="FNC280-S2-C235-C255"),
+    pytest.param("DHSCT R23952 K16 C235 Y4 K3", "DHSCT R23953 K16 C235 Y4 K3", "E208", 2, id="FNC280-S1-3m-registers"),
     pytest.param("DHSCT D0 K6 C235 Y4 K3", "DHSCT D0 K6 C235 Y4 K3;LD X1;DHSCT D20 K6 C236 Y10 K3",
                  "E904", 4, id="FNC280-once"),
     pytest.param("DHSCT D0 K6 C235 Y4 K3", "HSCT D0 K6 C235 Y4 K3", "E201", 2, id="FNC280-32-bit-only"),
