@@ -238,6 +238,10 @@ CONSTRAINTS = {
     # operation errors a constant shows already (E206): DIV by K0 (6-4), BIN of a non-BCD H (6-3)
     "DIV": ["nonzero-divisor"], "BIN": ["bcd-source"],
     "HOUR": ["latched:D1"], "DHSCT": ["rows:S1:m:3"],  # m rows of 3 registers from S1 (6-21, E208)
+    # S1, S2 and D occupy n points (2n registers in the 32-bit form; BKCMP's D n bits) (6-17)
+    **{r: ["disjoint-blocks", "rows:S1:n:1:width", "rows:S2:n:1:width", "rows:D:n:1:width"] for r in ("BK+", "BK-")},
+    **{r: ["rows:S1:n:1:width", "rows:S2:n:1:width", "rows:D:n:1:width"]
+       for r in ("BKCMP=", "BKCMP>", "BKCMP<", "BKCMP<>", "BKCMP<=", "BKCMP>=")},
 }
 ONCE = {"MTR", "HKY", "DSW", "SEGL", "PR", "SORT", "DHSCT", "DABS"}  # "只能使用一次" (vs_reading.md 3)
 FREE = {"SRET", "IRET", "EI", "DI", "FEND", "FOR", "NEXT", "WDT"}

@@ -6,8 +6,9 @@ ZRST pair rules of resolve.py), each from a manual page's note:
   (VS BK+/BK-, 6-17: overlapping blocks are an operation error at run time) -> W240;
 - "no-index-hhsc": an operand naming a hardware counter register (target.toml
   [hardware_counters]) is not index-modified (VS DHHCMV, 6-16) -> E209;
-- "rows:TABLE:COUNT:WORDS": the operand TABLE holds COUNT (a constant operand) rows of WORDS
-  registers, all within its device (VS DHSCT S1, m rows of 3, 6-21) -> E208;
+- "rows:TABLE:COUNT:WORDS[:width]": the operand TABLE holds COUNT (a constant operand) rows
+  of WORDS registers (bits for a bit device; ":width" doubles word rows in the 32-bit form),
+  all within its device (VS DHSCT S1 m rows of 3, 6-21; BK+ ... blocks of n, 6-17) -> E208;
 - "latched:ROLE": the operand ROLE lies in a latched area of its device (devices.toml
   `latched = true`), else its value is lost at power-off (VS HOUR D1, 6-15) -> W241.
 
@@ -51,7 +52,7 @@ def constraint_problems(t: Target, spec: InstrSpec, ops: list[Operand], texts: l
 
 
 def _rows_past_the_end(t: Target, spec: InstrSpec, ops: list[Operand], texts: list[str],
-                       table: str, rows: str, words: str) -> list[tuple[int, str, str]]:
+                       table: str, rows: str, words: str, width: str = "") -> list[tuple[int, str, str]]:
     roles = [o.role for o in spec.operands]
     if table not in roles or rows not in roles:
         return []
@@ -60,12 +61,20 @@ def _rows_past_the_end(t: Target, spec: InstrSpec, ops: list[Operand], texts: li
         return []
     tab, count = ops[k], ops[r]
     dev = t.devices.get(tab.device) if not tab.is_const else None
-    if dev is None or tab.index or count.kind not in ("K", "H") or not isinstance(count.value, int):
+    if dev is None or tab.index or tab.is_group or count.kind not in ("K", "H") or not isinstance(count.value, int):
         return []
-    last = tab.number + count.value * int(words) - 1
+    size = int(words) * (2 if width and spec.width == 32 and dev.kind != "bit" else 1)
+    last = tab.number + count.value * size - 1
+    if count.value < 1:
+        return []
+    what = "bits" if dev.kind == "bit" else "registers"
     if last <= dev.hi:
-        return []
-    return [(k, "E208", f"{texts[k]}: a table of {count.value} rows of {words} registers would occupy "
+        gap = next((a for a in dev.areas if a.write == "absent" and a.lo <= last and tab.number <= a.hi), None)
+        if gap is None:
+            return []
+        return [(k, "E205", f"{texts[k]}: {count.value} x {size} {what} would reach into "
+                 f"{dev.name_of(gap.lo)}-{dev.name_of(gap.hi)}, which do not exist ({spec.section})")]
+    return [(k, "E208", f"{texts[k]}: {count.value} x {size} {what} would occupy "
              f"{dev.name_of(tab.number)}-{dev.name_of(last)}, past {dev.name_of(dev.hi)} ({spec.section})")]
 
 
