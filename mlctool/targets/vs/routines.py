@@ -264,8 +264,9 @@ def counter(m: Machine, s) -> None:
     the contact hold. A value at or above the preset that did not come from counting (a MOV
     into the counter, a preset lowered below it) changes nothing until the next count input,
     which turns the contact On and makes the value the preset (2-6-1 "在下次計數輸入信號ON時，
-    則接點立即變成ON，同時現在值內容變成與設定值相同"). The contact is set at the end of the scan
-    as the engine's counters are.
+    則接點立即變成ON，同時現在值內容變成與設定值相同"). DECISION: the contact changes when OUT C
+    executes ("立即", as the 32-bit counters' and FX's), so a contact after the coil sees it in
+    the same scan (NC5's counters set theirs at the end of the scan).
 
     32-bit C200-C234: up, or down while M9200+n is On; the value goes on past the preset and
     wraps at +-2^31. The contact turns On when a count up reaches the preset (preset-1 ->
@@ -300,8 +301,8 @@ def counter(m: Machine, s) -> None:
     v = m.cval[n]
     m.cval[n] = v + 1 if v < preset else preset
     m.writer[("C", n)] = m.pc
-    if m.cval[n] >= preset and not m.bits["C"][n]:
-        m.c_pending[n] = 1
+    if m.cval[n] >= preset:
+        m.bits["C"][n] = 1
 
 
 # ------------------------------------------------------------------ rotation (6-5)

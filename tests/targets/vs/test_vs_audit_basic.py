@@ -181,6 +181,10 @@ SIMS = [
     pytest.param("LD X0\nMOV K20 C0\nLD X1\nOUT C0 K10",
                  "0ms X0=1\n10ms X0=0\n30ms expect C0=0 C0:w=20\n40ms X1=1\n40ms expect C0=1 C0:w=10",
                  id="2-6-1-mov-above-preset"),
+    # 2-6-1 "立即": DECISION: the contact changes when OUT C executes; a contact after the coil
+    # sees it in the same scan, one before it the next scan
+    pytest.param("LD C0\nOUT Y0\nLD X1\nOUT C0 K1\nLD C0\nOUT Y1", "10ms X1=1\n10ms expect C0=1 Y1=1 Y0=0\n20ms expect Y0=1",
+                 id="2-6-1-contact-at-once"),
     # 2-6-2: "當使用DMOV指令將一個大于設定值的數值傳送到現在值寄存器時，在下回計數輸入信號ON時會計數
     # 但接點不會變化"
     pytest.param("LD X0\nDMOV K20 C200\nLD X1\nOUT C200 K10",
