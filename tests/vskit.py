@@ -7,12 +7,22 @@ import tempfile
 from pathlib import Path
 
 from mlctool.asm import program_from_paths
+from mlctool.check import check_texts
 from mlctool.program import Image
 from mlctool.sim.run import RunResult, Simulation, plan_scans
 from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.syntax.source import decode
 from mlctool.targetapi import load_target
 
 VS = load_target("vs")
+
+
+def check_codes(il: str, model: str | None = "VS3", severities: tuple[str, ...] = ()) -> list[tuple[str, int]]:
+    """(code, line) of the diagnostics `mlc check --target vs [--model]` gives `il` (only those
+    of `severities` when given)."""
+    src, _ = decode("t.il", (il.strip() + "\n").encode())
+    return [(d.code, d.span.line) for d in check_texts([src], load_target("vs", model)).diagnostics
+            if not severities or d.severity in severities]
 
 
 def image_of(il: str) -> Image | None:

@@ -12,21 +12,6 @@ from __future__ import annotations
 import pytest
 
 import vskit
-from mlctool.check import check_texts
-from mlctool.syntax.source import decode
-from mlctool.targetapi import load_target
-
-
-def diagnostics(il: str, model: str = "VS3") -> list[tuple[str, int]]:
-    src, _ = decode("t.il", (il.strip() + "\n").encode())
-    return [(d.code, d.span.line) for d in check_texts([src], load_target("vs", model)).diagnostics]
-
-
-def errors_and_warnings(il: str) -> list[tuple[str, int]]:
-    src, _ = decode("t.il", (il.strip() + "\n").encode())
-    return [(d.code, d.span.line) for d in check_texts([src], load_target("vs")).diagnostics
-            if d.severity in ("error", "warning")]
-
 
 NINE_ANB = "".join(f"LD X{k}\n" for k in ("0", "1", "2", "3", "4", "5", "6", "7", "10", "11")) + "ANB\n" * 9
 TWELVE_MPS = "LD X0\n" + "MPS\n" * 12 + "OUT Y0\n" + "MPP\n" * 12
@@ -95,11 +80,11 @@ CHECKS = [
 @pytest.mark.parametrize("il, expected", CHECKS)
 def test_check_rule(il, expected):
     if expected:
-        found = diagnostics(il)
+        found = vskit.check_codes(il)
         missing = [e for e in expected if e not in found]
         assert not missing, (missing, found)
     else:
-        assert errors_and_warnings(il) == []
+        assert vskit.check_codes(il, None, ("error", "warning")) == []
 
 
 # (program, stimulus with expectations); END is added

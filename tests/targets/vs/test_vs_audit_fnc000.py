@@ -11,21 +11,6 @@ from __future__ import annotations
 import pytest
 
 import vskit
-from mlctool.check import check_texts
-from mlctool.syntax.source import decode
-from mlctool.targetapi import load_target
-
-
-def diagnostics(il: str, model: str = "VS3") -> list[tuple[str, int]]:
-    src, _ = decode("t.il", (il.strip() + "\n").encode())
-    return [(d.code, d.span.line) for d in check_texts([src], load_target("vs", model)).diagnostics]
-
-
-def errors(il: str) -> list[tuple[str, int]]:
-    src, _ = decode("t.il", (il.strip() + "\n").encode())
-    return [(d.code, d.span.line) for d in check_texts([src], load_target("vs")).diagnostics
-            if d.severity == "error"]
-
 
 # (program, the diagnostics it must give as (code, line); [] = no error at all)
 CHECKS = [
@@ -135,12 +120,12 @@ CHECKS = [
 
 @pytest.mark.parametrize("il, expected", CHECKS)
 def test_check_rule(il, expected):
-    found = diagnostics(il)
+    found = vskit.check_codes(il)
     if expected:
         missing = [e for e in expected if e not in found]
         assert not missing, (missing, found)
     else:
-        assert errors(il) == []
+        assert vskit.check_codes(il, None, ("error",)) == []
 
 
 # (program, stimulus with expectations); the program's END is added

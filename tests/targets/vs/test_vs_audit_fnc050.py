@@ -7,16 +7,8 @@ from __future__ import annotations
 
 import pytest
 
-from mlctool.check import check_texts
-from mlctool.syntax.source import decode
-from mlctool.targetapi import load_target
+from vskit import check_codes as found
 from vskit import run
-
-
-def found(il: str, model: str = "VS3") -> list[tuple[str, int]]:
-    """(code, line) of every error and warning of `il` checked for `model`."""
-    src, _ = decode("t.il", il.encode())
-    return [(d.code, d.span.line) for d in check_texts([src], load_target("vs", model)).diagnostics]
 
 
 def program(*lines: str) -> str:
