@@ -10,14 +10,6 @@ from __future__ import annotations
 import pytest
 
 import vskit
-from mlctool.check import check_texts
-from mlctool.syntax.source import decode
-from mlctool.targetapi import load_target
-
-
-def diagnostics(il: str, model: str = "VS3") -> list[tuple[str, int]]:
-    src, _ = decode("t.il", il.encode())
-    return [(d.code, d.span.line) for d in check_texts([src], load_target("vs", model)).diagnostics]
 
 
 def program(lines: str) -> str:
@@ -123,9 +115,9 @@ STATIC = [
 @pytest.mark.parametrize("good, bad, code, line", STATIC)
 def test_static_rule(good, bad, code, line):
     model = "VS1" if code == "E901" else "VS3"
-    clean = diagnostics(program(good), "VS3")
+    clean = vskit.check_codes(program(good), "VS3")
     assert not [c for c, _ in clean if c.startswith("E") or c == code], clean
-    found = diagnostics(program(bad), model)
+    found = vskit.check_codes(program(bad), model)
     assert (code, line) in found, found
 
 
