@@ -24,6 +24,7 @@ from mlctool.syntax.operands import (
     CJK_RANGES,
     SYMBOL,
     WIDE_SYMBOL,
+    LazyPattern,
     OperandSyntaxError,
     name_width,
     parse_operand,
@@ -32,7 +33,7 @@ from mlctool.syntax.parser import ParsedFile
 from mlctool.targetapi.model import Target
 
 _P = re.compile(r"P([0-9]+)", re.IGNORECASE)
-NAME = re.compile(f"[A-Za-z_{CJK_RANGES}][A-Za-z0-9_{CJK_RANGES}]*")
+NAME = LazyPattern(f"[A-Za-z_{CJK_RANGES}][A-Za-z0-9_{CJK_RANGES}]*")
 
 
 def cjk_width(target: Target) -> int:
@@ -49,7 +50,8 @@ def is_symbol_name(text: str, target: Target) -> bool:
 def restrict_names(parsed: ParsedFile, target: Target) -> ParsedFile:
     """On a target without ideographs in names, a statement holding one (outside a "string")
     is a syntax error at that character, and is dropped like any line that does not parse."""
-    if cjk_width(target) or not CJK_CHAR.search("\n".join(parsed.lines)):
+    text = "\n".join(parsed.lines)
+    if cjk_width(target) or text.isascii() or not CJK_CHAR.search(text):
         return parsed  # (a file without ideographs, the usual case: one scan of its lines)
     kept = []
     for st in parsed.statements:

@@ -49,6 +49,8 @@ class _Resolver:
         self.cache: dict = {}  # (mnemonic, operand texts) -> resolution of the line
         self.operand_cache: dict = {}  # (instruction form, position, text) -> (ok, problems)
         self.legal_spans: dict = {}  # (instruction form, position, kind) -> numbers passing
+        self.plain_forms: dict = {}  # id(instruction form) -> plain_form()
+        self.line_cache: dict = {}  # line text -> (cache entry, operand texts as the Instr keeps them)
         self._problems: list = []
         self.syntax = target.operand_syntax
         self.names = names or {}  # named labels of this file -> P number (check/labels.py)
@@ -62,13 +64,48 @@ class _Resolver:
 
     # -- statements
     def run(self) -> tuple[Module, list[Diagnostic]]:
+        # The loop of instruction() for the usual line (resolved without a word, no step
+        # number written) is spelled out here with locals: it runs once per line.
+        # While no symbol is defined, a line's text alone fixes its resolution: the text is
+        # the key of line_cache, which also keeps the operand texts the instruction records.
+        cache = self.cache
+        by_text = self.line_cache
+        lines = self.p.lines
+        symbols = self.module.symbols  # filled in place by .define as the lines go
+        instrs = self.module.instrs
+        path = self.path
         for st in self.p.statements:
-            if st.kind == "directive":
-                self.directive(st)
-            elif st.kind == "label":
-                self.label(st, st.name)
+            if st.kind != "instr":
+                if st.kind == "directive":
+                    self.directive(st)
+                else:
+                    self.label(st, st.name)
+                continue
+            if symbols:
+                written = tuple([w.text for w in st.operands])
+                key = (st.name.text.upper(), tuple([symbols.get(t.upper(), t) for t in written]))
+                res = cache.get(key)
+                if res is None:
+                    res = cache[key] = self.resolved(*key)
+                n = len(res[1])
+                texts = written if len(written) == n else written[:n]
             else:
-                self.instruction(st)
+                hit = by_text.get(lines[st.line - 1])
+                if hit is None:
+                    written = tuple([w.text for w in st.operands])
+                    key = (st.name.text.upper(), written)
+                    res = cache.get(key)
+                    if res is None:
+                        res = cache[key] = self.resolved(*key)
+                    n = len(res[1])
+                    hit = by_text[lines[st.line - 1]] = (res, written if len(written) == n else written[:n])
+                res, texts = hit
+            spec, operands, table, ok, problems, steps = res
+            if problems or not ok or spec is None or st.step is not None:
+                self.place(st, tuple([w.text for w in st.operands]), res)
+                continue
+            instrs.append(Instr(spec, operands, texts, steps, self.addr, path, st.line, st.name.col, table))
+            self.addr += steps
         return self.module, self.diags
 
     def directive(self, st: Statement) -> None:
@@ -150,15 +187,26 @@ class _Resolver:
     def instruction(self, st: Statement) -> None:
         # Resolution depends only on the mnemonic and the operand texts (after symbol
         # substitution), so identical lines are resolved once: large programs repeat a lot.
+        # (run() has this inline for speed.)
         symbols = self.module.symbols
         written = tuple([w.text for w in st.operands])
         texts = tuple([symbols.get(t.upper(), t) for t in written]) if symbols else written
         key = (st.name.text.upper(), texts)
         res = self.cache.get(key)
         if res is None:
-            self._problems = []
-            res = self.cache[key] = (*self.resolve_line(*key), tuple(self._problems))
-        spec, operands, table, ok, problems = res
+            res = self.cache[key] = self.resolved(*key)
+        self.place(st, written, res)
+
+    def resolved(self, name: str, texts: tuple[str, ...]) -> tuple:
+        """What the cache keeps of a line: (spec, operands, table, ok, problems, steps)."""
+        self._problems = []
+        spec, operands, table, ok = self.resolve_line(name, texts)
+        steps = self.steps(spec, operands) if ok and spec is not None else 0
+        return spec, operands, table, ok, tuple(self._problems), steps
+
+    def place(self, st: Statement, written: tuple[str, ...], res: tuple) -> None:
+        """A resolved line into the module: its problems at its words, then the instruction."""
+        spec, operands, table, ok, problems, steps = res
         for idx, code, msg, notes in problems:
             self.err(st.line, st.name if idx < 0 else st.operands[idx], code, msg, *notes)
         if spec is None:
@@ -167,7 +215,7 @@ class _Resolver:
             return
         if ok:
             n = len(spec.operands)
-            self.emit(st, spec, operands, written if len(written) == n else written[:n], table)
+            self.emit(st, spec, operands, written if len(written) == n else written[:n], table, steps)
         else:
             self.emit_invalid(st, spec)
 
@@ -192,6 +240,10 @@ class _Resolver:
                             *notes)
             return None, (), (), False
         spec = variants[0] if len(variants) == 1 else self.choose_variant(variants, texts)
+        if len(texts) == len(spec.operands) and self.plain_form(spec):
+            operands = self.plainly_resolved(spec, texts)
+            if operands is not None:
+                return spec, operands, (), True
         n = len(spec.operands)
         if len(texts) != n and not (spec.table and n < len(texts) <= n + spec.table):
             form = " ".join([spec.mnemonic] + [o.role for o in spec.operands])
@@ -253,6 +305,33 @@ class _Resolver:
         ok = self.check_constraints(spec, operands, args) and ok
         table = tuple(int(o.value) for o in operands[n:]) + (0,) * (spec.table - len(operands[n:])) if spec.table else ()
         return spec, tuple(operands[:n]), table, ok
+
+    def plain_form(self, spec: InstrSpec) -> bool:
+        """An instruction form whose operands are checked one by one: no table, no rule
+        across operands, no label or interrupt pointers (those read the names)."""
+        plain = self.plain_forms.get(id(spec))
+        if plain is None:
+            plain = self.plain_forms[id(spec)] = not (
+                spec.table or spec.constraints
+                or any(o.word_range_of or "P" in o.kinds or "I" in o.kinds for o in spec.operands))
+        return plain
+
+    def plainly_resolved(self, spec: InstrSpec, texts: tuple[str, ...]) -> tuple[Operand, ...] | None:
+        """The operands of a line of a plain form, when each one is plainly legal or was
+        checked before without a word (operand_cache); None: resolve_line's whole way, which
+        finds the same operands and says what is wrong (tests/check/test_check_fastpath.py)."""
+        operands = []
+        for k, text in enumerate(texts):
+            try:
+                op = parse_operand(text, self.syntax)
+            except OperandSyntaxError:
+                return None
+            if not self.plainly_legal(spec, k, spec.operands[k], op):
+                hit = self.operand_cache.get((id(spec), k, text))
+                if hit is None or not hit[0] or hit[1]:
+                    return None
+            operands.append(op)
+        return tuple(operands)
 
     def choose_variant(self, variants: tuple[InstrSpec, ...], texts: tuple[str, ...]) -> InstrSpec:
         try:
@@ -554,10 +633,14 @@ class _Resolver:
                 ok = False
         return ok
 
-    def emit(self, st: Statement, spec: InstrSpec, ops, texts, table=()) -> None:
-        steps = spec.steps
+    def steps(self, spec: InstrSpec, ops) -> int:
         if spec.short_steps and ops or spec.op in self.step_rule_ops:
-            steps = self.t.instr_steps(spec, ops)
+            return self.t.instr_steps(spec, ops)
+        return spec.steps
+
+    def emit(self, st: Statement, spec: InstrSpec, ops, texts, table=(), steps: int | None = None) -> None:
+        if steps is None:
+            steps = self.steps(spec, ops)
         if st.step is not None and int(st.step.text) != self.addr:
             self.err(st.line, st.step, "W107", f"step number {st.step.text} but the computed address is {self.addr}")
         col = st.name.col

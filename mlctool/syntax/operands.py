@@ -240,8 +240,37 @@ SYMBOL = re.compile(r"[A-Za-z_][A-Za-z0-9_.]*")
 # stand in grammars/il.lark's MNEMONIC and OPERAND (tests/check/test_cjk_names.py compares them).
 # Only targets whose target.toml `named_labels` has `cjk_width` accept them (check/labels.py).
 CJK_RANGES = r"\u3400-\u4DBF\u4E00-\u9FFF\uF900-\uFAFF"
-CJK_CHAR = re.compile(f"[{CJK_RANGES}]")
-WIDE_SYMBOL = re.compile(f"[A-Za-z_{CJK_RANGES}][A-Za-z0-9_.{CJK_RANGES}]*")
+
+
+class LazyPattern:
+    """A regex compiled when first used. A class of the Han ranges takes ~2 ms to compile
+    (re builds its 64k-entry map in Python), at every start of mlc; most runs read ASCII
+    sources only and never use one."""
+
+    __slots__ = ("_source", "_compiled")
+
+    def __init__(self, source: str):
+        self._source = source
+        self._compiled: re.Pattern | None = None
+
+    @property
+    def pattern(self) -> re.Pattern:
+        if self._compiled is None:
+            self._compiled = re.compile(self._source)
+        return self._compiled
+
+    def search(self, text: str, *args) -> re.Match | None:
+        return self.pattern.search(text, *args)
+
+    def fullmatch(self, text: str, *args) -> re.Match | None:
+        return self.pattern.fullmatch(text, *args)
+
+    def findall(self, text: str, *args) -> list:
+        return self.pattern.findall(text, *args)
+
+
+CJK_CHAR = LazyPattern(f"[{CJK_RANGES}]")
+WIDE_SYMBOL = LazyPattern(f"[A-Za-z_{CJK_RANGES}][A-Za-z0-9_.{CJK_RANGES}]*")
 
 
 def name_width(text: str, cjk_width: int) -> int:

@@ -14,6 +14,7 @@ from functools import cache
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.limits import clip, long_number, too_long_message
+from mlctool.syntax.operands import CJK_RANGES
 from mlctool.syntax.source import SourceText
 from mlctool.syntax.statements import Statement, Word, grammar_text
 
@@ -46,7 +47,7 @@ _TERMINAL = re.compile(r"^(?P<name>[A-Z_]+):\s*/(?P<re>(?:\\.|[^/\\\n])*)/", re.
 
 
 @cache
-def _fast_line():
+def _fast_line(ascii_only: bool = False):
     """A regex for the common line shape, built from the grammar's own terminal definitions.
 
     Lark's LALR loop costs ~5 us per token, and importing lark and loading its tables about
@@ -54,8 +55,13 @@ def _fast_line():
     OPERAND...`, which these regexes recognise directly. Every other line (errors, odd forms
     such as `0000P10:`) goes through lark (mlctool/syntax/lark_parser.py).
     tests/syntax/test_parser.py checks that both give the same statements.
+
+    `ascii_only`: the regexes for a text of ASCII only, without the Han ranges of the names
+    (which cannot match there): each class with them takes ~2 ms to compile, at every start.
     """
     t = {m["name"]: m["re"] for m in _TERMINAL.finditer(grammar_text())}
+    if ascii_only:
+        t = {name: rx.replace(CJK_RANGES, "") for name, rx in t.items()}
     head = rf"(?:{t['SEP']})?(?:(?P<step>{t['STEP']})(?:{t['SEP']}))?"
     ops = rf"(?P<ops>(?:(?:{t['SEP']})(?:{t['OPERAND']}))*)"
     tail = rf"(?:{t['SEP']})?(?:{t['COMMENT']})?"
@@ -67,12 +73,22 @@ def _fast_line():
     return instr, label, directive, re.compile(t["OPERAND"]).finditer, blank
 
 
-def parse(src: SourceText, fast: bool = True) -> ParsedFile:
+def parse(src: SourceText, fast: bool = True, memo: dict | None = None) -> ParsedFile:
+    """`memo`: line text -> its statement's parts, kept by the caller between parses of
+    versions of the same text (the language server); each parse fills it. A line of the
+    common shapes read once costs a dictionary look-up and a Statement the next times
+    (programs repeat lines, and an edit leaves most lines of a file as they were)."""
     lines = src.text.split("\n")[:-1]
     statements: list[Statement] = []
     diagnostics: list[Diagnostic] = []
-    instr, label, directive, operands, blank = _fast_line()
+    seen: dict = {} if memo is None else memo
+    instr, label, directive, operands, blank = _fast_line(src.text.isascii())
     for number, text in enumerate(lines, 1):
+        parts = seen.get(text)
+        if parts is not None:
+            if parts:  # () for a blank or comment line
+                statements.append(Statement(number, *parts))
+            continue
         kind = "instr"
         m = instr(text) if fast else None
         if m is None and fast:
@@ -86,6 +102,8 @@ def parse(src: SourceText, fast: bool = True) -> ParsedFile:
                 from mlctool.syntax.lark_parser import parse_line  # lark loads when first needed
 
                 parse_line(src.path, text, number, statements, diagnostics)
+            elif fast:
+                seen[text] = ()
             continue
         step = Word(m["step"], m.start("step") + 1) if m["step"] else None
         if kind == "label":
@@ -93,7 +111,10 @@ def parse(src: SourceText, fast: bool = True) -> ParsedFile:
         else:
             start, end = m.span("ops")
             words = [Word(o.group(), o.start() + 1) for o in operands(text, start, end)] if end > start else []
-        statements.append(Statement(number, kind, Word(m["name"], m.start("name") + 1), words, step))
+        # the words are shared by the statements of equal lines: nothing changes a Word or
+        # a statement's list of operands after parsing
+        parts = seen[text] = (kind, Word(m["name"], m.start("name") + 1), words, step)
+        statements.append(Statement(number, *parts))
     if long_number(src.text):  # rare: only then look at each word
         statements = _bounded(src.path, statements, diagnostics)
     return ParsedFile(src.path, lines, statements, diagnostics, _noqa(lines))

@@ -20,7 +20,6 @@ from __future__ import annotations
 import importlib
 from dataclasses import dataclass
 from functools import cache
-from importlib.metadata import entry_points
 from pathlib import Path
 
 GROUP = "mlctool.targets"
@@ -59,6 +58,10 @@ def _load(ref: str) -> TargetPackage:
 
 @cache
 def _references() -> dict[str, str]:
+    # imported here: importlib.metadata (with the email package) is ~15 ms of every start,
+    # and `mlc check` of a built-in target never reads the entry points
+    from importlib.metadata import entry_points
+
     refs = {ep.name: ep.value for ep in entry_points(group=GROUP)}
     return {**refs, **BUILTIN}  # a package cannot take a built-in target's name
 
