@@ -38,6 +38,10 @@ class _Arg:
 
 
 class _Resolver:
+    # False: every line takes resolve_line's whole way and is keyed by its words, never by
+    # its text (tests/check/test_check_cache.py compares both ways on generated programs)
+    shortcuts = True
+
     def __init__(self, parsed: ParsedFile, target: Target, names: dict[str, int] | None = None):
         self.p = parsed
         self.t = target
@@ -69,7 +73,7 @@ class _Resolver:
         # While no symbol is defined, a line's text alone fixes its resolution: the text is
         # the key of line_cache, which also keeps the operand texts the instruction records.
         cache = self.cache
-        by_text = self.line_cache
+        by_text = self.line_cache if self.shortcuts else None
         lines = self.p.lines
         symbols = self.module.symbols  # filled in place by .define as the lines go
         instrs = self.module.instrs
@@ -81,7 +85,7 @@ class _Resolver:
                 else:
                     self.label(st, st.name)
                 continue
-            if symbols:
+            if symbols or by_text is None:
                 written = tuple([w.text for w in st.operands])
                 key = (st.name.text.upper(), tuple([symbols.get(t.upper(), t) for t in written]))
                 res = cache.get(key)
@@ -240,7 +244,7 @@ class _Resolver:
                             *notes)
             return None, (), (), False
         spec = variants[0] if len(variants) == 1 else self.choose_variant(variants, texts)
-        if len(texts) == len(spec.operands) and self.plain_form(spec):
+        if self.shortcuts and len(texts) == len(spec.operands) and self.plain_form(spec):
             operands = self.plainly_resolved(spec, texts)
             if operands is not None:
                 return spec, operands, (), True
