@@ -20,7 +20,9 @@ OTHER_LINES = ["P1:", "P2:", "P63:", "LOOP:", "  ", "; a comment", "LD X0 ; mlc:
                ".define START X0", ".define VALVE Y1", ".define START X2", ".define K5 X0", ".export P1",
                ".library", ".bogus", "@@", "LD X0 X1 X2", "FOO X0", "0000 LD X0", "0003 OUT Y0",
                "000013,LD,X0", "P1", "CALL LOOP", "CJ P2", "FEND", "SRET", "END", "MPS", "MRD", "MPP",
-               "LD X123456789012345678901234", "MOV K1"]
+               "LD X123456789012345678901234", "MOV K1",
+               # named labels (VS): their P numbers follow the order of definition
+               "FILL:", "DONE:", "CALL FILL", "CJ DONE", "CALL DONE", "P255:"]
 
 
 def random_line(rnd: random.Random, target: Target) -> str:

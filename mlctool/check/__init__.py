@@ -19,7 +19,7 @@ from mlctool.check.labels import assign_named_labels, restrict_names
 from mlctool.check.lint import cross_module_coils, lint_module, referenced_labels, set_without_reset
 from mlctool.check.misuse import not_a_source_by_content, not_a_source_by_name
 from mlctool.check.operand_rules import check_operand_rules
-from mlctool.check.resolve import resolve
+from mlctool.check.resolve import ResolverCaches, resolve
 from mlctool.check.specials import foreign_specials
 from mlctool.check.structure import check_layout, check_rungs
 from mlctool.config import Config, severity_of
@@ -47,9 +47,48 @@ class CheckResult:
         return sum(d.severity == "warning" for d in self.diagnostics)
 
 
+class CheckMemo:
+    """What one check keeps for the next check of edited versions of the same files (the
+    language server checks a file again at every edit): per file, the parser's memo of lines
+    (syntax/parser.py) and the resolver's caches (check/resolve.py ResolverCaches), so that
+    only lines not seen before are parsed and resolved; the rules over the whole program
+    run again every time. The results are those of a check without a memo
+    (tests/lsp/test_incremental.py compares them after random edits).
+
+    The resolver's caches hold while the target's tables and the file's named labels stay
+    the same; they are dropped when either changes, and both memos when they grow well past
+    the size of their file (a long session of edits)."""
+
+    def __init__(self) -> None:
+        self._lines: dict[str, dict] = {}
+        self._resolver: dict[str, tuple[tuple, Target, dict, ResolverCaches]] = {}
+
+    def lines(self, src: SourceText) -> dict:
+        memo = self._lines.setdefault(src.path, {})
+        if len(memo) > 2 * src.text.count("\n") + 10_000:
+            memo.clear()
+        return memo
+
+    def resolver(self, path: str, target: Target, names: dict[str, int] | None, size: int) -> ResolverCaches:
+        # the target object is kept with its key: the ids in the key (and in the caches'
+        # keys, id(spec)) stay those of these tables while the entry lives
+        key = (id(target.instructions), id(target.devices), target.name, target.model, target.capacity)
+        names = dict(names or {})
+        kept = self._resolver.get(path)
+        if kept is None or kept[0] != key or kept[2] != names or len(kept[3]) > 4 * size + 20_000:
+            kept = self._resolver[path] = (key, target, names, ResolverCaches())
+        return kept[3]
+
+    def forget(self, path: str) -> None:
+        self._lines.pop(path, None)
+        self._resolver.pop(path, None)
+
+
 def check_texts(sources: list[SourceText], target: Target, config: Config | None = None,
-                ignore: frozenset[str] = frozenset(), initial: list[Diagnostic] | None = None) -> CheckResult:
-    """Check the sources together, as modules of one program.
+                ignore: frozenset[str] = frozenset(), initial: list[Diagnostic] | None = None,
+                memo: CheckMemo | None = None) -> CheckResult:
+    """Check the sources together, as modules of one program. `memo`: kept between checks
+    of edited versions of the same sources (CheckMemo).
 
     The cyclic garbage collector is paused meanwhile: checking builds many small objects
     (statements, instructions, operands) that all live to the end and form no cycles, and the
@@ -62,7 +101,7 @@ def check_texts(sources: list[SourceText], target: Target, config: Config | None
     gc.disable()
     gc.unfreeze()
     try:
-        return _check_texts(sources, target, config, ignore, initial)
+        return _check_texts(sources, target, config, ignore, initial, memo)
     finally:
         if paused:
             gc.freeze()
@@ -70,7 +109,7 @@ def check_texts(sources: list[SourceText], target: Target, config: Config | None
 
 
 def _check_texts(sources: list[SourceText], target: Target, config: Config | None,
-                 ignore: frozenset[str], initial: list[Diagnostic] | None) -> CheckResult:
+                 ignore: frozenset[str], initial: list[Diagnostic] | None, memo: CheckMemo | None) -> CheckResult:
     config = config or Config()
     if config.capacity:
         target = dataclasses.replace(target, capacity=int(config.capacity))
@@ -80,13 +119,15 @@ def _check_texts(sources: list[SourceText], target: Target, config: Config | Non
     noqa: dict[str, dict] = {}
     symbols, found = project_symbols(config)
     diags += found
-    parsed_files = [restrict_names(parse(src), target) for src in sources]
+    parsed_files = [restrict_names(parse(src, memo=memo.lines(src) if memo else None), target) for src in sources]
     names, found = assign_named_labels(parsed_files, target)
     diags += found
     for parsed in parsed_files:
         lines[parsed.path] = parsed.lines
         noqa[parsed.path] = parsed.noqa
-        module, found = resolve(parsed, target, symbols, names.get(parsed.path))
+        own = names.get(parsed.path)
+        caches = memo.resolver(parsed.path, target, own, len(parsed.lines)) if memo else None
+        module, found = resolve(parsed, target, symbols, own, caches)
         modules.append(module)
         diags += found
     # rung checks see every line; the rest only lines whose operands resolved
@@ -201,4 +242,4 @@ def check_files(paths: list[str], target: Target, config: Config | None = None,
     return check_texts(sources, target, config, ignore, initial)
 
 
-__all__ = ["CheckResult", "check_files", "check_texts", "decode"]
+__all__ = ["CheckMemo", "CheckResult", "check_files", "check_texts", "decode"]

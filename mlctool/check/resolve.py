@@ -37,12 +37,32 @@ class _Arg:
     text: str
 
 
+class ResolverCaches:
+    """What the resolver learns about lines, operands and instruction forms. Each entry
+    depends only on its key, the target's tables and the file's named labels (resolve()'s
+    `names`): a caller that keeps one between checks of edited versions of a file (the
+    language server, through check.CheckMemo) re-resolves only the lines it has not seen."""
+
+    __slots__ = ("lines", "operands", "legal_spans", "plain_forms", "texts")
+
+    def __init__(self) -> None:
+        self.lines: dict = {}
+        self.operands: dict = {}
+        self.legal_spans: dict = {}
+        self.plain_forms: dict = {}
+        self.texts: dict = {}
+
+    def __len__(self) -> int:
+        return len(self.lines) + len(self.texts)
+
+
 class _Resolver:
     # False: every line takes resolve_line's whole way and is keyed by its words, never by
     # its text (tests/check/test_check_cache.py compares both ways on generated programs)
     shortcuts = True
 
-    def __init__(self, parsed: ParsedFile, target: Target, names: dict[str, int] | None = None):
+    def __init__(self, parsed: ParsedFile, target: Target, names: dict[str, int] | None = None,
+                 caches: ResolverCaches | None = None):
         self.p = parsed
         self.t = target
         self.path = parsed.path
@@ -50,11 +70,12 @@ class _Resolver:
         self.module = Module(parsed.path, target.name, [])
         self.addr = 0
         self.label_spec = next(s for s in target.instructions.values() if s.cls == "label")
-        self.cache: dict = {}  # (mnemonic, operand texts) -> resolution of the line
-        self.operand_cache: dict = {}  # (instruction form, position, text) -> (ok, problems)
-        self.legal_spans: dict = {}  # (instruction form, position, kind) -> numbers passing
-        self.plain_forms: dict = {}  # id(instruction form) -> plain_form()
-        self.line_cache: dict = {}  # line text -> (cache entry, operand texts as the Instr keeps them)
+        caches = ResolverCaches() if caches is None else caches
+        self.cache = caches.lines  # (mnemonic, operand texts) -> resolution of the line
+        self.operand_cache = caches.operands  # (instruction form, position, text) -> (ok, problems)
+        self.legal_spans = caches.legal_spans  # (instruction form, position, kind) -> numbers passing
+        self.plain_forms = caches.plain_forms  # id(instruction form) -> plain_form()
+        self.line_cache = caches.texts  # line text -> (cache entry, operand texts as the Instr keeps them)
         self._problems: list = []
         self.syntax = target.operand_syntax
         self.names = names or {}  # named labels of this file -> P number (check/labels.py)
@@ -767,9 +788,11 @@ def _kind_name(op: Operand) -> str:
 
 
 def resolve(parsed: ParsedFile, target: Target, predefined: dict[str, str] | None = None,
-            names: dict[str, int] | None = None) -> tuple[Module, list[Diagnostic]]:
+            names: dict[str, int] | None = None, caches: ResolverCaches | None = None
+            ) -> tuple[Module, list[Diagnostic]]:
     """`predefined`: device symbols every module starts with (mlc.toml [symbols]); `names`:
-    the file's named labels -> P numbers (check/labels.py)."""
-    r = _Resolver(parsed, target, names)
+    the file's named labels -> P numbers (check/labels.py); `caches`: kept from an earlier
+    resolution of the file with the same target tables and names (ResolverCaches)."""
+    r = _Resolver(parsed, target, names, caches)
     r.module.symbols.update(predefined or {})
     return r.run()

@@ -12,7 +12,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from mlctool.check import CheckResult, check_texts
+from mlctool.check import CheckMemo, CheckResult, check_texts
 from mlctool.config import Config, load_config
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
 from mlctool.syntax.parser import ParsedFile, parse
@@ -111,6 +111,7 @@ class Analysis:
     result: CheckResult
     sources: dict[str, SourceText]
     _index: Index | None = None
+    memo: CheckMemo | None = None  # the workspace's: lines parsed before are not parsed again
 
     @property
     def index(self) -> Index:
@@ -119,7 +120,8 @@ class Analysis:
             from mlctool.check.labels import restrict_names
 
             target = self.project.target
-            files = [parse(src) for src in self.sources.values()]
+            memo = self.memo
+            files = [parse(src, memo=memo.lines(src) if memo else None) for src in self.sources.values()]
             if target is not None:
                 files = [restrict_names(pf, target) for pf in files]
             self._index = _index(files)
@@ -136,6 +138,9 @@ class Workspace:
         self.buffers: dict[str, str] = {}
         self._projects: dict[str, Project] = {}
         self._analyses: dict[str, Analysis] = {}  # file -> its latest analysis (still valid)
+        # what the checks learnt about the files' lines: an edit re-reads the lines it changed
+        # and re-runs the rules over the whole program (check.CheckMemo)
+        self.memo = CheckMemo()
 
     # ---------------------------------------------------------------- buffers
     def open(self, path: str, text: str) -> None:
@@ -144,12 +149,14 @@ class Workspace:
 
     def close(self, path: str) -> None:
         self.buffers.pop(path, None)
+        self.memo.forget(path)
         self._forget(path)
 
     def reload(self) -> None:
         """An mlc.toml changed: every project is read again."""
         self._projects.clear()
         self._analyses.clear()
+        self.memo = CheckMemo()
 
     def _forget(self, path: str) -> None:
         """An edit invalidates every analysis that read the file (the project's modules)."""
@@ -185,8 +192,9 @@ class Workspace:
         if project.target is None:
             result = CheckResult([], problems, {}, list(sources.values()))
         else:
-            result = check_texts(list(sources.values()), project.target, project.config, initial=problems)
-        analysis = Analysis(project, result, sources)
+            result = check_texts(list(sources.values()), project.target, project.config, initial=problems,
+                                 memo=self.memo)
+        analysis = Analysis(project, result, sources, memo=self.memo)
         for p in sources:  # every module of the check shares it until one of them changes
             self._analyses[p] = analysis
         self._analyses[path] = analysis
