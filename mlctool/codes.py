@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import tomllib
 from dataclasses import dataclass
-from importlib import resources
+from pathlib import Path
 
 
 @dataclass(frozen=True, slots=True)
@@ -16,7 +16,8 @@ class Code:
 
 
 def _load() -> dict[str, Code]:
-    data = tomllib.loads(resources.files("mlctool").joinpath("codes.toml").read_text("utf-8"))
+    # beside this module, as grammars/il.lark is read (importlib.resources costs ~5 ms of imports)
+    data = tomllib.loads(Path(__file__).with_name("codes.toml").read_text("utf-8"))
     return {k: Code(k, v["severity"], v["summary"], v["doc"]) for k, v in sorted(data.items())}
 
 

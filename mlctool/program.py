@@ -84,6 +84,39 @@ class Image:
                 if ins.spec.cls == "label" and ins.operands}
 
 
+class FormIndex:
+    """Where each instruction form occurs in a list of instructions, from one pass over it.
+    The rules that look for a few forms (labels, jumps, FOR/NEXT, MC, END ...) visit only
+    their instructions instead of each walking the whole program (issue 19: the speed of
+    checking)."""
+
+    __slots__ = ("_groups", "_specs")
+
+    def __init__(self, instrs: list[Instr]):
+        groups: dict[int, list[int]] = {}
+        specs: dict[int, InstrSpec] = {}
+        for k, ins in enumerate(instrs):
+            key = id(ins.spec)
+            found = groups.get(key)
+            if found is None:
+                found = groups[key] = []
+                specs[key] = ins.spec
+            found.append(k)
+        self._groups = groups
+        self._specs = specs
+
+    def where(self, ops: tuple[str, ...] = (), classes: tuple[str, ...] = ()) -> list[int]:
+        """Positions, in order, of the instructions whose form has one of `ops` or `classes`."""
+        return self.matching(lambda spec: spec.op in ops or spec.cls in classes)
+
+    def matching(self, test) -> list[int]:
+        """Positions, in order, of the instructions whose form passes `test(spec)`."""
+        parts = [g for key, g in self._groups.items() if test(self._specs[key])]
+        if len(parts) == 1:
+            return list(parts[0])
+        return sorted(k for part in parts for k in part)
+
+
 # Instruction classes after which a load opens a new rung (2.2): the rung's result has been
 # used by an output, or a row of its own (label, END/FEND/..., interrupt pointer, STL) stands
 # between. The checker, the ladder builder and the simulator all take rung boundaries from

@@ -24,7 +24,7 @@ from mlctool.check.specials import foreign_specials
 from mlctool.check.structure import check_layout, check_rungs
 from mlctool.config import Config, severity_of
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.program import Module
+from mlctool.program import FormIndex, Module
 from mlctool.syntax.operands import SYMBOL, OperandSyntaxError, parse_operand
 from mlctool.syntax.parser import parse
 from mlctool.syntax.source import SourceText, decode, read_source, source_encoding
@@ -150,12 +150,13 @@ def _check_texts(sources: list[SourceText], target: Target, config: Config | Non
                 exported[p] = m.path
     refs, calls = referenced_labels(valid)
     for m in valid:
+        forms = FormIndex(m.instrs)  # where each instruction form is, for the rules below
         diags += check_layout(m, target, {p: f for p, f in exported.items() if f != m.path}, calls,
-                              broken[m.path])
-        diags += check_blocks(m, target)
+                              broken[m.path], forms)
+        diags += check_blocks(m, target, forms)
         diags += check_operand_rules(m, target)
         diags += check_interrupts(m, target)
-        diags += lint_module(m, target, refs)
+        diags += lint_module(m, target, refs, forms)
     # Each main module is its own program together with the libraries; independent main
     # programs checked in one call do not share coils.
     libs = [m for m in valid if m.library]

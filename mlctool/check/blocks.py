@@ -10,7 +10,7 @@ without such instructions or settings gets none of these diagnostics.
 from __future__ import annotations
 
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.program import Instr, Module
+from mlctool.program import FormIndex, Instr, Module
 from mlctool.targetapi.model import Target
 
 # where a program part ends: open MC levels and step blocks must be closed before these
@@ -21,19 +21,20 @@ def _at(ins: Instr, code: str, msg: str, *notes: str) -> Diagnostic:
     return diag(ins.file, Span(ins.line, ins.col, ins.line, ins.col + len(ins.mnemonic)), code, msg, *notes)
 
 
-def check_blocks(module: Module, target: Target) -> list[Diagnostic]:
+def check_blocks(module: Module, target: Target, forms: FormIndex | None = None) -> list[Diagnostic]:
+    """`forms`: the module's FormIndex, if the caller has one."""
     instrs = module.instrs
-    return (once_per_program(instrs) + one_user_per_device(instrs) + mc_nesting(instrs, target)
-            + step_ladder(instrs, module.library) + block_runs(instrs, target))
+    forms = forms or FormIndex(instrs)
+    return (once_per_program(instrs, forms) + one_user_per_device(instrs, forms) + mc_nesting(instrs, target, forms)
+            + step_ladder(instrs, module.library, forms) + block_runs(instrs, target))
 
 
-def once_per_program(instrs: list[Instr]) -> list[Diagnostic]:
+def once_per_program(instrs: list[Instr], forms: FormIndex | None = None) -> list[Diagnostic]:
     """E904: a `once` instruction written twice (any of its forms: HKY and DHKY count as one)."""
     first: dict = {}
     out = []
-    for ins in instrs:
-        if not ins.spec.once:
-            continue
+    for k in (forms or FormIndex(instrs)).matching(lambda spec: spec.once):
+        ins = instrs[k]
         key = ins.spec.api if ins.spec.api is not None else ins.mnemonic
         if key in first:
             f = first[key]
@@ -44,13 +45,14 @@ def once_per_program(instrs: list[Instr]) -> list[Diagnostic]:
     return out
 
 
-def one_user_per_device(instrs: list[Instr]) -> list[Diagnostic]:
+def one_user_per_device(instrs: list[Instr], forms: FormIndex | None = None) -> list[Diagnostic]:
     """E240: the D operand of a "unique-destination" instruction names a device another such
     instruction of the program already drives (VS DUTY, 6-16: M9330-M9334 "不可以重複")."""
     first: dict = {}
     out = []
-    for ins in instrs:
-        if "unique-destination" not in ins.spec.constraints or not ins.operands:
+    for at in (forms or FormIndex(instrs)).matching(lambda spec: "unique-destination" in spec.constraints):
+        ins = instrs[at]
+        if not ins.operands:
             continue
         k = next((i for i, o in enumerate(ins.spec.operands) if o.role == "D"), len(ins.operands) - 1)
         o = ins.operands[k]
@@ -67,13 +69,14 @@ def one_user_per_device(instrs: list[Instr]) -> list[Diagnostic]:
     return out
 
 
-def mc_nesting(instrs: list[Instr], target: Target) -> list[Diagnostic]:
+def mc_nesting(instrs: list[Instr], target: Target, forms: FormIndex | None = None) -> list[Diagnostic]:
     """E903: MC levels start at N0 and go N1, N2 ... inward without gaps; MCR Nn closes level n
     and every deeper one (as the simulator does); every level is closed before FEND/END."""
     out: list[Diagnostic] = []
     opened: list[Instr] = []
     limit = target.settings.get("mc_levels")
-    for ins in instrs:
+    for k in (forms or FormIndex(instrs)).where(ops=("mc", "mcr", *_PART_ENDS)):
+        ins = instrs[k]
         op = ins.spec.op
         if op == "mc" and ins.operands:
             n = ins.operands[0].number
@@ -104,13 +107,13 @@ def mc_nesting(instrs: list[Instr], target: Target) -> list[Diagnostic]:
     return out
 
 
-def step_ladder(instrs: list[Instr], library: bool) -> list[Diagnostic]:
+def step_ladder(instrs: list[Instr], library: bool, forms: FormIndex | None = None) -> list[Diagnostic]:
     """E902, the step-ladder rules of the manual (VS 4-4, 4-6-1): no STL after FEND
     (subroutines, interrupt routines) or in a library; each step relay opens one STL block;
     MPS not directly on the STL bus (before the step's first load); no MC/MCR inside a step;
     the step blocks end with RET before FEND/END."""
     out: list[Diagnostic] = []
-    if not any(i.spec.op in ("stl", "ret") for i in instrs):
+    if not (forms or FormIndex(instrs)).where(ops=("stl", "ret")):
         return out
     after_fend = library
     step: Instr | None = None  # the open STL block

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.program import Instr, Module
+from mlctool.program import FormIndex, Instr, Module
 from mlctool.targetapi.model import Target
 
 
@@ -45,14 +45,31 @@ def exclusive_regions(instrs: list[Instr]) -> list[int]:
     return out
 
 
-def double_coils(instrs: list[Instr], code: str = "W401") -> list[Diagnostic]:
+def double_coils(instrs: list[Instr], code: str = "W401", forms: FormIndex | None = None) -> list[Diagnostic]:
     """OUT of one coil twice. Two OUTs in different exclusive regions (STL steps) are fine;
     twice in one region, or in a region and outside every region, is a double coil."""
     seen: dict = {}  # coil -> {region: first instruction}
     out = []
-    for ins, region in zip(instrs, exclusive_regions(instrs), strict=True):
+    forms = forms or FormIndex(instrs)
+    # a program without STL steps (most) lies in no region: no pass to number them
+    regions = exclusive_regions(instrs) if forms.matching(lambda spec: spec.region) else None
+    if regions is None:  # one region: the first OUT of a coil is the one to name
+        first: dict = {}
+        for k in forms.where(ops=("out",)):
+            ins = instrs[k]
+            o = ins.operands[0]
+            if o.index:
+                continue
+            f = first.setdefault((o.kind, o.number), ins)
+            if f is not ins:
+                out.append(_at(ins, None, code, f"{ins.texts[0]} is also driven at {_where(f)}; "
+                               "the last OUT in the scan wins (1.3.2)"))
+        return out
+    for k in forms.where(ops=("out",)):
+        ins = instrs[k]
+        region = regions[k] if regions else 0
         o = ins.operands
-        if ins.spec.op != "out" or o[0].index:
+        if o[0].index:
             continue
         by_region = seen.setdefault((o[0].kind, o[0].number), {})
         f = by_region.get(region) or (None if region else next(iter(by_region.values()), None)) \
@@ -124,9 +141,12 @@ def _span(first: int, words: int) -> str:
     return f"(D{first + 1}, D{first})" if words == 2 else f"D{first}-D{first + words - 1}"
 
 
-def lint_module(module: Module, target: Target, referenced: set[int]) -> list[Diagnostic]:
+def lint_module(module: Module, target: Target, referenced: set[int],
+                forms: FormIndex | None = None) -> list[Diagnostic]:
+    """`forms`: the module's FormIndex, if the caller has one."""
     instrs = module.instrs
-    out = double_coils(instrs)
+    forms = forms or FormIndex(instrs)
+    out = double_coils(instrs, forms=forms)
 
     out += _timers_driven_twice(instrs)
     out += _step_branches(instrs)
@@ -136,9 +156,8 @@ def lint_module(module: Module, target: Target, referenced: set[int]) -> list[Di
     words16: dict[int, Instr] = {}
     spans: dict[int, tuple[Instr, int]] = {}  # first register -> (instruction, words)
     widest = 1
-    for ins in instrs:
-        if ins.spec.api is None:
-            continue
+    for k in forms.matching(lambda spec: spec.api is not None):
+        ins = instrs[k]
         for spec_o, o in zip(ins.spec.operands, ins.operands, strict=False):
             if o.kind != "D" or o.index:
                 continue
@@ -165,24 +184,38 @@ def lint_module(module: Module, target: Target, referenced: set[int]) -> list[Di
                 words16.setdefault(o.number, ins)
 
     # labels nobody jumps to
-    for ins in instrs:
-        if ins.spec.cls == "label":
-            p = ins.operands[0].number
-            if p not in referenced and p not in module.exports:
-                name = ins.texts[0] if ins.texts else f"P{p}"  # a named label as written
-                out.append(_at(ins, None, "W404", f"{name} is never the target of CJ or CALL"))
+    for k in forms.where(classes=("label",)):
+        ins = instrs[k]
+        p = ins.operands[0].number
+        if p not in referenced and p not in module.exports:
+            name = ins.texts[0] if ins.texts else f"P{p}"  # a named label as written
+            out.append(_at(ins, None, "W404", f"{name} is never the target of CJ or CALL"))
+    return out + _dead_code(instrs, forms)
 
-    # unreachable: after FEND, SRET or IRET, until the next label or interrupt pointer
-    dead = False
-    for ins in instrs:
-        if ins.spec.cls in ("label", "interrupt"):
-            dead = False
-        elif dead and ins.spec.op not in ("end", "fend", "nop"):
-            out.append(_at(ins, None, "W406", f"{ins.mnemonic} is never executed: it follows FEND/SRET/IRET "
-                           "and no label"))
-            dead = False  # one warning per dead stretch
-        if ins.spec.op in ("fend", "sret", "iret"):
-            dead = True
+
+def _dead_code(instrs: list[Instr], forms: FormIndex) -> list[Diagnostic]:
+    """W406, unreachable: after FEND, SRET or IRET, until the next label or interrupt pointer.
+    Only the stretches that start at one of those are walked (END, FEND, NOP in the stretch
+    keep it dead)."""
+    out = []
+    walked = 0  # instructions before this one were walked as part of a stretch
+    for start in forms.where(ops=("fend", "sret", "iret")):
+        if start < walked:
+            continue
+        dead = True
+        k = start + 1
+        while dead and k < len(instrs):
+            ins = instrs[k]
+            if ins.spec.cls in ("label", "interrupt"):
+                dead = False
+            elif ins.spec.op not in ("end", "fend", "nop"):
+                out.append(_at(ins, None, "W406", f"{ins.mnemonic} is never executed: it follows FEND/SRET/IRET "
+                               "and no label"))
+                dead = False  # one warning per dead stretch
+            if ins.spec.op in ("fend", "sret", "iret"):
+                dead = True
+            k += 1
+        walked = k
     return out
 
 
@@ -190,8 +223,12 @@ def set_without_reset(modules: list[Module]) -> list[Diagnostic]:
     """W405 over one program (a main module and its libraries): a SET device that nothing
     resets (RST, ZRST, OUT, or an application instruction writing it)."""
     instrs = [ins for m in modules for ins in m.instrs]
+    sets = [ins for ins in instrs if ins.spec.op == "set" and not ins.operands[0].index]
+    if not sets:  # nothing to look for (the usual program SETs little or nothing)
+        return []
     reset: set = set()
     ranges: list = []
+    writing: dict[int, tuple[bool, ...]] = {}  # id(form) -> which operands it writes
     for ins in instrs:
         if ins.spec.op in ("rst", "out", "alt", "pls", "plf") and not ins.operands[0].index:
             reset.add((ins.operands[0].kind, ins.operands[0].number))
@@ -199,19 +236,21 @@ def set_without_reset(modules: list[Module]) -> list[Diagnostic]:
             a, b = ins.operands
             ranges.append((a.kind, min(a.number, b.number), max(a.number, b.number)))
         elif ins.spec.api is not None:
-            for o, s in zip(ins.operands, ins.spec.operands, strict=False):
-                if s.writes:
+            writes = writing.get(id(ins.spec))
+            if writes is None:
+                writes = writing[id(ins.spec)] = tuple(s.writes for s in ins.spec.operands)
+            for o, w in zip(ins.operands, writes, strict=False):
+                if w:
                     reset.add((o.kind, o.number))
                     if o.is_group:
                         ranges.append((o.device, o.number, o.number + 4 * o.digits - 1))
     out, seen = [], set()
-    for ins in instrs:
-        if ins.spec.op == "set" and not ins.operands[0].index:
-            key = (ins.operands[0].kind, ins.operands[0].number)
-            if key in reset or key in seen or any(k == key[0] and lo <= key[1] <= hi for k, lo, hi in ranges):
-                continue
-            seen.add(key)
-            out.append(_at(ins, None, "W405", f"{ins.texts[0]} is SET but never reset"))
+    for ins in sets:
+        key = (ins.operands[0].kind, ins.operands[0].number)
+        if key in reset or key in seen or any(k == key[0] and lo <= key[1] <= hi for k, lo, hi in ranges):
+            continue
+        seen.add(key)
+        out.append(_at(ins, None, "W405", f"{ins.texts[0]} is SET but never reset"))
     return out
 
 

@@ -15,7 +15,9 @@ from mlctool.check.tables import parse_row, table_kinds
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module
 from mlctool.syntax.operands import (
+    BIT_OF_WORD,
     CJK_CHAR,
+    CONSTANT_KINDS,
     DEFAULT_SYNTAX,
     Operand,
     OperandSyntax,
@@ -250,6 +252,12 @@ class _Resolver:
     def resolve_line(self, name: str, texts: tuple[str, ...]):
         """-> (spec, operands, table, ok); problems go to self.report."""
         variants = self.t.variants_of(name)
+        if self.shortcuts and len(variants) == 1:  # the usual line: no _Arg, no variant to choose
+            spec = variants[0]
+            if len(texts) == len(spec.operands) and self.plain_form(spec):
+                operands = self.plainly_resolved(spec, texts)
+                if operands is not None:
+                    return spec, operands, (), True
         mnemonic = _Arg(-1, name)
         if not variants:
             if (_LABEL.fullmatch(name) or pointer_named(name, self.t)) and not texts:
@@ -265,7 +273,7 @@ class _Resolver:
                             *notes)
             return None, (), (), False
         spec = variants[0] if len(variants) == 1 else self.choose_variant(variants, texts)
-        if self.shortcuts and len(texts) == len(spec.operands) and self.plain_form(spec):
+        if self.shortcuts and len(variants) > 1 and len(texts) == len(spec.operands) and self.plain_form(spec):
             operands = self.plainly_resolved(spec, texts)
             if operands is not None:
                 return spec, operands, (), True
@@ -468,7 +476,7 @@ class _Resolver:
         whose number lies where check_operand would find nothing to say. The numbers are
         worked out once per instruction form, position and device kind (legal_numbers);
         anything else takes check_operand. tests/check/test_check_fastpath.py compares the two."""
-        if op.index or op.unit or op.digits or op.is_const or op.is_bit_of_word:
+        if op.index or op.unit or op.digits:  # (constants and bits of words: legal_numbers)
             return False
         key = (id(spec), k, op.kind)
         spans = self.legal_spans.get(key)
@@ -482,7 +490,10 @@ class _Resolver:
 
     def legal_numbers(self, spec: InstrSpec, o: OperandSpec, kind: str) -> tuple[tuple[int, int], ...]:
         """The device numbers of `kind` that check_operand passes without a word, as spans.
-        Counters are left out: their extent and the 3.2.5 rule depend on the number."""
+        Counters are left out: their extent and the 3.2.5 rule depend on the number; so are
+        constants and bits of words (kinds that are no device)."""
+        if kind in CONSTANT_KINDS or kind.endswith(BIT_OF_WORD):
+            return ()
         dev = self.t.devices.get(kind)
         if (dev is None or dev.unit_prefix or dev.kind == "counter" or kind not in o.kinds
                 or (o.writes and dev.input) or (dev.width16_only and spec.width == 32)):

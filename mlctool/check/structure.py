@@ -5,7 +5,7 @@ from __future__ import annotations
 from bisect import bisect_right
 
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.program import Instr, Module, rung_starts
+from mlctool.program import FormIndex, Instr, Module, rung_starts
 from mlctool.targetapi.model import Target
 
 JUMPS = ("cj", "call")
@@ -52,9 +52,10 @@ def check_rungs(module: Module, target: Target, broken: frozenset[int] = frozens
     prev_line = 0
     starts = rung_starts(module.instrs)
     for n, ins in enumerate(module.instrs):
-        g = bisect_right(gaps, prev_line)
-        hit = g < len(gaps) and gaps[g] < ins.line
-        tainted = tainted or hit
+        if gaps:
+            g = bisect_right(gaps, prev_line)
+            hit = g < len(gaps) and gaps[g] < ins.line
+            tainted = tainted or hit
         prev_line = ins.line
         cls = ins.spec.cls
         if cls == "load":
@@ -147,12 +148,13 @@ def _call_nesting(instrs: list[Instr], labels: dict[int, int], sub_start: int, l
 
 
 def check_layout(module: Module, target: Target, exported: dict[int, str], is_called: set[int],
-                 broken: frozenset[int] = frozenset()) -> list[Diagnostic]:
-    """END, FEND, labels, jumps, FOR/NEXT. `exported` maps P -> module of every module's exports."""
+                 broken: frozenset[int] = frozenset(), forms: FormIndex | None = None) -> list[Diagnostic]:
+    """END, FEND, labels, jumps, FOR/NEXT. `exported` maps P -> module of every module's exports;
+    `forms`: the module's FormIndex, if the caller has one."""
     out: list[Diagnostic] = []
     instrs = module.instrs
-    ops = [i.spec.op for i in instrs]
-    ends = [k for k, op in enumerate(ops) if op == "end"]
+    forms = forms or FormIndex(instrs)
+    ends = forms.where(ops=("end",))
     if module.library:
         for k in ends:
             out.append(_at(instrs[k], "E305", "a .library module has no END; the linker adds it"))
@@ -163,27 +165,28 @@ def check_layout(module: Module, target: Target, exported: dict[int, str], is_ca
             out.append(diag(module.path, Span.at(line), "E301", "program has no END"))
     elif ends[0] != len(instrs) - 1:
         out.append(_at(instrs[ends[0] + 1], "E302", "code after END is never scanned"))
-    fends = [k for k, op in enumerate(ops) if op == "fend"]
+    fends = forms.where(ops=("fend",))
     sub_start = 0 if module.library else (fends[0] + 1 if fends else len(instrs))
 
     # labels
     labels: dict[int, int] = {}
     ends = target.end_labels
-    for k, ins in enumerate(instrs):
-        if ins.spec.cls == "label":
-            p = ins.operands[0].number
-            if p in ends:
-                out.append(_at(ins, "E303", f"P{p} stands for END on target {target.name} (CJ P{p} jumps "
-                               "to END); it cannot label a line"))
-            elif p in labels:
-                name = ins.texts[0] if ins.texts else f"P{p}"  # a named label as written
-                out.append(_at(ins, "E303", f"{name} already labels line {instrs[labels[p]].line}"))
-            else:
-                labels[p] = k
+    for k in forms.where(classes=("label",)):
+        ins = instrs[k]
+        p = ins.operands[0].number
+        if p in ends:
+            out.append(_at(ins, "E303", f"P{p} stands for END on target {target.name} (CJ P{p} jumps "
+                           "to END); it cannot label a line"))
+        elif p in labels:
+            name = ins.texts[0] if ins.texts else f"P{p}"  # a named label as written
+            out.append(_at(ins, "E303", f"{name} already labels line {instrs[labels[p]].line}"))
+        else:
+            labels[p] = k
     cj_targets: dict[int, Instr] = {}
     call_targets: dict[int, Instr] = {}
-    for ins in instrs:
-        if ins.spec.op in JUMPS and not ins.operands[0].index:
+    for k in forms.where(ops=JUMPS):
+        ins = instrs[k]
+        if not ins.operands[0].index:
             p = ins.operands[0].number
             (call_targets if ins.spec.op == "call" else cj_targets).setdefault(p, ins)
             if p in ends and ins.spec.op == "call":
@@ -200,14 +203,15 @@ def check_layout(module: Module, target: Target, exported: dict[int, str], is_ca
     for p, ins in sorted(cj_targets.items()):
         if p in labels and p not in shared and ((labels[p] >= sub_start) != (instrs.index(ins) >= sub_start)):
             out.append(_at(ins, "E305", f"CJ P{p} jumps between the main program and the subroutine area"))
-    for k, ins in enumerate(instrs):
-        if ins.spec.op == "sret" and k < sub_start:
-            out.append(_at(ins, "E305", "SRET before FEND: subroutines go after FEND"))
+    for k in forms.where(ops=("sret",)):
+        if k < sub_start:
+            out.append(_at(instrs[k], "E305", "SRET before FEND: subroutines go after FEND"))
 
     # FOR/NEXT pairing per program part
     limit = target.settings["for_depth"]
     stack: list[Instr] = []
-    for ins in instrs:
+    for k in forms.where(ops=("for", "next", "fend", "end", "sret")):
+        ins = instrs[k]
         op = ins.spec.op
         if op == "for":
             stack.append(ins)

@@ -18,7 +18,6 @@ from mlctool.cli.common import (
     get_target,
     target_option,
 )
-from mlctool.codes import CODES
 from mlctool.config import rules_dropped
 from mlctool.diagnostics import Diagnostic, unreadable
 from mlctool.report import SHOW_PER_CODE, render_text, summary_line, to_json
@@ -104,6 +103,9 @@ def explain_cmd(code):
 
     Exit 0: printed; 2: no such code.
     """
+    # imported here: `mlc check` of a clean program never reads the codes
+    from mlctool.codes import CODES
+
     c = CODES.get(code.upper())
     if c is None:
         from mlctool.suggest import did_you_mean

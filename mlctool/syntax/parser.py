@@ -83,11 +83,12 @@ def parse(src: SourceText, fast: bool = True, memo: dict | None = None) -> Parse
     diagnostics: list[Diagnostic] = []
     seen: dict = {} if memo is None else memo
     instr, label, directive, operands, blank = _fast_line(src.text.isascii())
+    add, known = statements.append, seen.get  # (the loop runs once per line)
     for number, text in enumerate(lines, 1):
-        parts = seen.get(text)
+        parts = known(text)
         if parts is not None:
             if parts:  # () for a blank or comment line
-                statements.append(Statement(number, *parts))
+                add(Statement(number, *parts))
             continue
         kind = "instr"
         m = instr(text) if fast else None
@@ -105,7 +106,8 @@ def parse(src: SourceText, fast: bool = True, memo: dict | None = None) -> Parse
             elif fast:
                 seen[text] = ()
             continue
-        step = Word(m["step"], m.start("step") + 1) if m["step"] else None
+        step_text = m["step"]
+        step = Word(step_text, m.start("step") + 1) if step_text else None
         if kind == "label":
             words = []
         else:
@@ -114,7 +116,7 @@ def parse(src: SourceText, fast: bool = True, memo: dict | None = None) -> Parse
         # the words are shared by the statements of equal lines: nothing changes a Word or
         # a statement's list of operands after parsing
         parts = seen[text] = (kind, Word(m["name"], m.start("name") + 1), words, step)
-        statements.append(Statement(number, *parts))
+        add(Statement(number, *parts))
     if long_number(src.text):  # rare: only then look at each word
         statements = _bounded(src.path, statements, diagnostics)
     return ParsedFile(src.path, lines, statements, diagnostics, _noqa(lines))

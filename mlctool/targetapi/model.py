@@ -145,7 +145,15 @@ class Target:
 
     @property
     def operand_syntax(self) -> OperandSyntax:
-        return _syntax_of(self.name, self.model)
+        # one object per target and model: parse_operand's cache is keyed by its identity.
+        # Built from these tables, not by loading the target again: load_target("vs") and
+        # load_target("vs", "VS2") are two entries of its cache, and the second would read
+        # the TOML files anew (~15 ms of a check)
+        key = (self.name, self.model)
+        found = _SYNTAX.get(key)
+        if found is None:
+            found = _SYNTAX[key] = _syntax_of(self)
+        return found
 
     def device_name(self, kind: str, number: int) -> str:
         dev = self.devices.get(kind)
@@ -349,9 +357,10 @@ def _units(v: dict, model: str | None) -> tuple[int, int]:
     return int(lo), int(hi)
 
 
-@cache
-def _syntax_of(name: str, model: str | None) -> OperandSyntax:
-    t = load_target(name, model)
+_SYNTAX: dict[tuple[str, str | None], OperandSyntax] = {}
+
+
+def _syntax_of(t: Target) -> OperandSyntax:
     o = t.settings.get("operands", {})
     return OperandSyntax(
         octal=frozenset(k for k, d in t.devices.items() if d.radix == 8),
