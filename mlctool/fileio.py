@@ -24,7 +24,6 @@ import errno
 import os
 import signal
 import stat
-import tempfile
 import threading
 from collections.abc import Iterable
 from typing import IO
@@ -153,6 +152,8 @@ class Outputs:
         # Ctrl-C between creating the file and noting it would leave it behind: held meanwhile
         with held_interrupts():
             try:
+                import tempfile  # here: reading commands (`mlc check`) never write (a few ms of every start)
+
                 fd, tmp = tempfile.mkstemp(prefix=TEMP_PREFIX, suffix=".tmp", dir=folder)
             except OSError as e:
                 raise _cannot_write(path, e.strerror or e) from e

@@ -11,6 +11,7 @@ logic a stage could hold (a command calls the stages' functions).
 
 from __future__ import annotations
 
+import gc
 import importlib
 import sys
 
@@ -62,7 +63,16 @@ class LazyGroup(click.Group):
 
     def get_command(self, ctx, name):
         if name not in self.commands and name in COMMAND_MODULES:
-            importlib.import_module(COMMAND_MODULES[name])
+            # the collector paused meanwhile: a command's imports create thousands of objects
+            # that live to the end (classes, functions, tables), and walking them again and
+            # again is a few ms of every start
+            collecting = gc.isenabled()
+            gc.disable()
+            try:
+                importlib.import_module(COMMAND_MODULES[name])
+            finally:
+                if collecting:
+                    gc.enable()
         return self.commands.get(name)
 
     def resolve_command(self, ctx, args):

@@ -32,8 +32,10 @@ class ParsedFile:
 _NOQA = re.compile(r"(?:;|//).*?\bmlc:\s*noqa\b(?::?\s*([A-Z0-9, ]+))?", re.IGNORECASE)
 
 
-def _noqa(lines: list[str]) -> dict[int, frozenset[str] | None]:
-    found = {}
+def _noqa(lines: list[str], text: str = "") -> dict[int, frozenset[str] | None]:
+    found: dict[int, frozenset[str] | None] = {}
+    if text and "noqa" not in text:  # the usual file: one search instead of a loop over its lines
+        return found
     for i, text in enumerate(lines, 1):
         if "noqa" in text:
             m = _NOQA.search(text)
@@ -119,7 +121,7 @@ def parse(src: SourceText, fast: bool = True, memo: dict | None = None) -> Parse
         add(Statement(number, *parts))
     if long_number(src.text):  # rare: only then look at each word
         statements = _bounded(src.path, statements, diagnostics)
-    return ParsedFile(src.path, lines, statements, diagnostics, _noqa(lines))
+    return ParsedFile(src.path, lines, statements, diagnostics, _noqa(lines, src.text))
 
 
 def _bounded(path: str, statements: list[Statement], diagnostics: list[Diagnostic]) -> list[Statement]:
