@@ -15,19 +15,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 from gen import bad_program, mlc_command, program, timed  # noqa: E402
 
 
-def byte_compiled() -> None:
-    """Compile the package's modules as pip does at install. Where PYTHONDONTWRITEBYTECODE is
-    set (this machine's shells set it) and the checkout was never compiled, every run would
-    compile them from source (~60 ms of CPU): a cost no installed mlc pays."""
-    import compileall
-
-    import mlctool
-
-    compileall.compile_dir(os.path.dirname(mlctool.__file__), quiet=1)
-
-
 def main() -> None:
-    byte_compiled()
     mlc = mlc_command()
     text = program(64000)
     lines = text.count("\n")

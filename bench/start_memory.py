@@ -24,7 +24,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(__file__))
-from gen import program  # noqa: E402
+from gen import byte_compiled, program  # noqa: E402
 
 ROUNDS = int(os.environ.get("BENCH_ROUNDS", "5"))
 MLC = [sys.executable, "-m", "mlctool"]
@@ -115,6 +115,7 @@ def bench_memory() -> None:
 
 
 def main() -> None:
+    byte_compiled()
     for name in sys.argv[1:] or ["start", "memory"]:
         {"start": bench_start, "memory": bench_memory}[name]()
 
