@@ -85,25 +85,29 @@ def med(xs: list[float]) -> str:
     return f"{statistics.median(xs):.3f} s ({min(xs):.3f}-{max(xs):.3f})"
 
 
+def lanes_against_single(name: str, image, paths: list[str], ran_as: str) -> tuple[list[float], float, float]:
+    """Interleaved rounds of the whole batch (as lanes) and its first SINGLE scenarios one by
+    one; exits unless every scenario ran as `ran_as` lanes and the first SINGLE equal their
+    single runs. -> (batch CPU times, CPU per scenario as a lane, CPU per scenario alone)."""
+    few = paths[:SINGLE]
+    batch_t, single_t = [], []
+    for _ in range(ROUNDS):
+        t, (lanes, stats) = cpu(lambda: run_batch(image, NC5, paths, Options()))
+        batch_t.append(t)
+        t, (single, _) = cpu(lambda: run_batch(image, NC5, few, Options(), lanes=False))
+        single_t.append(t)
+    if getattr(stats, ran_as) != N:
+        raise SystemExit(f"{name}: only {getattr(stats, ran_as)} of {N} scenarios ran as {name}")
+    same_results(name, lanes[:SINGLE], single)
+    return batch_t, statistics.median(batch_t) / N, statistics.median(single_t) / SINGLE
+
+
 def bench_lanes() -> None:
     image = build(bool1000_il())
     instrs = executed_per_scan(image, lambda m: None)
     with tempfile.TemporaryDirectory() as d:
-        paths = bool_stimuli(d)
-        few = paths[:SINGLE]
-        batch_t, single_t = [], []
-        for _ in range(ROUNDS):
-            t, (lanes, stats) = cpu(lambda: run_batch(image, NC5, paths, Options()))
-            batch_t.append(t)
-            t, (single, _) = cpu(lambda: run_batch(image, NC5, few, Options(), lanes=False))
-            single_t.append(t)
-        if stats.lanes != N:
-            raise SystemExit(f"bool lanes: only {stats.lanes} of {N} scenarios ran as lanes")
-        same_results("bool lanes", lanes[:SINGLE], single)
-        work = N * SCANS * instrs
-        rate = work / statistics.median(batch_t)
-        per_lane = statistics.median(batch_t) / N
-        per_single = statistics.median(single_t) / SINGLE
+        batch_t, per_lane, per_single = lanes_against_single("bool lanes", image, bool_stimuli(d), "lanes")
+        rate = N * SCANS * instrs / statistics.median(batch_t)
         print(f"\nbatch, bool lanes: {N} scenarios x {SCANS} scans of bool1000 ({instrs} instructions/scan), "
               f"end to end through run_batch (files read and parsed, results built)")
         print(f"  CPU {med(batch_t)}: {rate / 1e9:.2f} G scenario-instructions/s (goal >= 5 G: "
@@ -117,19 +121,7 @@ def bench_words() -> None:
     image = build(mixed_words_il())
     instrs = executed_per_scan(image, lambda m: None)
     with tempfile.TemporaryDirectory() as d:
-        paths = word_stimuli(d)
-        few = paths[:SINGLE]
-        batch_t, single_t = [], []
-        for _ in range(ROUNDS):
-            t, (lanes, stats) = cpu(lambda: run_batch(image, NC5, paths, Options()))
-            batch_t.append(t)
-            t, (single, _) = cpu(lambda: run_batch(image, NC5, few, Options(), lanes=False))
-            single_t.append(t)
-        if stats.word_lanes != N:
-            raise SystemExit(f"word lanes: only {stats.word_lanes} of {N} scenarios ran as word lanes")
-        same_results("word lanes", lanes[:SINGLE], single)
-        per_lane = statistics.median(batch_t) / N
-        per_single = statistics.median(single_t) / SINGLE
+        batch_t, per_lane, per_single = lanes_against_single("word lanes", image, word_stimuli(d), "word_lanes")
         ratio = per_single / per_lane
         print(f"\nbatch, word lanes: {N} scenarios x {SCANS} scans of mixed-words ({instrs} instructions/scan) "
               f"as numpy lanes; CPU {med(batch_t)}: {N * SCANS * instrs / statistics.median(batch_t) / 1e6:,.0f} M "
