@@ -248,6 +248,12 @@ def _own_words(m) -> dict:
 @settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(program(), stimulus(), st.sampled_from(["nc5", "vs"]))
 def test_compiled_engine_matches_the_interpreter(il, stim, target_name):
+    engines_agree(il, stim, target_name)
+
+
+def engines_agree(il: str, stim, target_name: str) -> None:
+    """The compiled engine and the reference interpreter run `il` on `stim` to the same
+    trace, devices, memory, faults, alarms, expectations and last writers."""
     target = NC5 if target_name == "nc5" else VS
     image = _image(il if target is NC5 else vs_dialect(il), target)
     assume(image is not None)
@@ -465,19 +471,7 @@ def network_program(draw) -> str:
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(network_program(), stimulus(), st.sampled_from(["nc5", "vs"]))
 def test_contact_networks_match_the_interpreter(il, stim, target_name):
-    target = NC5 if target_name == "nc5" else VS
-    image = _image(il if target is NC5 else vs_dialect(il), target)
-    assume(image is not None)
-    a, sim_a = _run(image, stim, "compiled", target)
-    b, sim_b = _run(image, stim, "interp", target)
-    assert sim_a.scan.engine == "compiled" and sim_b.scan.engine == "interp"
-    assert repr(a.trace) == repr(b.trace) and repr(a.devices) == repr(b.devices)
-    assert sim_a.m.bits == sim_b.m.bits and sim_a.m.edge == sim_b.m.edge
-    assert _own_words(sim_a.m) == _own_words(sim_b.m)
-    assert a.scans == b.scans and a.fault == b.fault and a.alarms == b.alarms
-    assert a.expectations == b.expectations
-    if a.fault is None:
-        assert sim_a.m.writer == sim_b.m.writer
+    engines_agree(il, stim, target_name)
 
 
 def test_a_rung_is_one_short_circuit_expression_and_its_result_dropped_before_a_new_rung():
