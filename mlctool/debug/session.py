@@ -460,6 +460,17 @@ class DebugSession:
                     return stop
         return None
 
+    def _counted_hit_stops(self, b) -> bool:
+        """Count a hit of breakpoint b; True when it stops the run: its hit condition holds and
+        it is no logpoint (a logpoint prints its message instead)."""
+        b.hits += 1
+        if b.hit_condition and not _hit_ok(b.hit_condition, b.hits):
+            return False
+        if b.log:
+            self.output(self.format_log(b.log))
+            return False
+        return True
+
     def _line_checks(self) -> Stop | None:
         fired = []
         for b in self.breakpoints.values():
@@ -467,13 +478,8 @@ class DebugSession:
                 continue
             if b.condition is not None and not b.condition.truth(self.m):
                 continue
-            b.hits += 1
-            if b.hit_condition and not _hit_ok(b.hit_condition, b.hits):
-                continue
-            if b.log:
-                self.output(self.format_log(b.log))
-                continue
-            fired.append(b)
+            if self._counted_hit_stops(b):
+                fired.append(b)
         if fired:
             return Stop("breakpoint", f"breakpoint {', '.join(f'#{b.id} {b.where}' for b in fired)} "
                         f"at {self.where()}", [b.id for b in fired])
@@ -503,13 +509,7 @@ class DebugSession:
             return stop
         fired = []
         for b in self.breakpoints.values():
-            if b.enabled and b.kind == "cond" and b.condition.truth(self.m):
-                b.hits += 1
-                if b.hit_condition and not _hit_ok(b.hit_condition, b.hits):
-                    continue
-                if b.log:
-                    self.output(self.format_log(b.log))
-                    continue
+            if b.enabled and b.kind == "cond" and b.condition.truth(self.m) and self._counted_hit_stops(b):
                 fired.append(b)
         if fired:
             return Stop("condition", f"condition #{fired[0].id} ({fired[0].where}) holds at {self.where()}",
