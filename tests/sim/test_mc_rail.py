@@ -11,10 +11,11 @@ import random
 
 import pytest
 
-from mlctool.sim.batch import LaneProgram, WordLaneProgram
+from mlctool.sim.batch import LaneProgram
 from mlctool.sim.engine import Scanner
 from mlctool.sim.scan import load_program
 from mlctool.sim.state import Machine
+from mlctool.sim.word_lanes import WordLaneProgram
 from vskit import VS, image_of
 
 ENGINES = ("interp", "compiled")
