@@ -102,17 +102,18 @@ def _steps(instrs: list[Instr]) -> tuple[list[int | None], set[tuple[int, int]],
     return steps, adjacent, transfers
 
 
-def _timers_driven_twice(instrs: list[Instr]) -> list[Diagnostic]:
+def _timers_driven_twice(instrs: list[Instr], forms: FormIndex, steps: list[int | None] | None,
+                         adjacent: set[tuple[int, int]]) -> list[Diagnostic]:
     """W402: a timer or counter driven by two instructions. ANS times its own timer ("請勿在程序
     中使用已在本指令中使用過的計時器編號", VS 6-6). Two steps of a step ladder that are not
     adjacent may share a timer, with different presets ("非相接的狀態，可以使用同一編號的計時器",
-    VS 4-4): only one of them is live at a time."""
-    steps, adjacent, _ = _steps(instrs)
+    VS 4-4): only one of them is live at a time. `steps`, `adjacent`: _steps()'s (None: the
+    program has no step ladder, no instruction lies in a step)."""
     first: dict[tuple[str, int], list[tuple[Instr, int | None]]] = {}
     out = []
-    for ins, step in zip(instrs, steps, strict=True):
-        if ins.spec.op not in ("tmr", "cnt", "ans"):
-            continue
+    for k in forms.where(ops=("tmr", "cnt", "ans")):
+        ins = instrs[k]
+        step = steps[k] if steps is not None else None
         key = (ins.operands[0].kind, ins.operands[0].number)
         seen = first.setdefault(key, [])
         clash = next((f for f, fs in seen if step is None or fs is None or fs == step or (fs, step) in adjacent), None)
@@ -122,10 +123,9 @@ def _timers_driven_twice(instrs: list[Instr]) -> list[Diagnostic]:
     return out
 
 
-def _step_branches(instrs: list[Instr], limit: int = 8) -> list[Diagnostic]:
+def _step_branches(transfers: dict[int, list[Instr]], limit: int = 8) -> list[Diagnostic]:
     """W224: more than 8 transfers out of one step ("每一個選擇性分歧或並進式分歧，最多只能有 8個
-    分歧點", VS 4-4)."""
-    _, _, transfers = _steps(instrs)
+    分歧點", VS 4-4). `transfers`: _steps()'s."""
     out = []
     for step, moves in transfers.items():
         targets = list(dict.fromkeys(m.operands[0].number for m in moves))
@@ -148,8 +148,14 @@ def lint_module(module: Module, target: Target, referenced: set[int],
     forms = forms or FormIndex(instrs)
     out = double_coils(instrs, forms=forms)
 
-    out += _timers_driven_twice(instrs)
-    out += _step_branches(instrs)
+    # the steps of a step ladder (STL), worked out once for both rules, and only in a program
+    # that has one (most have none: no instruction then lies in a step)
+    if forms.matching(lambda spec: spec.region == "open"):
+        steps, adjacent, transfers = _steps(instrs)
+    else:
+        steps, adjacent, transfers = None, set(), {}
+    out += _timers_driven_twice(instrs, forms, steps, adjacent)
+    out += _step_branches(transfers)
 
     # multi-word D operands (32-bit pairs, the 32-bit product of a 16-bit MUL, the quotient and
     # remainder of DIV: OperandSpec.words) overlapping other uses of their registers

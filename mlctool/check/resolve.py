@@ -45,7 +45,7 @@ class ResolverCaches:
     `names`): a caller that keeps one between checks of edited versions of a file (the
     language server, through check.CheckMemo) re-resolves only the lines it has not seen."""
 
-    __slots__ = ("lines", "operands", "legal_spans", "plain_forms", "texts")
+    __slots__ = ("lines", "operands", "legal_spans", "plain_forms", "texts", "mnemonics", "steps")
 
     def __init__(self) -> None:
         self.lines: dict = {}
@@ -53,6 +53,8 @@ class ResolverCaches:
         self.legal_spans: dict = {}
         self.plain_forms: dict = {}
         self.texts: dict = {}
+        self.mnemonics: dict = {}
+        self.steps: dict = {}
 
     def __len__(self) -> int:
         return len(self.lines) + len(self.texts)
@@ -78,6 +80,8 @@ class _Resolver:
         self.legal_spans = caches.legal_spans  # (instruction form, position, kind) -> numbers passing
         self.plain_forms = caches.plain_forms  # id(instruction form) -> plain_form()
         self.line_cache = caches.texts  # line text -> (cache entry, operand texts as the Instr keeps them)
+        self.mnemonics = caches.mnemonics  # mnemonic -> its plain form for plain_line(), or (None, ...)
+        self.step_memo = caches.steps  # (id(instruction form), first operand's kind, number) -> steps
         self._problems: list = []
         self.syntax = target.operand_syntax
         self.names = names or {}  # named labels of this file -> P number (check/labels.py)
@@ -101,6 +105,7 @@ class _Resolver:
         symbols = self.module.symbols  # filled in place by .define as the lines go
         instrs = self.module.instrs
         path = self.path
+        plain = self.plain_line if self.shortcuts else _no_plain_line
         for st in self.p.statements:
             if st.kind != "instr":
                 if st.kind == "directive":
@@ -113,7 +118,7 @@ class _Resolver:
                 key = (st.name.text.upper(), tuple([symbols.get(t.upper(), t) for t in written]))
                 res = cache.get(key)
                 if res is None:
-                    res = cache[key] = self.resolved(*key)
+                    res = cache[key] = plain(*key) or self.resolved(*key)
                 n = len(res[1])
                 texts = written if len(written) == n else written[:n]
             else:
@@ -123,7 +128,7 @@ class _Resolver:
                     key = (st.name.text.upper(), written)
                     res = cache.get(key)
                     if res is None:
-                        res = cache[key] = self.resolved(*key)
+                        res = cache[key] = plain(*key) or self.resolved(*key)
                     n = len(res[1])
                     hit = by_text[lines[st.line - 1]] = (res, written if len(written) == n else written[:n])
                 res, texts = hit
@@ -230,6 +235,63 @@ class _Resolver:
         spec, operands, table, ok = self.resolve_line(name, texts)
         steps = self.steps(spec, operands) if ok and spec is not None else 0
         return spec, operands, table, ok, tuple(self._problems), steps
+
+    def plain_line(self, name: str, texts: tuple[str, ...]) -> tuple | None:
+        """resolved()'s answer for the usual line, the shortest way: a mnemonic of one plain
+        form (plain_form) and operands that are each plainly legal (plainly_legal's spans)
+        or were checked before without a word (operand_cache). None: any other line, which
+        resolved() takes (tests/check/test_check_cache.py compares both ways)."""
+        form = self.mnemonics.get(name)
+        if form is None:
+            form = self.mnemonics[name] = self._plain_mnemonic(name)
+        spec, spans_by_kind, form_id, stepped = form
+        if spec is None or len(texts) != len(spans_by_kind):
+            return None
+        syntax = self.syntax
+        operands = []
+        k = 0
+        for text in texts:
+            try:
+                op = parse_operand(text, syntax)
+            except OperandSyntaxError:
+                return None
+            legal = False
+            if not (op.index or op.unit or op.digits):  # as plainly_legal
+                kinds = spans_by_kind[k]
+                spans = kinds.get(op.kind)
+                if spans is None:
+                    spans = kinds[op.kind] = self.legal_numbers(spec, spec.operands[k], op.kind)
+                n = op.number
+                for lo, hi in spans:
+                    if lo <= n <= hi:
+                        legal = True
+                        break
+            if not legal:
+                hit = self.operand_cache.get((form_id, k, text))
+                if hit is None or not hit[0] or hit[1]:
+                    return None
+            operands.append(op)
+            k += 1
+        ops = tuple(operands)
+        if stepped and ops:  # steps(): Target.instr_steps reads the form and the first operand's kind and number
+            first = ops[0]
+            key = (form_id, first.kind, first.number)
+            steps = self.step_memo.get(key)
+            if steps is None:
+                steps = self.step_memo[key] = self.t.instr_steps(spec, ops)
+        else:
+            steps = spec.steps
+        return spec, ops, (), True, (), steps
+
+    def _plain_mnemonic(self, name: str) -> tuple:
+        """(the form, a dict of legal spans per device kind for each operand position, its id,
+        whether its steps depend on its operands), or (None, ...) for a mnemonic of several
+        forms or of a form that is not plain."""
+        variants = self.t.variants_of(name)
+        if len(variants) != 1 or not self.plain_form(variants[0]):
+            return None, (), 0, False
+        spec = variants[0]
+        return spec, tuple({} for _ in spec.operands), id(spec), spec.short_steps or spec.op in self.step_rule_ops
 
     def place(self, st: Statement, written: tuple[str, ...], res: tuple) -> None:
         """A resolved line into the module: its problems at its words, then the instruction."""
@@ -682,6 +744,11 @@ class _Resolver:
         col = st.name.col
         self.module.instrs.append(Instr(spec, ops, texts, steps, self.addr, self.path, st.line, col, table))
         self.addr += steps
+
+
+def _no_plain_line(name: str, texts: tuple[str, ...]) -> None:
+    """plain_line with the shortcuts off: every line takes resolved()'s whole way."""
+    return None
 
 
 _HINTS: dict[tuple[str, str | None, str], tuple[str, tuple[str, ...]]] = {}

@@ -72,7 +72,7 @@ def _fast_line(ascii_only: bool = False):
     label = re.compile(rf"{head}(?P<name>{t['MNEMONIC']})(?:{t['SEP']})?:{tail}").fullmatch
     directive = re.compile(rf"{head}(?P<name>{t['DIRECTIVE']}){ops}{tail}").fullmatch
     blank = re.compile(tail).fullmatch  # nothing to parse
-    return instr, label, directive, re.compile(t["OPERAND"]).finditer, blank
+    return instr, label, directive, re.compile(t["OPERAND"]).findall, blank
 
 
 def parse(src: SourceText, fast: bool = True, memo: dict | None = None) -> ParsedFile:
@@ -114,7 +114,13 @@ def parse(src: SourceText, fast: bool = True, memo: dict | None = None) -> Parse
             words = []
         else:
             start, end = m.span("ops")
-            words = [Word(o.group(), o.start() + 1) for o in operands(text, start, end)] if end > start else []
+            words = []
+            if end > start:  # each word found from where the last ended: between them are only
+                pos = start  # separators, which no operand starts with (cheaper than a Match each)
+                for o in operands(text, start, end):
+                    pos = text.find(o, pos)
+                    words.append(Word(o, pos + 1))
+                    pos += len(o)
         # the words are shared by the statements of equal lines: nothing changes a Word or
         # a statement's list of operands after parsing
         parts = seen[text] = (kind, Word(m["name"], m.start("name") + 1), words, step)

@@ -44,17 +44,26 @@ def test_shortcuts_are_taken(monkeypatch):
     text key are used on a generated program (and not with shortcuts off)."""
     target = load_target("nc5")
     text = "\n".join(random_program(random.Random(3), target, 300)) + "\n"
-    taken = []
-    real = _Resolver.plainly_resolved
+    taken = {"plainly_resolved": [], "plain_line": []}
 
-    def spy(self, spec, texts):
-        found = real(self, spec, texts)
-        taken.append(found is not None)
-        return found
+    def spy(name):
+        real = getattr(_Resolver, name)
 
-    monkeypatch.setattr(_Resolver, "plainly_resolved", spy)
+        def spied(self, *args):
+            found = real(self, *args)
+            taken[name].append(found is not None)
+            return found
+        monkeypatch.setattr(_Resolver, name, spied)
+
+    spy("plainly_resolved")
+    spy("plain_line")
     check_texts([SourceText("gen.il", text)], target)
-    assert sum(taken) > 20
+    assert sum(taken["plain_line"]) > 20
+    # the mnemonics of several forms (VS OUT Y0 / OUT T0 K50) that plain_line leaves
+    vs = load_target("vs")
+    text = "\n".join(random_program(random.Random(3), vs, 300) + ["OUT Y1", "OUT M7"]) + "\n"
+    check_texts([SourceText("gen.il", text)], vs)
+    assert sum(taken["plainly_resolved"]) > 0
 
 
 @pytest.mark.parametrize(("name", "model"), TARGETS)
