@@ -16,6 +16,9 @@ _CMP = {"cmp_eq": "==", "cmp_ne": "!=", "cmp_gt": ">", "cmp_lt": "<", "cmp_ge": 
 _FLOAT = {"fadd": "+", "fsub": "-", "fmul": "*"}
 _ARITH = {"add": "+", "sub": "-", "wand": "&", "wor": "|", "wxor": "^"}
 _LITTLE = sys.byteorder == "little"  # the 'Q' views of the bit stores read bytes little-endian first
+# Kn groups read 8 aligned device bytes as one 64-bit word q; q % K8_MOD is different for each
+# of the 256 patterns of 0/1 bytes (engine._KN: lists indexed by it)
+K8_MOD = 258
 # The float buffer's 16-bit halves (engine.py FH) holding the low and high word of a D pair
 _FL, _FHI = (0, 1) if _LITTLE else (1, 0)
 
@@ -47,6 +50,15 @@ _CONST_EXPR = re.compile(r"[0-9()+\-*&|^~<> ]+")
 def _fold(expr: str) -> int | None:
     """The value of an expression of integer literals (known words folded in), or None."""
     return eval(expr, {"__builtins__": {}}) if _CONST_EXPR.fullmatch(expr) else None  # noqa: S307
+
+
+_FLOAT_EXPR = re.compile(r"[0-9.e+\-* ]+")
+
+
+def _fold_float(expr: str) -> float | None:
+    """The value of an expression of float literals (finite constants folded in), or None;
+    Python evaluates it in double precision, as the generated code would."""
+    return eval(expr, {"__builtins__": {}}) if _FLOAT_EXPR.fullmatch(expr) else None  # noqa: S307
 
 
 # ---------------------------------------------------------------------------- rung results

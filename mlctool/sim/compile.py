@@ -44,6 +44,7 @@ from mlctool.sim.codegen import (
     _FLOAT,
     _LITTLE,
     BIT_KINDS,
+    K8_MOD,
     RUNG_CLASSES,
     Unsupported,
     _bit_simple,
@@ -62,7 +63,7 @@ from mlctool.sim.operands import BitRef, ConstRef, CounterRef, GroupRef
 from mlctool.sim.pycompile import compile_parts
 from mlctool.sim.state import s16, s32
 
-COMPILER_VERSION = "11"
+COMPILER_VERSION = "12"
 
 
 class Code:
@@ -364,10 +365,11 @@ class _Gen(OpsCode):
             a, n = ref.num, ref.n
             if _LITTLE and a % 8 == 0 and n % 8 == 0 and a + n <= (ref.hi + 1) // 8 * 8:
                 # 8 device bytes (0/1) at a time as one unsigned 64-bit word of the bit store
-                # (a 'Q' view of the bytearray), turned into their 8 bits by a dict of the 256
-                # patterns (engine._K8: a lookup is cheaper than gathering with big-int arithmetic)
+                # (a 'Q' view of the bytearray), turned into their 8 bits, already moved to
+                # their place in the group, by a list indexed by the word modulo K8_MOD
+                # (engine._KN: cheaper than a dict of the 64-bit patterns or big-int arithmetic)
                 q = self.use("q" + ref.kind)
-                parts = [f"K8[{q}[{a // 8 + c}]]" + (f" << {8 * c}" if c else "") for c in range(n // 8)]
+                parts = [f"{self.use(f'K{c}')}[{q}[{a // 8 + c}] % {K8_MOD}]" for c in range(n // 8)]
                 expr = f"({' | '.join(parts)})" if len(parts) > 1 else f"({parts[0]})"
             else:
                 arr = self.use("b" + ref.kind)

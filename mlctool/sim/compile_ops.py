@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import math
 
-from mlctool.sim.codegen import _ARITH, _FHI, _FL, _FLOAT, _fold, _word
+from mlctool.sim.codegen import _ARITH, _FHI, _FL, _FLOAT, _fold, _fold_float, _word
 from mlctool.sim.decode import Step
 from mlctool.sim.operands import ConstRef, GroupRef, WordRef
-from mlctool.sim.state import F32_QUIET_NAN, to_f32
+from mlctool.sim.state import F32_QUIET_NAN, bits_f32, f32_bits, to_f32
 
 
 class OpsCode:
@@ -30,7 +30,12 @@ class OpsCode:
         self.direct(("T", n), i)
         self.emit(f"{ts}[{n}] = 1", i)
         self.emit("if a:", i)
-        self.emit(f"{self.mark({('T', n): i})}; pr = {preset}; {tp}[{n}] = pr", i, 2)
+        if preset.isdigit():  # a constant preset: a literal where it is used
+            pr = preset
+            self.emit(f"{self.mark({('T', n): i})}; {tp}[{n}] = {pr}", i, 2)
+        else:
+            pr = "pr"
+            self.emit(f"{self.mark({('T', n): i})}; pr = {preset}; {tp}[{n}] = pr", i, 2)
         self.emit(f"if {tr}[{n}]:", i, 2)
         # less than one time base since the last update (most scans): only the fraction moves
         self.emit(f"d = now - {tl}[{n}] + {tf}[{n}]; {tl}[{n}] = now", i, 3)
@@ -38,11 +43,11 @@ class OpsCode:
         self.emit("else:", i, 3)
         self.emit(f"q, {tf}[{n}] = divmod(d, {base})", i, 4)
         self.emit(f"v = {wt}[{n}]", i, 4)
-        self.emit("if v < pr:", i, 4)
-        self.emit(f"v += q; {wt}[{n}] = v if v < pr else pr", i, 5)
+        self.emit(f"if v < {pr}:", i, 4)
+        self.emit(f"v += q; {wt}[{n}] = v if v < {pr} else {pr}", i, 5)
         self.emit("else:", i, 2)
         self.emit(f"{tr}[{n}] = 1; {tl}[{n}] = now; {tf}[{n}] = 0", i, 3)
-        self.emit(f"{bt}[{n}] = 1 if {wt}[{n}] >= pr else 0", i, 2)
+        self.emit(f"{bt}[{n}] = 1 if {wt}[{n}] >= {pr} else 0", i, 2)
         self.emit("else:", i)
         self.emit(f"{wt}[{n}] = 0; {bt}[{n}] = 0; {tr}[{n}] = 0; {tf}[{n}] = 0", i, 2)
 
@@ -199,19 +204,34 @@ class OpsCode:
         self.emit(f"m.c_pending[{n}] = 1", i, 2)
 
     def fvalue(self, ref, i: int, j: int) -> str | None:
-        """An expression for the single-precision float `_float` computes from an operand,
-        or None: a constant as a literal; a plain D pair as "halves:" the statement putting
-        its two words in the FH view of the FF buffer; an index-modified pair as "raw:" its
-        32-bit pattern for the FI view (struct-free and bit-identical either way)."""
+        """An expression for the single-precision float `_float` computes from an operand
+        (None: not inlined): a constant as a literal; a D pair (plain or index-modified) as
+        FB[hi] + FS[hi] * lo from its two words (engine._f32_tables: exact, struct-free; the
+        high word in a local first unless it is a known constant). Index-modified pairs emit
+        their address first (faults in operand order, as Ref.getf)."""
         if type(ref) is ConstRef and ref.ix is None:
             x = to_f32(ref.getf(None))
             return repr(x) if math.isfinite(x) else None
-        if _word(ref) and ref.kind == "D" and ref.ix is None and ref.num + 1 <= ref.hi:
+        if not (_word(ref) and ref.kind == "D"):
+            return None
+        if ref.ix is None:
+            if ref.num + 1 > ref.hi:
+                return None
             lo, hi = (self.known_word(("D", n)) for n in (ref.num, ref.num + 1))
-            return f"halves:FH[{_FL}] = {lo}; FH[{_FHI}] = {hi}"
-        if _word(ref) and ref.kind == "D" and ref.ix is not None:
-            return "raw:FI[0] = " + self.value(ref, i, j, 2, unsigned=True)
-        return None
+        else:
+            n = self.index(ref, i, j, 2, 2)
+            arr = self.use("wD")
+            lo, hi = f"{arr}[{n}]", f"{arr}[{n} + 1]"
+        fb, fs = self.use("FB"), self.use("FS")
+        if lo.isdigit() and hi.isdigit():
+            x = bits_f32(int(hi) << 16 | int(lo))
+            if math.isfinite(x):
+                return repr(x)
+        elif not hi.isdigit():
+            h = self.new_tmp("fh")
+            self.emit(f"{h} = {hi}", i, 2)
+            hi = h
+        return f"({fb}[{hi}] + {fs}[{hi}] * {lo})"
 
     def known_word(self, key: tuple[str, int]) -> str:
         """A word of the open group: the constant it was set to, or its read."""
@@ -229,21 +249,21 @@ class OpsCode:
             return
         self.cond(keys, i)
         x, y = self.fvalue(s.ops[0], i, 0), self.fvalue(s.ops[1], i, 1)
-        for name in ("FF", "FH", "FI"):  # block locals (G_FF ...)
-            self.use(name)
-        sym = _FLOAT[s.ins.spec.op]
-        xload, yload = (v.split(":", 1)[1] if ":" in v else None for v in (x, y))
-        if xload and yload:
-            self.emit(f"{xload}; f = FF[0]; {yload}; r = f {sym} FF[0]; FF[0] = r", i, 2)
-        elif xload:
-            self.emit(f"{xload}; r = FF[0] {sym} {y}; FF[0] = r", i, 2)
-        elif yload:
-            self.emit(f"{yload}; r = {x} {sym} FF[0]; FF[0] = r", i, 2)
-        else:  # finite constants: never NaN
-            self.emit(f"FF[0] = {x} {sym} {y}", i, 2)
-        if xload or yload:
-            self.emit(f"if r != r: FI[0] = {F32_QUIET_NAN}", i, 2)  # semantics._float
         arr = self.use("wD")
-        self.emit(f"{arr}[{dst.num}] = FH[{_FL}]; {arr}[{dst.num + 1}] = FH[{_FHI}]", i, 2)
+        lo, hi = f"{arr}[{dst.num}]", f"{arr}[{dst.num + 1}]"
+        sym = _FLOAT[s.ins.spec.op]
+        c = _fold_float(f"{x} {sym} {y}")
+        if c is not None:  # constants (and known words): the stored pattern is known
+            bits = f32_bits(c) if c == c else F32_QUIET_NAN
+            words = [bits & 0xFFFF, bits >> 16]
+            self.emit(f"{lo} = {words[0]}; {hi} = {words[1]}", i, 2)
+            self.learn(keys, words)
+            self.gwrite(keys, i)
+            return
+        # a NaN result stores the quiet NaN (semantics._float); any other goes through the
+        # float buffer (FM: rounded to single precision as f32_bits rounds) and out as two words
+        self.emit(f"r = {x} {sym} {y}", i, 2)
+        self.emit(f"if r != r: {lo} = {F32_QUIET_NAN & 0xFFFF}; {hi} = {F32_QUIET_NAN >> 16}", i, 2)
+        self.emit(f"else: {self.use('FM')}[0] = r; {lo} = {self.use('FH')}[{_FL}]; {hi} = FH[{_FHI}]", i, 2)
         self.learn(keys, None)
         self.gwrite(keys, i)

@@ -8,11 +8,13 @@ keeps; the helpers the generated code calls on its fault paths.
 from __future__ import annotations
 
 import array
+import math
 import os
 from collections.abc import Callable
 
 from mlctool.sim import scan as _scan
 from mlctool.sim.codecache import compiled as compiled_code
+from mlctool.sim.codegen import K8_MOD
 from mlctool.sim.decode import Program, Step
 from mlctool.sim.pycompile import global_names, run_parts
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, end_of_scan, run_scan, run_steps
@@ -36,8 +38,48 @@ _FI = memoryview(_FF).cast("B").cast("I")
 _FH = memoryview(_FF).cast("B").cast("H")
 
 # Kn groups of 8 aligned bits (compile.value): the unsigned 64-bit word of 8 device bytes, each
-# 0 or 1 (every bit store writes 0/1), little-endian -> the 8-bit value (byte k is bit k)
-_K8 = {sum((b >> k & 1) << 8 * k for k in range(8)): b for b in range(256)}
+# 0 or 1 (every bit store writes 0/1), little-endian; its remainder modulo K8_MOD (the 256
+# patterns leave 256 different ones) indexes the lists K0-K3 of the 8-bit value moved to byte c
+# of the group (a list index of a small remainder is cheaper than a dict lookup of the 64-bit word)
+_KN = [[0] * K8_MOD for _ in range(4)]
+for _b in range(256):
+    for _c in range(4):
+        _KN[_c][sum((_b >> _k & 1) << 8 * _k for _k in range(8)) % K8_MOD] = _b << 8 * _c
+del _b, _c
+
+# The float buffer as a float seen through a memoryview (FM): its item store casts the value as
+# the array's does, without parsing the argument (cheaper)
+_FM = memoryview(_FF).cast("B").cast("f")
+
+
+class _InfRow(float):
+    """FS of the infinity rows (high word 7F80H/FF80H): a pair with any low word but 0 is a NaN."""
+
+    def __mul__(self, lo):
+        return 0.0 if lo == 0 else math.nan
+
+
+_F32_TABLES: dict = {}
+
+
+def _f32_tables() -> dict:
+    """FB, FS: the single-precision value of a D pair from its words without the buffer,
+    FB[hi] + FS[hi] * lo (compile_ops.fvalue): FB[hi] is the value with low word 0, FS[hi] the
+    step of one unit of the low word (the sum is exact: 24 significant bits fit a double; -0.0
+    and subnormals too; a NaN row gives a NaN whatever the low word; the infinity rows _InfRow)."""
+    if not _F32_TABLES:
+        base = memoryview(array.array("I", range(0, 1 << 32, 1 << 16))).cast("B").cast("f").tolist()
+        one = memoryview(array.array("I", range(1, 1 << 32, 1 << 16))).cast("B").cast("f").tolist()
+        steps: dict = {}  # one object per distinct step (~512)
+        fs = []
+        for b, o in zip(base, one):
+            if math.isinf(b):
+                fs.append(_InfRow(0.0))
+            else:
+                step = o - b
+                fs.append(steps.setdefault(step, step))
+        _F32_TABLES.update(G_FB=base, G_FS=fs)
+    return _F32_TABLES
 
 
 def _fault(m: Machine, writers: dict | None, ref, extent: int, q: int = 0, pos: float = 0) -> None:
@@ -171,7 +213,8 @@ class Scanner:
 
     def _bind(self) -> None:
         code, prog = self.code, self.prog
-        g: dict = {"__builtins__": __builtins__, "T01": _T01, "K8": _K8, "G_FF": _FF, "G_FI": _FI, "G_FH": _FH, "LX": [0, 0],
+        g: dict = {"__builtins__": __builtins__, "T01": _T01, "G_FF": _FF, "G_FI": _FI, "G_FH": _FH, "G_FM": _FM,
+                   **{f"G_K{c}": _KN[c] for c in range(4)}, "LX": [0, 0],
                    "WD": DEFAULT_WATCHDOG,
                    "FLT": _fault, "JMP": _drop_loops, "NB": len(code.starts),
                    "BLK": {st: j for j, st in enumerate(code.starts)}, **code.consts}
@@ -182,6 +225,8 @@ class Scanner:
             for k, ref in enumerate(s.ops):
                 if f"O{s.index}_{k}" in used:
                     g[f"O{s.index}_{k}"] = ref
+        if "G_FB" in used:  # single-precision operands (built once, when a program needs them)
+            g.update(_f32_tables())
         self.g = g
         self._lx, self._watchdog = g["LX"], g["WD"]
         self._rebind()
