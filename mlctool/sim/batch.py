@@ -27,7 +27,6 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from itertools import compress
-from operator import itemgetter
 
 from mlctool.diagnostics import Span, diag
 from mlctool.program import Image
@@ -273,25 +272,70 @@ def run_lanes(lp: LaneProgram, group: list[tuple[str, Stimulus]], period: int, n
             for c in e.checks:
                 if not c.holds((S[slots[(c.view.kind, c.view.number)]] >> lane) & 1):
                     failed |= 1 << lane
-    return _lane_results(lp.prog, group, S, slots, failed, period, n_scans, opts)
+    outcomes: list[list[ExpectOutcome]] = [[] for _ in range(n)]  # a passing lane's, as Simulation.run's
+    for k in sorted(expects):
+        for lane, e in expects[k]:
+            outcomes[lane].append(ExpectOutcome(e.line, e.text, k * period, k))
+    for expected in outcomes:
+        if len(expected) > 1:
+            expected.sort(key=lambda o: (o.scan, o.line))
+    return _lane_results(lp.prog, group, S, slots, failed, period, n_scans, opts, outcomes)
 
 
-_BITS = bytes.maketrans(b"01", b"\x00\x01")
+class _LaneTable:
+    """The final lane words of one group and how a lane's result names them: `order` is the
+    union of every lane's devices (the program's, the watched and the scenario's own), sorted
+    and named once; a lane shows the program's and watched devices (`base`, ranks in order)
+    and its own. The words are turned into a device x lane matrix of 0/1 bytes on the first
+    read (numpy unpackbits), and a lane's row is one column of it. Pickles as the words."""
+
+    def __init__(self, order: list[DeviceView], words: list[int], base: list[int], n: int):
+        self.order = order
+        self.words = words  # words[k]: order[k]'s lane word (bit l: lane l), 0 where never touched
+        self.base = base
+        self.n = n
+        self._bits = None
+
+    def __getstate__(self) -> dict:
+        return {"order": self.order, "words": self.words, "base": self.base, "n": self.n, "_bits": None}
+
+    def final(self, lane: int, extra: tuple[int, ...]) -> tuple[dict[str, int], list[DeviceView]]:
+        if self._bits is None:
+            nbytes = (self.n + 7) // 8
+            flat = np.frombuffer(b"".join(w.to_bytes(nbytes, "little") for w in self.words), np.uint8)
+            self._bits = np.unpackbits(flat, bitorder="little").reshape(len(self.words), 8 * nbytes)
+            self._labels = [v.name for v in self.order]
+        row = self._bits[:, lane].tobytes()  # row[k]: the lane's value of order[k]
+        ranks = sorted(self.base + list(extra)) if extra else self.base
+        order, labels = self.order, self._labels
+        return {labels[k]: row[k] for k in ranks}, [order[k] for k in ranks]
 
 
-def _picker(indices: list[int]):
-    """seq -> tuple of seq[k] for k in indices (itemgetter, also for one index or none)."""
-    if len(indices) > 1:
-        return itemgetter(*indices)
-    return lambda seq: tuple(seq[k] for k in indices)
+class _LaneFinal:
+    """RunResult.lazy's `final` of one lane: its devices and views, from the group's table."""
+
+    __slots__ = ("table", "lane", "extra")
+
+    def __init__(self, table: _LaneTable, lane: int, extra: tuple[int, ...]):
+        self.table, self.lane, self.extra = table, lane, extra
+
+    def __getstate__(self):
+        return self.table, self.lane, self.extra
+
+    def __setstate__(self, state) -> None:
+        self.table, self.lane, self.extra = state
+
+    def __call__(self) -> tuple[dict[str, int], list[DeviceView]]:
+        return self.table.final(self.lane, self.extra)
 
 
 def _lane_results(prog: Program, group: list[tuple[str, Stimulus]], S: list[int], slots: dict,
-                  failed: int, period: int, n_scans: int, opts: Options) -> list[RunResult | None]:
-    """Each passing lane's RunResult, as a single run reports it: the program's devices and
-    the scenario's own, sorted, by name. The lane words are turned into per-lane rows once
-    (one bit string per device, transposed by zip) and the names and order are worked out
-    once for the union of all lanes' devices, not per lane."""
+                  failed: int, period: int, n_scans: int, opts: Options,
+                  outcomes: list[list[ExpectOutcome]]) -> list[RunResult | None]:
+    """Each passing lane's RunResult, as a single run reports it (the program's devices and
+    the scenario's own, sorted, by name), made lazily (RunResult.lazy): the order of the
+    union of all lanes' devices is worked out once here, a lane's values and names only when
+    its devices are read."""
     n = len(group)
     names = program_devices(prog) | set(opts.watch)
     # the scenarios' own devices (Stimulus.devices()), by object first: a batch's views are
@@ -306,39 +350,20 @@ def _lane_results(prog: Program, group: list[tuple[str, Stimulus]], S: list[int]
     order = sorted(names.union(objs.values()), key=DeviceView.sort_key)
     rank = {v: k for k, v in enumerate(order)}
     rank_of = {i: rank[v] for i, v in objs.items()}
-    labels = [v.name for v in order]
-    zeros = bytes(n)
-    columns = []
+    all_lanes = (1 << n) - 1
+    words = []
     for v in order:
         slot = slots.get((v.kind, v.number))
-        columns.append(zeros if slot is None else
-                       format(S[slot] & ((1 << n) - 1), f"0{n}b")[::-1].encode().translate(_BITS))
-    rows = zip(*columns) if columns else iter([()] * n)  # rows[lane][k]: the lane's value of order[k]
+        words.append(0 if slot is None else S[slot] & all_lanes)
     base_set = {rank[v] for v in names}
-    base = sorted(base_set)
-    base_views = [order[k] for k in base]
-    base_labels = [labels[k] for k in base]
-    pick_base = _picker(base)
-    base_flags = bytes(1 if k in base_set else 0 for k in range(len(order)))
-    extras = [{rank_of[i] for i in ids} - base_set for ids in lane_ids]
+    table = _LaneTable(order, words, sorted(base_set), n)
     out: list[RunResult | None] = []
-    for lane, ((_, st), extra, row) in enumerate(zip(group, extras, rows)):
+    for lane, (ids, expected) in enumerate(zip(lane_ids, outcomes)):
         if failed >> lane & 1:
             out.append(None)
             continue
-        if extra:  # the program's devices and the lane's own, in `order`
-            flags = bytearray(base_flags)
-            for k in extra:
-                flags[k] = 1
-            views = list(compress(order, flags))
-            devices = dict(zip(compress(labels, flags), compress(row, flags)))
-        else:
-            views = list(base_views)
-            devices = dict(zip(base_labels, pick_base(row)))
-        outcomes = [ExpectOutcome(e.line, e.text, e.scan_index(period) * period, e.scan_index(period))
-                    for e in st.events if e.kind == "expect"]
-        outcomes.sort(key=lambda o: (o.scan, o.line))
-        out.append(RunResult(period, n_scans, devices, views, outcomes, [], None, []))
+        extra = tuple({rank_of[i] for i in ids} - base_set)
+        out.append(RunResult.lazy(period, n_scans, expected, _LaneFinal(table, lane, extra)))
     return out
 
 

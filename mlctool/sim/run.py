@@ -93,6 +93,28 @@ class RunResult:
     trace: list[tuple[int, list[tuple[int, int | float]]]]  # (time us, [(view index, value)])
     pin_window: object = None  # sim/pin_window.py PinWindow of --pulse-window (None: per-scan levels only)
 
+    @classmethod
+    def lazy(cls, period_us: int, scans: int, expectations: list[ExpectOutcome],
+             final: Callable[[], tuple[dict[str, int | float], list[DeviceView]]]) -> RunResult:
+        """A result without alarms, fault or trace whose `devices` and `views` are made by
+        `final()` when first read, then kept. The batch lanes give one per scenario: a campaign
+        that only needs pass/fail and counts builds no dict of final values. It equals, prints
+        and pickles as the result made eagerly (`final` must pickle; pickled before the first
+        read, it is called on the other side)."""
+        r = cls.__new__(cls)
+        r.__dict__.update(period_us=period_us, scans=scans, expectations=expectations, alarms=[],
+                          fault=None, trace=[], pin_window=None, _final=final)
+        return r
+
+    def __getattr__(self, name: str):
+        # only for attributes not set: the devices and views of a lazy result, on first read
+        if name in ("devices", "views"):
+            final = self.__dict__.pop("_final", None)
+            if final is not None:
+                self.devices, self.views = final()
+                return self.__dict__[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
     @property
     def time_us(self) -> int:
         return self.scans * self.period_us
