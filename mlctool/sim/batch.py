@@ -211,7 +211,9 @@ def _lane_ready(st: Stimulus, opts: Options, n_scans: int) -> bool:
 def run_lanes(lp: LaneProgram, group: list[tuple[str, Stimulus]], period: int, n_scans: int,
               opts: Options) -> list[RunResult | None]:
     """Run the scenarios of `group` together; None for a scenario whose expectations failed."""
-    slots = dict(lp.slots)
+    slots = dict(lp.slots)  # (kind, number) -> slot; the program's first, then the scenarios' own
+    new_views: dict[int, DeviceView] = {}  # a slot past the program's -> the view that named it first
+    owns: list[set[int]] = []  # per lane: the slots of its own devices (Stimulus.devices())
     n = len(group)
     ALL = (1 << n) - 1
     sets: dict[int, dict[int, list[int]]] = {}  # scan -> slot -> [set mask, clear mask]
@@ -219,19 +221,28 @@ def run_lanes(lp: LaneProgram, group: list[tuple[str, Stimulus]], period: int, n
     expects: dict[int, list[tuple[int, object]]] = {}
     for lane, (_, st) in enumerate(group):  # one pass over the events (a batch has ~20 k of them)
         bit = 1 << lane
+        own: set[int] = set()
+        owns.append(own)
         for e in st.events:
             k = e.scan if e.scan is not None else -(-e.time_us // period)  # Event.scan_index
             kind = e.kind
             if kind == "expect":
                 expects.setdefault(k, []).append((lane, e))
                 for c in e.checks:
-                    slots.setdefault((c.view.kind, c.view.number), len(slots))
+                    key = (c.view.kind, c.view.number)
+                    slot = slots.get(key)
+                    if slot is None:
+                        slot = slots[key] = len(slots)
+                        new_views[slot] = c.view
+                    own.add(slot)
                 continue
             for v, value in e.assigns:
                 key = (v.kind, v.number)
                 slot = slots.get(key)
                 if slot is None:
                     slot = slots[key] = len(slots)
+                    new_views[slot] = v
+                own.add(slot)
                 if kind == "set":
                     per_scan = sets.get(k)
                     if per_scan is None:
@@ -279,7 +290,7 @@ def run_lanes(lp: LaneProgram, group: list[tuple[str, Stimulus]], period: int, n
     for expected in outcomes:
         if len(expected) > 1:
             expected.sort(key=lambda o: (o.scan, o.line))
-    return _lane_results(lp.prog, group, S, slots, failed, period, n_scans, opts, outcomes)
+    return _lane_results(lp, S, slots, new_views, owns, failed, period, n_scans, opts, outcomes)
 
 
 class _LaneTable:
@@ -329,40 +340,35 @@ class _LaneFinal:
         return self.table.final(self.lane, self.extra)
 
 
-def _lane_results(prog: Program, group: list[tuple[str, Stimulus]], S: list[int], slots: dict,
-                  failed: int, period: int, n_scans: int, opts: Options,
+def _lane_results(lp: LaneProgram, S: list[int], slots: dict, new_views: dict[int, DeviceView],
+                  owns: list[set[int]], failed: int, period: int, n_scans: int, opts: Options,
                   outcomes: list[list[ExpectOutcome]]) -> list[RunResult | None]:
-    """Each passing lane's RunResult, as a single run reports it (the program's devices and
-    the scenario's own, sorted, by name), made lazily (RunResult.lazy): the order of the
-    union of all lanes' devices is worked out once here, a lane's values and names only when
-    its devices are read."""
-    n = len(group)
-    names = program_devices(prog) | set(opts.watch)
-    # the scenarios' own devices (Stimulus.devices()), by object first: a batch's views are
-    # shared objects (NameCache), and hashing a DeviceView is a Python call
-    objs: dict[int, DeviceView] = {}
-    lane_ids = []
-    for _, st in group:
-        own = {id(v): v for e in st.events for v, _ in e.assigns}
-        own.update({id(c.view): c.view for e in st.events for c in e.checks})
-        objs.update(own)
-        lane_ids.append(own)
-    order = sorted(names.union(objs.values()), key=DeviceView.sort_key)
+    """Each passing lane's RunResult, as a single run reports it (the program's and watched
+    devices and the scenario's own, sorted, by name), made lazily (RunResult.lazy): the order
+    of the union of all lanes' devices is worked out once here, a lane's values and names
+    only when its devices are read. A lane view is a bit of X/Y/M/A, so its (kind, number),
+    its slot, says which view it is: the program's slots are its own devices, a scenario's
+    other slots are views of `new_views`."""
+    n = len(owns)
+    names = program_devices(lp.prog) | set(opts.watch)
+    order = sorted(names.union(new_views.values()), key=DeviceView.sort_key)
     rank = {v: k for k, v in enumerate(order)}
-    rank_of = {i: rank[v] for i, v in objs.items()}
+    base_set = {rank[v] for v in names}
+    rank_of = {slot: rank[v] for slot, v in new_views.items() if rank[v] not in base_set}  # extra devices
     all_lanes = (1 << n) - 1
     words = []
     for v in order:
         slot = slots.get((v.kind, v.number))
         words.append(0 if slot is None else S[slot] & all_lanes)
-    base_set = {rank[v] for v in names}
     table = _LaneTable(order, words, sorted(base_set), n)
+    extra_slots = rank_of.keys()
     out: list[RunResult | None] = []
-    for lane, (ids, expected) in enumerate(zip(lane_ids, outcomes)):
+    for lane, (own, expected) in enumerate(zip(owns, outcomes)):
         if failed >> lane & 1:
             out.append(None)
             continue
-        extra = tuple({rank_of[i] for i in ids} - base_set)
+        mine = extra_slots & own
+        extra = tuple(rank_of[slot] for slot in mine) if mine else ()
         out.append(RunResult.lazy(period, n_scans, expected, _LaneFinal(table, lane, extra)))
     return out
 
