@@ -27,10 +27,13 @@ from mlctool.targetapi.model import Target
 
 _TOKEN = re.compile(r"\S+")
 _SCAN_NO = re.compile(r"#[0-9]+")
-# `#250 X0=1` / `100ms X0=1` (Parser.set_line): every part too short to hold a number of more
-# than MAX_DIGITS digits (mlctool/limits.py), so long_number() cannot find one
-_SET_LINE = re.compile(r"([ \t]*)(#[0-9]{1,9}|[0-9][0-9.]{0,14}[A-Za-z]{1,3})([ \t]+)"
-                       r"([A-Za-z][^\s=#]{0,15}=[^\s=#]{1,16})[ \t]*")
+# Every line of a text, as (lead, when, gap, item) of the common line `#250 X0=1` / `100ms X0=1`
+# (Parser.set_line), four empty strings for any other line: one findall per file, one tuple per
+# line of text.split("\n") (`.` and the classes below match no \n; `$` is before each \n and at
+# the end). Every part is too short to hold a number of more than MAX_DIGITS digits
+# (mlctool/limits.py), so long_number() cannot find one.
+_LINES = re.compile(r"^(?:([ \t]*)(#[0-9]{1,9}|[0-9][0-9.]{0,14}[A-Za-z]{1,3})([ \t]+)"
+                    r"([A-Za-z][^\s=#]{0,15}=[^\s=#]{1,16})[ \t]*|.*)$", re.M)
 KEYWORDS = ("expect", "force", "release", "power-cycle")
 DIRECTIVES = ("scan", "run", "model", "port")  # the words that may start a line instead of a time
 
@@ -162,6 +165,7 @@ class NameCache:
 
 class _Parser:
     def __init__(self, path: str, text: str, target: Target, cache: NameCache | None = None):
+        self.text = text
         self.st = Stimulus(path, text.split("\n"))
         self.target = target
         self.diags: list[Diagnostic] = []
@@ -175,10 +179,19 @@ class _Parser:
         self.diags.append(diag(self.st.path, Span.at(line, col, length), code, msg))
 
     def run(self) -> Stimulus:
-        for no, raw in enumerate(self.st.lines, 1):
-            m = _SET_LINE.fullmatch(raw)
-            if m is not None and self.set_line(no, m):
-                continue
+        events, items = self.st.events, self.items
+        parts = _LINES.findall(self.text)
+        for no, (raw, (lead, when, gap, item)) in enumerate(zip(self.st.lines, parts, strict=True), 1):
+            if when:
+                # the most common line of all, `#250 M5=1` with `M5=1` read before (NameCache),
+                # inline: the Event set_line gives
+                assign = items.get(item) if when[0] == "#" else None
+                col = len(lead) + len(when) + len(gap) + 1
+                if assign is not None and (scan := int(when[1:])) <= MAX_SCANS:
+                    events.append(Event(scan, None, "set", no, col, f"{when} {item}", [assign]))
+                    continue
+                if self.set_line(no, when, col, item):
+                    continue
             body = _strip_comment(raw)
             toks = [(m.group(), m.start() + 1) for m in _TOKEN.finditer(body)]
             if not toks:
@@ -244,14 +257,14 @@ class _Parser:
                             "power-cycle")
         self.action(Event(scan, time_us, "set", no, toks[1][1], " ".join(t for t, _ in toks)), toks[1:])
 
-    def set_line(self, no: int, m: re.Match) -> bool:
-        """The most common line, `#250 X0=1` or `100ms X0=1`, read without tokenizing: the
-        same Event as line() gives, through the same view() and value(). False (nothing
-        recorded) when any part is wrong: line() then reads it again and reports it."""
-        when, item = m[2], m[4]
+    def set_line(self, no: int, when: str, col: int, item: str) -> bool:
+        """The most common line, `#250 X0=1` or `100ms X0=1` (_LINES; `item` at column `col`),
+        read without tokenizing: the same Event as line() gives, through the same view() and
+        value(). False (nothing recorded) when any part is wrong: line() then reads it again
+        and reports it."""
         try:
             if when[0] == "#":
-                scan, time_us = int(when[1:]), None  # at most 9 digits (_SET_LINE)
+                scan, time_us = int(when[1:]), None  # at most 9 digits (_LINES)
                 if scan > MAX_SCANS:
                     return False
             else:
@@ -267,7 +280,7 @@ class _Parser:
             return False
         if time_us is not None:
             self.last_time = time_us
-        self.st.events.append(Event(scan, time_us, "set", no, m.start(4) + 1, f"{when} {item}", [assign]))
+        self.st.events.append(Event(scan, time_us, "set", no, col, f"{when} {item}", [assign]))
         return True
 
     @staticmethod

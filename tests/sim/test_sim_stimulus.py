@@ -155,9 +155,11 @@ def test_set_line_fast_path_reads_as_the_full_parser(monkeypatch):
     rnd = random.Random(3)
     texts = list(_FAST_LINES) + ["\n".join(rnd.sample(_FAST_LINES, len(_FAST_LINES))) for _ in range(20)]
     fast = [_parsed(t) for t in texts]
-    monkeypatch.setattr(stimulus, "_SET_LINE", re.compile(r"(?!)"))
+    shared = stimulus.NameCache(NC5)  # the inline path: items read by an earlier file of a batch
+    fast_shared = [_parsed(t, shared) for t in texts]
+    monkeypatch.setattr(stimulus, "_LINES", re.compile(r"^()()()().*$", re.M))  # no line is a set line
     full = [_parsed(t) for t in texts]
-    assert fast == full
+    assert fast == full and fast_shared == full
     assert any(events for events, _ in fast) and any(diags for _, diags in fast)
 
 
