@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import codecs
-import os
 from dataclasses import dataclass
 
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.fileio import open_input
+from mlctool.fileio import read_input
 
 MAX_BYTES = 64 * 1024 * 1024
 MAX_LINES = 1_000_000
@@ -124,22 +123,9 @@ def _guess(data: bytes) -> tuple[str, str] | None:
         return None
 
 
-def read_bounded(f, limit: int) -> bytes:
-    """At most `limit` bytes of an open file. Asks for the size the file has (plus one byte)
-    rather than `limit`: reading a 100-byte file with read(64 MB) allocates the 64 MB first,
-    about 25 us a file (a batch of stimulus files). A file that grows meanwhile is read on,
-    up to `limit`."""
-    want = min(os.fstat(f.fileno()).st_size, limit - 1) + 1
-    data = f.read(want)  # a buffered read: fewer bytes only at the end of the file
-    if len(data) == want < limit:  # the file grew since fstat: read on, up to the limit
-        data += f.read(limit - want)
-    return data
-
-
 def read_source(path: str, encoding: str | None = None) -> tuple[SourceText | None, list[Diagnostic]]:
     try:
-        with open_input(path) as f:
-            data = read_bounded(f, MAX_BYTES + 1)
+        data = read_input(path, MAX_BYTES + 1)
     except OSError as e:
         return None, [diag(path, Span.at(1), "E100", f"cannot read: {e.strerror or e}")]
     return decode(path, data, encoding)

@@ -96,21 +96,22 @@ def test_utf8_files_never_import_the_detector(tmp_path):
         assert out.strip().endswith(expect), out
 
 
-def test_read_bounded_reads_what_the_file_holds_up_to_the_limit(tmp_path, monkeypatch):
-    """read_bounded asks for the size fstat gives (plus one byte), and reads on when the file
-    turns out longer (it grew meanwhile), never past the limit."""
+def test_read_input_reads_what_the_file_holds_up_to_the_limit(tmp_path, monkeypatch):
+    """read_input asks for the size fstat gives (plus one byte), and reads on when the file
+    turns out longer (it grew meanwhile), never past the limit; an empty file is b''."""
     import os
     from types import SimpleNamespace
 
-    from mlctool.syntax import source
+    from mlctool import fileio
 
     path = tmp_path / "f.stim"
-    path.write_bytes(b"x" * 100)
+    path.write_bytes(bytes(range(100)))
     for limit in (1, 50, 100, 101, 1000):
-        with open(path, "rb") as f:
-            assert len(source.read_bounded(f, limit)) == min(100, limit)
+        assert fileio.read_input(str(path), limit) == bytes(range(100))[:limit]
     real = os.fstat
-    monkeypatch.setattr(source.os, "fstat", lambda fd: SimpleNamespace(st_size=10, st_mode=real(fd).st_mode))
+    monkeypatch.setattr(fileio.os, "fstat", lambda fd: SimpleNamespace(st_size=10, st_mode=real(fd).st_mode))
     for limit in (5, 11, 12, 60, 101, 1000):
-        with open(path, "rb") as f:
-            assert len(source.read_bounded(f, limit)) == min(100, limit)
+        assert fileio.read_input(str(path), limit) == bytes(range(100))[:limit]
+    monkeypatch.undo()
+    (tmp_path / "empty.stim").write_bytes(b"")
+    assert fileio.read_input(str(tmp_path / "empty.stim"), 10) == b""
