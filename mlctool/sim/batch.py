@@ -26,7 +26,6 @@ import pickle
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
-from itertools import compress
 
 from mlctool.diagnostics import Span, diag
 from mlctool.program import Image
@@ -312,6 +311,8 @@ class _LaneTable:
 
     def final(self, lane: int, extra: tuple[int, ...]) -> tuple[dict[str, int], list[DeviceView]]:
         if self._bits is None:
+            import numpy as np  # (word_lanes.py imports it anyway; a batch that reads no values never does here)
+
             nbytes = (self.n + 7) // 8
             flat = np.frombuffer(b"".join(w.to_bytes(nbytes, "little") for w in self.words), np.uint8)
             self._bits = np.unpackbits(flat, bitorder="little").reshape(len(self.words), 8 * nbytes)
