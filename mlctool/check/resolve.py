@@ -256,12 +256,12 @@ class _Resolver:
             except OperandSyntaxError:
                 return None
             legal = False
-            if not (op.index or op.unit or op.digits):  # as plainly_legal
+            if not (op.index or op.unit or op.digits):  # as plainly_legal, and K/H constants by value
                 kinds = spans_by_kind[k]
                 spans = kinds.get(op.kind)
                 if spans is None:
-                    spans = kinds[op.kind] = self.legal_numbers(spec, spec.operands[k], op.kind)
-                n = op.number
+                    spans = kinds[op.kind] = self.plain_spans(spec, spec.operands[k], op.kind)
+                n = op.value if op.kind in _VALUED else op.number
                 for lo, hi in spans:
                     if lo <= n <= hi:
                         legal = True
@@ -549,6 +549,25 @@ class _Resolver:
             if lo <= n <= hi:
                 return True
         return False
+
+    def plain_spans(self, spec: InstrSpec, o: OperandSpec, kind: str) -> tuple[tuple[int, int], ...]:
+        """What plain_line passes without check_operand: the device numbers of legal_numbers,
+        or for K and H constants (not index-modified) the values of legal_values."""
+        if kind in _VALUED:
+            return self.legal_values(spec, o, kind)
+        return self.legal_numbers(spec, o, kind)
+
+    def legal_values(self, spec: InstrSpec, o: OperandSpec, kind: str) -> tuple[tuple[int, int], ...]:
+        """The values of a K or H constant, not index-modified, that check_operand (check_const)
+        passes without a word: the operand's constant range, where it takes `kind` and is
+        read, not written; none where its range depends on another operand (word_range_of).
+        tests/check/test_check_fastpath.py compares the two."""
+        if kind not in _VALUED or kind not in o.kinds or o.writes or o.word_range_of:
+            return ()
+        rng = o.range32 if spec.width == 32 else o.range16
+        if rng is None and kind == "H":  # as check_const: hex constants are the width's bit patterns
+            rng = (0, 0xFFFFFFFF if spec.width == 32 else 0xFFFF)
+        return (rng or self.t.krange(spec.width),)
 
     def legal_numbers(self, spec: InstrSpec, o: OperandSpec, kind: str) -> tuple[tuple[int, int], ...]:
         """The device numbers of `kind` that check_operand passes without a word, as spans.
@@ -848,6 +867,7 @@ def _intersect(spans, limits) -> list[tuple[int, int]]:
     return [(max(a, c), min(b, d)) for a, b in spans for c, d in limits if max(a, c) <= min(b, d)]
 
 
+_VALUED = frozenset({"K", "H"})  # constants plain_line judges by their value
 _ORDINAL = {1: "first", 2: "second", 3: "third", 4: "fourth", 5: "fifth", 6: "sixth", 7: "seventh"}
 
 

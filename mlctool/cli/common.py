@@ -11,7 +11,6 @@ import os
 import signal
 import sys
 import threading
-import traceback
 
 import click
 
@@ -110,6 +109,8 @@ def _run_guarded(group: click.Group, argv: list[str] | None) -> int:
         return 2
     except Exception as e:  # a bug: say so plainly, trace only on request
         if os.environ.get("MLC_DEBUG"):
+            import traceback  # here: only a bug reported on request needs it (start-up, issue 19)
+
             traceback.print_exc()
         click.echo(f"mlc: internal error: {type(e).__name__}: {e} (set MLC_DEBUG=1 for details)", err=True)
         return 3

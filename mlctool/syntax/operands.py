@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
-from decimal import Decimal, InvalidOperation
 from functools import lru_cache
 
 CONSTANT_KINDS = frozenset({"K", "H", "F", "E", "$"})  # decimal, hex, float (NC5 F / VS E), string
@@ -139,9 +138,34 @@ def parse_operand(text: str, syntax: OperandSyntax = DEFAULT_SYNTAX) -> Operand:
     tests/syntax/test_parser.py checks that both agree)."""
     t = text.upper()
     if len(t) <= 40 and t[:1] not in _claimed_initials(syntax) and (m := _DEV.fullmatch(t)):
-        number, radix = _number(m["num"], m["dev"], syntax, text)
-        return Operand(m["dev"], number=number, index=_index(m), radix=radix)
+        kind, digits, ix = m.group("dev", "num", "ix")
+        number, radix = _number(digits, kind, syntax, text) if kind in syntax.octal else (int(digits), 10)
+        return _device(kind, number, (ix, int(m["ixn"])) if ix else None, radix)
     return full_parse_operand(text, syntax)
+
+
+_new = object.__new__
+# the slots' own setters (a field added to Operand needs its line in _device: tests/syntax/test_parser.py)
+(_set_kind, _set_number, _set_value, _set_digits, _set_index, _set_decimals, _set_bit, _set_radix,
+ _set_unit) = (Operand.__dict__[f].__set__ for f in ("kind", "number", "value", "digits", "index", "decimals",
+                                                     "bit", "radix", "unit"))
+
+
+def _device(kind: str, number: int, index: tuple[str, int] | None, radix: int) -> Operand:
+    """Operand(kind, number=number, index=index, radix=radix), built without the frozen
+    dataclass's __init__, which stores each field through object.__setattr__: half the cost of
+    reading a plain device, the operand most lines hold (issue 19)."""
+    op = _new(Operand)
+    _set_kind(op, kind)
+    _set_number(op, number)
+    _set_value(op, 0)
+    _set_digits(op, 0)
+    _set_index(op, index)
+    _set_decimals(op, 0)
+    _set_bit(op, 0)
+    _set_radix(op, radix)
+    _set_unit(op, "")
+    return op
 
 
 @lru_cache(maxsize=64)
@@ -177,6 +201,9 @@ def full_parse_operand(text: str, syntax: OperandSyntax = DEFAULT_SYNTAX) -> Ope
         return Operand("H", value=int(m["val"], 16), index=_index(m))
     prefix = syntax.float_prefix
     if t.startswith(prefix) and (m := re.fullmatch(prefix + _FLOAT + (_EXPONENT if syntax.float_exponent else ""), t)):
+        # imported here: only float constants need it (start-up, issue 19)
+        from decimal import Decimal, InvalidOperation
+
         try:
             d = Decimal(m["val"])
         except InvalidOperation as e:  # pragma: no cover - the regex admits only decimals

@@ -40,3 +40,29 @@ def test_fast_yes_agrees_with_the_full_check(name):
                         assert full and not r._problems, (spec.mnemonic, k, kind, n, r._problems)
                     compared += 1
     assert compared > 1000 and yes > 100  # the fast path is taken, and only where it may be
+
+
+@pytest.mark.parametrize("name", ["nc5", "vs", "fbs"])
+def test_fast_yes_for_constants_agrees_with_the_full_check(name):
+    """plain_line's yes for a K or H constant (legal_values) is never a constant that
+    check_operand would report anything about."""
+    target = load_target(name)
+    r = _Resolver(ParsedFile("t.il", [], [], []), target)
+    compared = yes = 0
+    for spec in sorted(set(target.instructions.values()), key=lambda s: s.mnemonic):
+        for k, o in enumerate(spec.operands):
+            for kind in ("K", "H"):
+                spans = r.plain_spans(spec, o, kind)
+                edges = {v + d for lo, hi in spans for v in (lo, hi) for d in (-1, 0, 1)} | {0, 1, -1, 70000}
+                for v in sorted(edges):
+                    if kind == "H" and v < 0:
+                        continue
+                    op = Operand(kind, value=v)
+                    fast = any(lo <= v <= hi for lo, hi in spans)
+                    r._problems = []
+                    full = r.check_operand(spec, o, op, _Arg(k, f"{kind}{v}"), [op] * len(spec.operands))
+                    yes += fast
+                    if fast:
+                        assert full and not r._problems, (spec.mnemonic, k, kind, v, r._problems)
+                    compared += 1
+    assert compared > 200 and yes > 30, (compared, yes)

@@ -5,7 +5,13 @@ from __future__ import annotations
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mlctool.syntax.operands import Operand, OperandSyntaxError, format_operand, parse_operand
+from mlctool.syntax.operands import (
+    DEFAULT_SYNTAX,
+    Operand,
+    OperandSyntaxError,
+    format_operand,
+    parse_operand,
+)
 from mlctool.syntax.parser import parse
 from mlctool.syntax.source import decode
 
@@ -156,3 +162,21 @@ def test_operand_shortcut_matches_the_full_parse(text, lower):
         except OperandSyntaxError as e:
             got = str(e)
         assert got == want, (name, text)
+
+
+def test_plain_devices_are_whole_operands():
+    """parse_operand builds plain devices without Operand's __init__ (operands._device): every
+    field is set, and the object is the one __init__ builds (equal, same hash, same repr)."""
+    import dataclasses
+
+    from mlctool.targetapi import load_target
+
+    vs = load_target("vs").operand_syntax  # octal X/Y
+    for text, syntax, want in [("M1005", DEFAULT_SYNTAX, Operand("M", number=1005)),
+                               ("d5v1", DEFAULT_SYNTAX, Operand("D", number=5, index=("V", 1))),
+                               ("X17", vs, Operand("X", number=15, radix=8))]:
+        got = parse_operand.__wrapped__(text, syntax)
+        assert type(got) is Operand
+        assert [getattr(got, f.name) for f in dataclasses.fields(Operand)] == \
+            [getattr(want, f.name) for f in dataclasses.fields(Operand)]
+        assert got == want and hash(got) == hash(want) and repr(got) == repr(want)
