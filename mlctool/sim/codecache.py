@@ -21,7 +21,7 @@ from mlctool.sim.decode import Program
 KIND = "sim-code"
 _MEMO: OrderedDict[bytes, Code | None] = OrderedDict()  # this process's loads, newest last
 _MEMO_SIZE = 8
-_NEEDED = {"code": (CodeType, tuple), "starts": list, "block_steps": list, "linemap": list}
+_NEEDED = {"code": (CodeType, tuple), "starts": list, "block_steps": list, "linemap": list, "funcs": list}
 
 
 def _sound(value) -> bool:

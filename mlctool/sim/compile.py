@@ -72,7 +72,7 @@ class Code:
     def __init__(self, key: str, code: CodeType | tuple[CodeType, ...], filename: str, starts: list[int],
                  block_steps: list[int], linemap: list[int], source: str,
                  consts: dict[str, dict] | None = None, used: frozenset[str] = frozenset(),
-                 groups: list[dict] | None = None, dyn: list[tuple] | None = None):
+                 groups: list[dict] | None = None, dyn: list[tuple] | None = None, funcs: list[str] | None = None):
         self.key = key
         self.code = code
         self.filename = filename
@@ -84,6 +84,7 @@ class Code:
         self.used = used  # machine containers the code reads (G_<name>)
         self.groups = groups or []  # writer record groups (Writers.groups)
         self.dyn = dyn or []  # index-modified stores (Writers.dyn_specs)
+        self.funcs = funcs or []  # the function each block is entered through (_Layout)
 
 
 _CACHE: OrderedDict[str, Code | None] = OrderedDict()
@@ -134,6 +135,130 @@ def _reads_acc_at_entry(block: list[Step]) -> bool:
         return not (spec.cls == "load" and s.new_rung or spec.op in _ACC_FREE_FLOW)
     return False
 
+# ---------------------------------------------------------------------------- function layout
+
+_GOTO = "\0goto "  # a goto() line, resolved by _Layout
+_CALL = "\0call "  # CALL of a subroutine (flow()): "<target block> <return block>"
+PIECE_LINES = 2000  # a block longer than this goes on in functions of its own (split())
+REGION_LINES = 3000  # blocks are laid out into one function until it is this long ...
+REGION_BLOCKS = 32  # ... or holds this many blocks (entering block k tests k - lo block numbers)
+INLINE_LINES = 40  # a subroutine of one block up to this long is inlined where it is called
+_SRET = "\0goto BLK.get(m.calls.pop(), NB)"  # how SRET's goto() reads (inlined: `m.calls.pop()`)
+_NO_FALL = frozenset({"fend", "end", "sret"})  # the block after one of these is reached by a jump only
+
+
+class _Body:
+    """The code of one block (_Gen.block): lines at depth >= 1 and their steps."""
+
+    __slots__ = ("lines", "linemap", "used", "marks", "first")
+
+    def __init__(self, lines: list[str], linemap: list[int], used: set[str], marks: bool, first: int):
+        self.lines, self.linemap, self.used, self.marks, self.first = lines, linemap, used, marks, first
+
+
+class _Layout:
+    """Blocks laid out into functions F<r>(m, ws, ex, jb), each a run of consecutive blocks
+    (a region) entered at block jb: `while True:` around one `if jb <= k:` section per block,
+    so control falls from block to block, a forward jump sets jb and falls through the
+    sections before its target, a backward one sets jb and continues the loop, and a CALL
+    calls its subroutine's function directly. Each section counts its block first: `ex`
+    (steps this scan, for the watchdog: a block that would pass the limit returns -2-k to
+    the driver, which runs it on the interpreter) and the stamp `ws` (one per block
+    execution, Writers). A function returns the next block to the driver (engine.Scanner),
+    -1 at the end of the scan, with the stamp and steps reached in LX.
+
+    A region ends after a block that never falls through (FEND, END, SRET: what follows is
+    a subroutine or another entry) and at REGION_LINES / REGION_BLOCKS."""
+
+    def __init__(self, bodies: list[_Body], steps: list[int], last_ops: list[str]):
+        self.bodies, self.steps = bodies, steps
+        self.region_of: list[int] = []
+        self.regions: list[tuple[int, int]] = []
+        lo, size = 0, 0
+        for k, body in enumerate(bodies):
+            size += len(body.lines)
+            self.region_of.append(len(self.regions))
+            if last_ops[k] in _NO_FALL or size >= REGION_LINES or k + 1 - lo >= REGION_BLOCKS \
+                    or k + 1 == len(bodies):
+                self.regions.append((lo, k + 1))
+                lo, size = k + 1, 0
+        # subroutines of one block, small: their code goes where they are called
+        self.inline = {k for k, body in enumerate(bodies)
+                       if last_ops[k] == "sret" and len(body.lines) <= INLINE_LINES
+                       and [t.lstrip() for t in body.lines if t.lstrip().startswith("\0")] == [_SRET]}
+        self.funcs = [f"F{r}" for r in self.region_of]
+        self.lines: list[str] = []
+        self.linemap: list[int] = []
+        for r, (lo, hi) in enumerate(self.regions):
+            self.function(r, lo, hi)
+
+    def function(self, r: int, lo: int, hi: int) -> None:
+        lines, linemap, bodies = self.lines, self.linemap, self.bodies
+        first = bodies[lo].first
+        parts = bodies[lo:hi] + [bodies[t] for t in self.called(lo, hi) if t in self.inline]
+        used = set().union(*(b.used for b in parts))
+        head = [f"{name} = G_{name}" for name in sorted(used - {"now"})]
+        if any(b.marks for b in parts):
+            head.append("R = G_R")
+        if "now" in used:
+            head.append("now = m.now_us")
+        out = [f"def F{r}(m, ws, ex, jb):"] + ["    " + h for h in head] + ["    a = False", "    while True:"]
+        lines += out
+        linemap += [first] * len(out)
+        for k in range(lo, hi):
+            lines.append(f"        if jb <= {k}:")
+            linemap.append(bodies[k].first)
+            self.section(k, "            ", lambda mark, indent, k=k: self.transfer(mark, indent, k, lo, hi))
+        lines.append(f"        LX[0] = ws; LX[1] = ex; return {hi}")  # (every path has left before)
+        linemap.append(bodies[hi - 1].first)
+
+    def called(self, lo: int, hi: int) -> set[int]:
+        """Blocks the CALLs of region [lo, hi) call."""
+        return {int(t.lstrip()[len(_CALL):].split()[0]) for b in self.bodies[lo:hi] for t in b.lines
+                if t.lstrip().startswith(_CALL)}
+
+    def section(self, k: int, indent: str, transfer) -> None:
+        """Block k's code at `indent`: its steps and stamp counted, then its body with its
+        control transfers resolved by `transfer`."""
+        body, n, at = self.bodies[k], self.steps[k], self.bodies[k].first
+        self.lines += [f"{indent}ex += {n}",
+                       f"{indent}if ex > WD: LX[0] = ws; LX[1] = ex - {n}; return {-2 - k}",
+                       f"{indent}ws += 1"]
+        self.linemap += [at] * 3
+        for text, step in zip(body.lines, body.linemap):
+            inner = indent + text[4:]  # body lines are at depth >= 1
+            if text.lstrip().startswith("\0"):
+                at_indent = inner[:len(inner) - len(text.lstrip())]
+                for t in transfer(text.lstrip(), at_indent):
+                    self.lines.append(at_indent + t)
+                    self.linemap.append(step)
+            else:
+                self.lines.append(inner)
+                self.linemap.append(step)
+
+    def transfer(self, mark: str, indent: str, k: int, lo: int, hi: int) -> list[str]:
+        """The statements of a goto()/CALL line of block k laid out in region [lo, hi) (an
+        inlined subroutine: written at `indent` here)."""
+        if mark.startswith(_CALL):
+            target, ret = (int(x) for x in mark[len(_CALL):].split())
+            if target in self.inline:  # its SRET returns here (the CALL pushed this return)
+                self.section(target, indent, lambda mark, indent: ["m.calls.pop()"])
+                return []
+            return [f"rb = F{self.region_of[target]}(m, ws, ex, {target}); ws = LX[0]; ex = LX[1]",
+                    f"if rb != {ret}: return rb"]
+        target = mark[len(_GOTO):]
+        if not target.lstrip("-").isdigit():  # known at run time only
+            return [f"LX[0] = ws; LX[1] = ex; return {target}"]
+        t = int(target)
+        if t == k + 1 and t < hi:
+            return ["pass"]
+        if lo <= t <= k:
+            return [f"jb = {t}; continue"]
+        if k < t < hi:
+            return [f"jb = {t}"]
+        return [f"LX[0] = ws; LX[1] = ex; return {t}"]
+
+
 class _Gen(OpsCode):
     def __init__(self, prog: Program, key: str):
         self.prog = prog
@@ -166,6 +291,28 @@ class _Gen(OpsCode):
         self.lines.append("    " * depth + text)
         self.linemap.append(step)
 
+    def goto(self, target: int | str, step: int, depth: int = 1) -> None:
+        """Control passes to block `target` (-1: the end of the scan; a str: an expression
+        computed at run time); resolved when the blocks are laid out into functions
+        (_Layout.transfer). It is the last statement of its path through the block."""
+        self.emit(f"{_GOTO}{target}", step, depth)
+
+    def new_buffer(self) -> None:
+        """Start a function's body: its lines, the containers it names, whether it stamps."""
+        self.lines, self.linemap = [], []
+        self.used: set[str] = set()
+        self.block_marks = False
+
+    def header(self) -> list[str]:
+        """The locals a function body reads its containers through (one global load each)."""
+        out = [f"{name} = G_{name}" for name in sorted(self.used - {"now"})]
+        if self.block_marks:
+            out.append("R = G_R")
+        if "now" in self.used:
+            out.append("now = m.now_us")
+        self.all_used |= self.used
+        return out
+
     def build(self) -> Code:
         steps = self.prog.steps
         if not steps:
@@ -183,24 +330,33 @@ class _Gen(OpsCode):
         # if none does, blocks neither load nor leave it (m.acc is for the reference routines)
         self.acc_live = any(_reads_acc_at_entry(steps[bounds[j]:bounds[j + 1]]) for j in range(len(starts)))
         block_steps = []
+        bodies = []
+        self.pieces: list[tuple[list[str], list[int]]] = []  # pieces of long blocks (split())
         for j in range(len(starts)):
             block = steps[bounds[j]:bounds[j + 1]]
             block_steps.append(sum(s.steps for s in block))
             self.nsteps = block_steps[-1]
-            self.block(j, block, len(starts))
-        source = "\n".join(self.lines) + "\n"
-        code = compile_parts(self.lines, self.filename)  # (in parts: compile()'s memory, pycompile.py)
-        return Code(self.key, code, self.filename, starts, block_steps, self.linemap, source,
-                    self.consts, frozenset(self.all_used), self.groups, self.dyn)
+            bodies.append(self.block(j, block))
+        lay = _Layout(bodies, block_steps, [steps[b - 1].ins.spec.op for b in bounds[1:]])
+        lines, linemap = lay.lines, lay.linemap
+        for piece_lines, piece_map in self.pieces:
+            lines += piece_lines
+            linemap += piece_map
+        self.pieces = []
+        source = "\n".join(lines) + "\n"
+        code = compile_parts(lines, self.filename)  # (in parts: compile()'s memory, pycompile.py)
+        return Code(self.key, code, self.filename, starts, block_steps, linemap, source,
+                    self.consts, frozenset(self.all_used), self.groups, self.dyn, lay.funcs)
 
     # -- one block
-    def block(self, j: int, block: list[Step], nblocks: int) -> None:
+    def block(self, j: int, block: list[Step]) -> _Body:
+        """The body of block j (to be laid out into a function by _Layout): its lines at
+        depth 1 and up, control leaving it by goto() lines."""
         first = block[0].index
-        self.emit(f"def b{j}(m, ws, ex):", first, 0)
-        header_at = len(self.lines)
+        self.new_buffer()
+        self.piece_at = 0  # line of the current buffer where its straight run of code began
+        self.main = None  # (lines, linemap) of the block's body while a piece is being written
         self.self_loop: int | None = None  # the NEXT ending a FOR body of this one block
-        self.used: set[str] = set()
-        self.block_marks = False
         self.pending: dict[tuple[str, int], int] = {}
         self.gopen, self.gpend = False, {}
         self.known: dict[tuple[str, int], int] = {}  # words of the open group holding a constant
@@ -211,38 +367,80 @@ class _Gen(OpsCode):
         self.stack: list[str] = []  # symbolic MPS stack
         self.tmp = 0
         self.acc = None  # the rung result (a codegen.r_* tree) when not (yet) in `a`
-        self.emit("a = m.acc" if self.acc_live else "a = False", first)
+        if self.acc_live:  # (else the function's `a = False` binds it: no block reads it first)
+            self.emit("a = m.acc", first)
         ended = False
         for k, s in enumerate(block):
             op = s.ins.spec.op
             self.next_step = block[k + 1] if k + 1 < len(block) else None
+            if (s.new_rung and s.ins.spec.cls == "load" and not self.blocks and not self.stack
+                    and len(self.lines) - self.piece_at > PIECE_LINES):
+                self.split(s.index)
             if op in FLOW_OPS:
+                self.end_piece(s.index)
                 self.flow(s, j)
                 ended = True
                 break
             self.instr(s)
         if not ended:
-            self.settle(block[-1].index)
+            last = block[-1].index
+            self.end_piece(last)
+            self.settle(last)
             self.exit_checks(block[-1])
-            self.flush(block[-1].index)
+            self.flush(last)
             if self.acc_live:
-                self.emit("m.acc = a", block[-1].index)
-            self.emit(f"return {j + 1}", block[-1].index)
+                self.emit("m.acc = a", last)
         if self.self_loop is not None:  # a FOR body of one block loops here (flow(), NEXT)
             # nothing in one block changes m.fors (flow ops end blocks): its frame is found once
-            self.lines[header_at:] = ["    " + line for line in self.lines[header_at:]]
-            self.lines[header_at:header_at] = [
-                "    w0 = ws", "    fs = m.fors",
-                f"    lp = fs[-1] if fs and fs[-1][1] == {self.self_loop} else None", "    while True:"]
-            self.linemap[header_at:header_at] = [first] * 4
-        header = [f"{name} = G_{name}" for name in sorted(self.used - {"now"})]
-        if self.block_marks:
-            header.append("R = G_R")
-        if "now" in self.used:
-            header.append("now = m.now_us")
+            self.lines[:] = ["    " + line for line in self.lines]
+            self.lines[:0] = ["    fs = m.fors", f"    lp = fs[-1] if fs and fs[-1][1] == {self.self_loop} else None",
+                              "    while True:"]
+            self.linemap[:0] = [first] * 3
+        if self.self_loop is not None or not ended:
+            self.goto(j + 1, block[-1].index)
+        body = _Body(self.lines, self.linemap, self.used, self.block_marks, first)
         self.all_used |= self.used
-        self.lines[header_at:header_at] = ["    " + h for h in header]
-        self.linemap[header_at:header_at] = [first] * len(header)
+        return body
+
+    def split(self, i: int) -> None:
+        """A long block goes on in a function of its own (`a = piece<n>(m, ws)`), so no function
+        is huge (compile()'s memory grows with a function's size). Called where a new rung
+        begins with no rung stack open: the rung result is dead there; what the generator
+        holds for the code so far (deferred writer records, hoisted index values) is
+        written out or dropped."""
+        self.settle(i)
+        self.flush(i)
+        self.known = {}
+        self.ixc = {}
+        if self.main is None:
+            self.main = (self.lines, self.linemap, self.used, self.block_marks)
+        else:
+            self.finish_piece(i)
+        name = f"piece{len(self.pieces)}"
+        main_lines, main_map = self.main[0], self.main[1]
+        main_lines.append(f"    a = {name}(m, ws)")
+        main_map.append(i)
+        self.new_buffer()
+        self.piece_name, self.piece_first = name, i
+        self.piece_at = 0
+        self.emit("a = False", i)
+
+    def finish_piece(self, i: int) -> None:
+        self.emit("return a", i)
+        head = [f"def {self.piece_name}(m, ws):"] + ["    " + h for h in self.header()]
+        self.pieces.append((head + self.lines, [self.piece_first] * len(head) + self.linemap))
+
+    def end_piece(self, i: int) -> None:
+        """The block's last instructions: back in the block's body (its flow needs it)."""
+        if self.main is None:
+            return
+        self.settle(i)
+        self.flush(i)
+        self.ixc = {}
+        self.finish_piece(i)
+        lines, linemap, used, marks = self.main
+        self.lines, self.linemap, self.used, self.block_marks = lines, linemap, used, marks
+        self.main = None
 
     def exit_checks(self, s: Step) -> None:
         if self.blocks or self.stack:
@@ -734,56 +932,59 @@ class _Gen(OpsCode):
         if op in ("fend", "end"):
             self.emit("if m.calls or m.fors:", i)
             self.emit(ref_call, i, 2)
-            self.emit("return -1", i)
+            self.goto(-1, i)
         elif op == "for" and s.target >= 0 and (type(s.ops[0]) is ConstRef and s.ops[0].ix is None
                                                 or _word(s.ops[0]) and s.ops[0].ix is None):
             self.emit("fs = m.fors", i)
             self.emit(f"if len(fs) >= {self.for_depth}:", i)
             self.emit(ref_call, i, 2)  # a fault, or an operation error that skips the FOR
-            self.emit(f"return {j + 1}", i, 2)
-            self.emit(f"n = {self.value(s.ops[0], i, 0)}", i)
-            self.emit(f"fs.append([{i}, {s.target}, n if n > 1 else 1])", i)
-            self.emit(f"return {j + 1}", i)
+            self.emit("else:", i)
+            self.emit(f"n = {self.value(s.ops[0], i, 0, 2)}", i, 2)
+            self.emit(f"fs.append([{i}, {s.target}, n if n > 1 else 1])", i, 2)
+            self.goto(j + 1, i)
         elif op == "next" and s.target >= 0 and s.target + 1 in self.block_of \
                 and self.block_of[s.target + 1] == j:
             # the body is this block: the next iteration runs here (block() wraps the block in
-            # `while True:`) with its own stamp (ws + 1) and its steps counted as the driver
-            # counts them; one that would pass the watchdog goes back to the driver, which runs
-            # it on the interpreter. LX tells the driver the stamp and steps reached.
+            # `while True:`) with its own stamp (ws + 1) and its steps counted as the layout
+            # counts a block's; one that would pass the watchdog goes back to the driver, which
+            # runs it on the interpreter. After the loop, block() falls through to the next block.
             self.self_loop = i
             n = self.nsteps
             self.emit("if lp is not None:", i)  # lp: the loop's frame, found before `while` (block())
             self.emit("c = lp[2] - 1; lp[2] = c", i, 2)
             self.emit("if c > 0:", i, 2)
             self.emit(f"if ex + {n} > WD: LX[0] = ws; LX[1] = ex; return {-2 - j}", i, 3)
-            self.emit(f"ws += 1; ex += {n}; LX[0] = ws; continue", i, 3)
+            self.emit(f"ws += 1; ex += {n}; continue", i, 3)
             self.emit("fs.pop()", i, 2)
-            self.emit(f"if ws == w0: return {j + 1}", i)
-            self.emit(f"LX[0] = ws; LX[1] = ex; return {-2 - (j + 1)}", i)
+            self.emit("break", i)
         elif op == "next" and s.target >= 0 and s.target + 1 in self.block_of:
             self.emit("fs = m.fors", i)
             self.emit(f"if fs and fs[-1][1] == {i}:", i)
             self.emit("lp = fs[-1]; lp[2] -= 1", i, 2)
-            self.emit(f"if lp[2] > 0: return {self.block_of[s.target + 1]}", i, 2)
+            self.emit("if lp[2] > 0:", i, 2)
+            self.goto(self.block_of[s.target + 1], i, 3)  # the body begins before: not a fall
             self.emit("fs.pop()", i, 2)
-            self.emit(f"return {j + 1}", i)
+            self.goto(j + 1, i)
         elif op == "cj" and s.target in self.block_of:
             self.emit("if a:", i)
             self.emit(f"if m.fors: JMP(m, {s.target})", i, 2)
-            self.emit(f"return {self.block_of[s.target]}", i, 2)
-            self.emit(f"return {j + 1}", i)
+            self.goto(self.block_of[s.target], i, 2)
+            self.goto(j + 1, i)
         elif op == "call" and s.target in self.block_of:
-            self.emit(f"if a and len(m.calls) < {self.call_depth}:", i)
-            self.emit(f"m.calls.append({i + 1}); return {self.block_of[s.target]}", i, 2)
-            self.emit("if a:", i)  # the 6th level: the routine raises the alarm
-            self.emit(ref_call, i, 2)
-            self.emit(f"return {j + 1}", i)
+            self.emit("if a:", i)
+            self.emit(f"if len(m.calls) < {self.call_depth}:", i, 2)
+            self.emit(f"m.calls.append({i + 1})", i, 3)
+            self.emit(f"{_CALL}{self.block_of[s.target]} {j + 1}", i, 3)
+            self.emit("else:", i, 2)
+            self.emit(ref_call, i, 3)  # the 6th level: the routine raises the alarm
+            self.goto(j + 1, i)
         elif op == "sret":
             self.emit("if not m.calls:", i)
             self.emit(ref_call, i, 2)
-            self.emit("return BLK.get(m.calls.pop(), NB)", i)
+            self.goto(_SRET[len(_GOTO):], i)
         else:
             self.emit(f"m.acc = a; m.pc = {i}; AT[0] = ws; AT[1] = {self.pos()}", i)
             self.emit(f"r = S{i}.run(m, S{i})", i)
-            self.emit(f"if r is None: return {j + 1}", i)
-            self.emit("return -1 if r == -1 else BLK[r]", i)
+            self.emit("if r is not None:", i)
+            self.goto("-1 if r == -1 else BLK[r]", i, 2)
+            self.goto(j + 1, i)

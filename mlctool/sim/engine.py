@@ -1,7 +1,7 @@
 """Running compiled code (compile.py) on a Machine: the Scanner binds a program's generated
-functions to the machine's containers and runs them block by block, with the reference
-interpreter (scan.py) for the watchdog's last block and for programs the compiler leaves to
-it; `Writers` gives the machine the interpreter's writer records from the stamps the code
+functions to the machine's containers and calls them (each runs a run of blocks and returns
+the next block: compile._Layout), with the reference interpreter (scan.py) for the
+watchdog's last block and for programs the compiler leaves to it; `Writers` gives the machine the interpreter's writer records from the stamps the code
 keeps; the helpers the generated code calls on its fault paths.
 """
 
@@ -231,10 +231,9 @@ class Scanner:
         self._lx, self._watchdog = g["LX"], g["WD"]
         self._rebind()
         run_parts(code.code, g)  # our own generated code (compile.py, in parts: pycompile.py)
-        self.fns: list[Callable] = [g[f"b{j}"] for j in range(len(code.starts))] + [self._past_end]
-        self.bsteps = [*code.block_steps, 0]
+        self.fns: list[Callable] = [g[name] for name in code.funcs] + [self._past_end]
 
-    def _past_end(self, m: Machine, ws: int, ex: int) -> int:
+    def _past_end(self, m: Machine, ws: int, ex: int, jb: int) -> int:
         """The block after the last one: control ran off the program."""
         raise Fault("execution ran past the last instruction without END", self.prog.steps[-1])
 
@@ -297,34 +296,27 @@ class Scanner:
         if self._before is not None:
             self._before(m)
         fns = self.fns
-        bsteps = self.bsteps
         w = self._writer
         lx = self._lx
         if self._watchdog != watchdog:
             self._watchdog = self.g["WD"] = watchdog
-        k = w.k  # stamp of the next block execution (Writers)
-        j = 0
-        ex = 0
+        k = w.k  # the last stamp given to a block execution (Writers)
         try:
-            while True:
-                while j >= 0:
-                    ex += bsteps[j]
-                    k += 1
-                    if ex > watchdog:
-                        w.at[:] = k, _INF
-                        self._interp(self.code.starts[j], ex - bsteps[j], watchdog)
-                        j = -1
-                        break
-                    j = fns[j](m, k, ex)
-                if j == -1:
-                    break
-                k, ex = lx  # a FOR body looped in its block: the stamp and steps it reached
-                j = -2 - j
+            j = fns[0](m, k, 0, 0)
+            while j >= 0:  # the functions count the blocks they run (compile._Layout)
+                j = fns[j](m, lx[0], lx[1], j)
+            k = lx[0]
+            if j != -1:  # block -2-j would pass the watchdog: the interpreter stops at its step
+                k += 1
+                w.at[:] = k, _INF
+                self._interp(self.code.starts[-2 - j], lx[1], watchdog)
         except SimFault as e:
+            k = self._stamp_reached(e, k)
             raise Fault(e.message, self._fault_step(e)) from None
+        except BaseException as e:
+            k = self._stamp_reached(e, k)
+            raise
         finally:
-            if lx[0] > k:  # a fault in a looping block: its iterations took stamps
-                k = lx[0]
             w.k = k
             at = w.at  # writes between scans: after this scan's
             at[0] = k
@@ -339,6 +331,17 @@ class Scanner:
             self.code = None
             self.engine = "interp"
         self._runs = []
+
+    def _stamp_reached(self, e: BaseException, k: int) -> int:
+        """The last stamp the generated code gave when `e` stopped it: `ws` of its frames in
+        the traceback (a stamp is a local; LX holds it only where a function returned)."""
+        tb = e.__traceback__
+        while tb is not None:
+            frame = tb.tb_frame
+            if frame.f_code.co_filename == self.code.filename:
+                k = max(k, frame.f_locals.get("ws", k))
+            tb = tb.tb_next
+        return max(k, self._lx[0])
 
     def _fault_step(self, e: BaseException) -> Step | None:
         tb = e.__traceback__
