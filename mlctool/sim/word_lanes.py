@@ -3,9 +3,9 @@
 A straight-line program (no jumps, calls or loops) of contacts, compare contacts, coils,
 TMR/CNT with K presets and 16/32-bit word arithmetic and moves on D (see `WordLaneProgram`),
 with scenarios that set, force and expect plain bits and D/T/C words: every device is a numpy
-array with one element per scenario (bits bool, words int64 holding the raw 16-bit pattern),
-a conditional write is `np.where(a, new, old)`. Values are read and written through a scratch
-Machine and DeviceView, so conversions are the single run's. mlctool/sim/batch.py decides which
+array with one element per scenario (see `WordLaneProgram` for the types), a conditional
+write is `np.where(a, new, old)`. Values are read and written through a scratch Machine and
+DeviceView, so conversions are the single run's. mlctool/sim/batch.py decides which
 scenarios run so and turns a failing lane into a single run.
 """
 
@@ -19,7 +19,7 @@ from mlctool.program import Image
 from mlctool.sim.decode import Program, program_devices
 from mlctool.sim.lane_codegen import RungCodegen, lanes_target
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, WordRef
-from mlctool.sim.run import ExpectOutcome, RunResult
+from mlctool.sim.run import DEFAULT_SCAN_US, ExpectOutcome, RunResult
 from mlctool.sim.scan import load_program
 from mlctool.sim.state import DeviceView, Machine
 from mlctool.sim.stimulus import Stimulus
@@ -31,8 +31,17 @@ _W_CMP = {"cmp_eq": "==", "cmp_ne": "!=", "cmp_gt": ">", "cmp_lt": "<", "cmp_ge"
 _W_ARITH = {"add": "+", "sub": "-", "wand": "&", "wor": "|", "wxor": "^"}
 
 
-def _bool_space(space: str) -> bool:
-    return space in WORD_BIT_SPACES or space in ("TR", "CP")
+def _lane_dtype(space: str):
+    """Bits bool, D words int16 (the signed value), the others (timer and counter values, the
+    timers' remainders) int64."""
+    if space in WORD_BIT_SPACES or space in ("TR", "CP"):
+        return bool
+    return np.int16 if space == "D" else np.int64
+
+
+def _raw(arr: np.ndarray) -> np.ndarray:
+    """The lane array as raw 16-bit patterns (a view: writes go through)."""
+    return arr.view(np.uint16) if arr.dtype == np.int16 else arr
 
 
 def _view_slots(v: DeviceView, m: Machine) -> list[tuple[tuple[str, int], object, int]] | None:
@@ -54,11 +63,21 @@ def _view_slots(v: DeviceView, m: Machine) -> list[tuple[tuple[str, int], object
 
 class WordLaneProgram(RungCodegen):
     """A straight-line program as one Python function over numpy lanes (one element per
-    scenario). `ok` False: the program needs scenario-by-scenario runs."""
+    scenario). `ok` False: the program needs scenario-by-scenario runs.
+
+    Numpy's cost here is per call (~0.3-1.3 us for 1024 lanes, the elements nearly free), so
+    the generated code keeps the calls per instruction few: D words are int16 arrays holding
+    the signed value (16-bit arithmetic wraps by itself, a compare is one call), 32-bit
+    values int32/int64, timer and counter values int64 holding the raw 16-bit pattern (their
+    contacts compare it unsigned, as the Machine does), bits bool (an edge `x & ~e` is `x > e`)."""
 
     def __init__(self, prog: Program):
         super().__init__(prog)
         self.counters: list[int] = []
+        self.timers: set[int] = set()
+        self.consts: dict[str, object] = {}
+        self.body: list = []  # generated lines; a TMR is a tuple, expanded per scan period
+        self.scans: dict[int, object] = {}
         t = prog.target
         self.c32_lo = t.settings["counters32"][0]
         self.ok = self._generate() if lanes_target(t) else False
@@ -73,43 +92,84 @@ class WordLaneProgram(RungCodegen):
     def edge_memory(self, i: int) -> str:
         return f"E.get({i}, F)"
 
+    def contact(self, op: str, x: str, i: int, out: list[str]) -> str | None:
+        if op in ("contact_rise", "contact_fall"):  # on bools x & ~e is x > e: one call
+            e = self._new("e")
+            out.append(f"{e} = {self.edge_memory(i)}; E[{i}] = {x}")
+            return f"({x} > {e})" if op == "contact_rise" else f"({e} > {x})"
+        return super().contact(op, x, i, out)
+
+    def coil(self, op: str, x: str, i: int, out: list[str]) -> None:
+        if op == "rst":
+            out.append(f"{x} = {x} > a")
+        elif op in ("pls", "plf"):
+            e = self._new("e")
+            out.append(f"{e} = {self.edge_memory(i)}; E[{i}] = a")
+            out.append(f"{x} = a > {e}" if op == "pls" else f"{x} = {e} > a")
+        else:
+            super().coil(op, x, i, out)
+
     def _generate(self) -> bool:
         steps = self.prog.steps
         if not steps or steps[-1].ins.spec.op != "end":
             return False
-        body: list[str] = []
         try:
             for s in steps[:-1]:
-                body += self._instr(s)
+                self.body += self._instr(s)
         except _NoLane:
             return False
         for n in self.counters:  # counter contacts act at the end of the scan (1.7)
-            body.append(f"C_{n} = C_{n} | CP_{n}; CP_{n} = F")
-        names = sorted(self.slots, key=self.slots.get)
-        load = [f"    {sp}_{n} = S[{self.slots[(sp, n)]}]" for sp, n in names]
-        store = [f"    S[{self.slots[(sp, n)]}] = {sp}_{n}" for sp, n in names]
-        src = ("def scan(S, E, now, F, np):\n    a = F\n" + "\n".join(load + ["    " + b for b in body] + store)
-               + "\n")
-        g: dict = {}
-        exec(compile(src, "<mlc-word-lanes>", "exec"), g)  # noqa: S102 - our own generated code
-        self.scan = g["scan"]
-        self.source = src
+            self.body.append(f"C_{n} = C_{n} | CP_{n}; CP_{n} = F")
+        self.scan = self.scan_for(DEFAULT_SCAN_US)
         return True
 
-    # -- operands
-    def signed(self, ref) -> str:
+    def scan_for(self, period: int):
+        """The scan function for scans `period` us apart (the timers' code depends on it)."""
+        scan = self.scans.get(period)
+        if scan is None:
+            body: list[str] = []
+            for b in self.body:
+                body += self.tmr_code(period, *b) if type(b) is tuple else [b]
+            names = sorted(self.slots, key=self.slots.get)
+            load = [f"    {sp}_{n} = S[{self.slots[(sp, n)]}]" for sp, n in names]
+            store = [f"    S[{self.slots[(sp, n)]}] = {sp}_{n}" for sp, n in names]
+            src = ("def scan(S, E, now, F, np):\n    a = F\n"
+                   + "\n".join(load + ["    " + b for b in body] + store) + "\n")
+            g: dict = dict(self.consts)
+            exec(compile(src, "<mlc-word-lanes>", "exec"), g)  # noqa: S102 - our own generated code
+            scan = self.scans[period] = g["scan"]
+            self.source = src
+        return scan
+
+    # -- operands: (expression, bits) with bits 16/32/64 for arrays, or (value, None) for a constant
+    def const(self, value: int, bits: int) -> str:
+        """A numpy scalar of the lanes' type (a Python int would be cast per call, and numpy
+        1.x and 2.x type mixed int16/int arithmetic differently)."""
+        value = (value + (1 << bits - 1)) % (1 << bits) - (1 << bits - 1)
+        name = f"K{bits}_{value}".replace("-", "m")
+        self.consts[name] = {16: np.int16, 32: np.int32, 64: np.int64}[bits](value)
+        return name
+
+    def operand(self, ref) -> tuple:
         w = ref.width
         if type(ref) is ConstRef and ref.ix is None and not ref.is_f:
-            return repr(ref.get(None))
-        if type(ref) is WordRef and ref.ix is None and ref.kind in ("D", "T"):
-            sp = "D" if ref.kind == "D" else "TW"
+            return ref.get(None), None
+        if type(ref) is WordRef and ref.ix is None and ref.kind == "D":
             if w == 16:
-                return f"(({self.name(sp, ref.num)} ^ 32768) - 32768)"
-            if ref.kind == "D" and ref.num + 1 <= ref.hi:
-                return f"((({self.name('D', ref.num + 1)} << 16 | {self.name('D', ref.num)}) ^ 2147483648) - 2147483648)"
+                return self.name("D", ref.num), 16
+            if ref.num + 1 <= ref.hi:
+                hi, lo = self.name("D", ref.num + 1), self.name("D", ref.num)
+                return f"(({hi}.astype(np.int32) << 16) | {lo}.view(np.uint16))", 32
+        if type(ref) is WordRef and ref.ix is None and ref.kind == "T" and w == 16:
+            return f"{self.name('TW', ref.num)}.astype(np.int16)", 16
         if type(ref) is CounterRef and ref.ix is None and w == 16 and ref.num < self.c32_lo:
-            return f"(({self.name('CW', ref.num)} ^ 32768) - 32768)"
+            return f"{self.name('CW', ref.num)}.astype(np.int16)", 16
         raise _NoLane
+
+    def value(self, ref, bits: int) -> str:
+        """An operand as an array expression or constant of `bits` (values wrapped to it)."""
+        x, b = self.operand(ref)
+        return self.const(x, bits) if b is None else x
 
     def bit(self, ref) -> str:
         if type(ref) is BitRef and ref.ix is None and ref.kind in WORD_BIT_SPACES:
@@ -126,23 +186,39 @@ class WordLaneProgram(RungCodegen):
         raise _NoLane
 
     def store(self, words: list[str], expr: str) -> list[str]:
+        """`words` (int16 lanes) take `expr` where the rung is On: its value for one word (an
+        int16 expression), its low and high 16 bits for two."""
         if len(words) == 1:
-            return [f"{words[0]} = np.where(a, ({expr}) & 65535, {words[0]})"]
-        return [f"v = {expr}", f"{words[0]} = np.where(a, v & 65535, {words[0]})",
-                f"{words[1]} = np.where(a, (v >> 16) & 65535, {words[1]})"]
+            return [f"{words[0]} = np.where(a, {expr}, {words[0]})"]
+        return [f"v = {expr}", f"{words[0]} = np.where(a, v.astype(np.int16), {words[0]})",
+                f"{words[1]} = np.where(a, (v >> 16).astype(np.int16), {words[1]})"]
+
+    def store_const(self, words: list[str], value: int) -> list[str]:
+        if len(words) == 1:
+            return [f"{words[0]} = np.where(a, {self.const(value, 16)}, {words[0]})"]
+        return [f"{words[0]} = np.where(a, {self.const(value, 16)}, {words[0]})",
+                f"{words[1]} = np.where(a, {self.const(value >> 16, 16)}, {words[1]})"]
+
+    def compare(self, op: str, r0, r1) -> str:
+        (x, bx), (y, by) = self.operand(r0), self.operand(r1)
+        if bx is None and by is None:
+            return f"(F | ({x!r} {_W_CMP[op]} {y!r}))"
+        lo, hi = (-32768, 32767) if (bx or by) == 16 else (-2**31, 2**31 - 1)
+        for c in (x if bx is None else None, y if by is None else None):
+            if c is not None and not lo <= c <= hi:  # a constant outside the lanes' type: compare in int64
+                x, y = (x if bx is None else f"{x}.astype(np.int64)"), (y if by is None else f"{y}.astype(np.int64)")
+        return f"({x} {_W_CMP[op]} {y})"
 
     # -- instructions
-    def _instr(self, s) -> list[str]:
+    def _instr(self, s) -> list:
         spec = s.ins.spec
         op, cls, i = spec.op, spec.cls, s.index
         if getattr(spec, "pulse", False) or s.run is not semantics_action(op, s):
             raise _NoLane
-        out: list[str] = []
+        out: list = []
         if cls in ("load", "and", "or"):
             if op in _W_CMP:
-                c = f"({self.signed(s.ops[0])} {_W_CMP[op]} {self.signed(s.ops[1])})"
-                if c.count("(") == c.count(")") and "_" not in c:  # two constants
-                    c = f"(F | {c})"
+                c = self.compare(op, s.ops[0], s.ops[1])
             else:
                 c = self.contact(op, self.bit(s.ops[0]), i, out)
                 if c is None:
@@ -155,44 +231,83 @@ class WordLaneProgram(RungCodegen):
             self.coil(op, self.bit(s.ops[0]), i, out)
         elif op in ("mov", "inc", "dec", "cml") or op in _W_ARITH:
             w = s.width
-            mask = 65535 if w == 16 else 4294967295
-            if op == "mov":
-                src, dst = self.signed(s.ops[0]), s.ops[1]
-            elif op in ("inc", "dec"):
-                src, dst = f"({self.signed(s.ops[0])} {'+' if op == 'inc' else '-'} 1)", s.ops[0]
-            elif op == "cml":
-                src, dst = f"(~{self.signed(s.ops[0])} & {mask})", s.ops[1]
+            if op in ("inc", "dec"):
+                ops, dst = (s.ops[0],), s.ops[0]
+            elif op in ("mov", "cml"):
+                ops, dst = (s.ops[0],), s.ops[1]
             else:
-                src = f"({self.signed(s.ops[0])} {_W_ARITH[op]} {self.signed(s.ops[1])})"
-                dst = s.ops[2]
-            out += self.store(self.dest(dst, w), src)
+                ops, dst = (s.ops[0], s.ops[1]), s.ops[2]
+            words = self.dest(dst, w)
+            vals = [self.operand(r) for r in ops]
+            if all(b is None for _, b in vals):  # constants: the value is known here
+                v = [x for x, _ in vals]
+                mask = (1 << w) - 1
+                folded = {"mov": lambda: v[0], "inc": lambda: v[0] + 1, "dec": lambda: v[0] - 1,
+                          "cml": lambda: ~v[0], "add": lambda: v[0] + v[1], "sub": lambda: v[0] - v[1],
+                          "wand": lambda: v[0] & v[1], "wor": lambda: v[0] | v[1], "wxor": lambda: v[0] ^ v[1]}[op]()
+                out += self.store_const(words, folded & mask)
+                return out
+            x = [self.value(r, w) for r in ops]
+            if op == "mov":
+                src = x[0]
+            elif op in ("inc", "dec"):
+                src = f"({x[0]} {'+' if op == 'inc' else '-'} {self.const(1, w)})"
+            elif op == "cml":
+                src = f"(~{x[0]})"
+            else:
+                src = f"({x[0]} {_W_ARITH[op]} {x[1]})"
+            out += self.store(words, src)
         elif op == "mul" and s.width == 16:
             words = self.dest(s.ops[2], 32)
-            out += self.store(words, f"({self.signed(s.ops[0])} * {self.signed(s.ops[1])})")
+            (x, bx), (y, by) = self.operand(s.ops[0]), self.operand(s.ops[1])
+            if bx is None and by is None:
+                out += self.store_const(words, (x * y) & 0xFFFFFFFF)
+            else:  # in int64: a 16-bit product fits, and so does one with any constant
+                if bx is None:
+                    (x, bx), (y, by) = (y, by), (x, bx)
+                y = y if by is None else f"{y}.astype(np.int64)"
+                out += self.store(words, f"({x}.astype(np.int64) * {y})")
         elif op == "tmr":
-            out += self.tmr(s)
+            out.append(self.tmr(s))
         elif op == "cnt":
             out += self.cnt(s)
         else:
             raise _NoLane
         return out
 
-    def tmr(self, s) -> list[str]:
-        """semantics.tmr + advance_timer per lane (every TMR runs every scan: nothing skips it)."""
+    def tmr(self, s) -> tuple:
         t, pre = s.ops
         target = self.prog.target
         if t.ix is not None or type(pre) is not ConstRef or pre.ix is not None or pre.is_f \
-                or target.timer_base(t.num).get("retentive") or target.settings.get("timer_preset_range"):
+                or target.timer_base(t.num).get("retentive") or target.settings.get("timer_preset_range") \
+                or t.num in self.timers:
             raise _NoLane
-        n, p, base = t.num, pre.get(None) & 0xFFFF, target.timer_base_ms(t.num) * 1000
-        tw, tb, tr, tl, tf = (self.name(sp, n) for sp in ("TW", "T", "TR", "TL", "TF"))
-        return [f"q, f = np.divmod(now - {tl} + {tf}, {base})",
-                f"v = np.where({tw} < {p}, np.minimum({tw} + q, {p}), {tw})",
-                f"{tw} = np.where(a, np.where({tr}, v, {tw}), 0)",
-                f"{tf} = np.where(a & {tr}, f, 0)",
-                f"{tl} = np.where(a, now, {tl})",
-                f"{tr} = a",
-                f"{tb} = a & ({tw} >= {p})"]
+        self.timers.add(t.num)
+        for sp in ("TW", "T", "TR", "TF"):
+            self.name(sp, t.num)
+        return (t.num, pre.get(None) & 0xFFFF, target.timer_base_ms(t.num) * 1000)
+
+    @staticmethod
+    def tmr_code(period: int, n: int, p: int, base: int) -> list[str]:
+        """semantics.tmr + advance_timer per lane. Every TMR runs once every scan (the program
+        is straight-line and names each timer once), so a timer running since the last scan
+        was last updated `period` ago: that is its elapsed time, no last-update word needed.
+        The tick is a bool when a scan is shorter than the base, a constant when the base
+        divides it (no remainder then)."""
+        tw, tb, tr, tf = f"TW_{n}", f"T_{n}", f"TR_{n}", f"TF_{n}"
+        out = [f"r = a & {tr}"]  # running since the last scan and still On
+        if period % base == 0:
+            k = period // base
+            out.append(f"{tw} = ({tw} + (r & ({tw} < {p}))) * a" if k == 1 else
+                       f"{tw} = np.where(r & ({tw} < {p}), np.minimum({tw} + {k}, {p}), {tw}) * a")
+        elif period < base:
+            out += [f"f = {tf} + {period}", f"q = f >= {base}", f"{tf} = (f - q * {base}) * r",
+                    f"{tw} = ({tw} + (q & r & ({tw} < {p}))) * a"]
+        else:
+            out += [f"q, f = np.divmod({tf} + {period}, {base})", f"{tf} = f * r",
+                    f"{tw} = np.where(r & ({tw} < {p}), np.minimum({tw} + q, {p}), {tw}) * a"]
+        out += [f"{tr} = a", f"{tb} = ({tw} >= {p})" if p else f"{tb} = a"]
+        return out
 
     def cnt(self, s) -> list[str]:
         c, pre = s.ops
@@ -205,8 +320,8 @@ class WordLaneProgram(RungCodegen):
             self.counters.append(n)
         e = self._new("e")
         return [f"{e} = E.get({s.index}, F); E[{s.index}] = a",
-                f"{cw} = {cw} + (a & ~{e} & ({cw} < {p}))",
-                f"{cp} = {cp} | (({cw} >= {p}) & ~{cb})"]
+                f"{cw} = {cw} + ((a > {e}) & ({cw} < {p}))",
+                f"{cp} = {cp} | (({cw} >= {p}) > {cb})"]
 
 
 class _NoLane(Exception):
@@ -294,7 +409,7 @@ def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], perio
                 for key, _, _ in _view_slots(v, scratch.m):
                     slots.setdefault(key, len(slots))
     space = {i: key[0] for key, i in slots.items()}
-    S: list = [np.zeros(n, dtype=bool if _bool_space(space[i]) else np.int64) for i in range(len(slots))]
+    S: list = [np.zeros(n, dtype=_lane_dtype(space[i])) for i in range(len(slots))]
     by_scan: dict[int, list[tuple[int, object]]] = {}
     for lane, (_, st) in enumerate(group):
         for e in st.events:
@@ -304,7 +419,7 @@ def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], perio
     E: dict = {}
     F = np.zeros(n, dtype=bool)
     failed = set()
-    scan = wp.scan
+    scan = wp.scan_for(period)
 
     def apply_forces():
         for i, (mask, val) in fslots.items():
@@ -329,7 +444,7 @@ def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], perio
                 forces_changed = True
         for i, vals in sets.items():
             arr = S[i].copy()
-            arr[list(vals)] = list(vals.values())
+            _raw(arr)[list(vals)] = list(vals.values())
             S[i] = arr
         if forces_changed:
             masks: dict[int, dict[int, int]] = {}
@@ -342,7 +457,7 @@ def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], perio
                 mask = np.zeros(n, dtype=bool)
                 mask[list(vals)] = True
                 val = np.zeros(n, dtype=S[i].dtype)
-                val[list(vals)] = list(vals.values())
+                _raw(val)[list(vals)] = list(vals.values())
                 fslots[i] = (mask, val)
         apply_forces()
         scan(S, E, k * period, F, np)
@@ -351,10 +466,10 @@ def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], perio
             if e.kind == "expect" and lane not in failed:
                 for c in e.checks:
                     keys = tuple(key for key, _, _ in _view_slots(c.view, scratch.m))
-                    raws = tuple(S[slots[key]][lane].item() for key in keys)
+                    raws = tuple(_raw(S[slots[key]])[lane].item() for key in keys)
                     if not c.holds(scratch.value(c.view, keys, raws)):
                         failed.add(lane)
-    final = {key: S[i].tolist() for key, i in slots.items()}
+    final = {key: _raw(S[i]).tolist() for key, i in slots.items()}
     return _word_results(wp.prog, group, final, failed, period, n_scans, watch, scratch)
 
 
