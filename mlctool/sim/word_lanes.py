@@ -11,6 +11,7 @@ scenarios run so and turns a failing lane into a single run.
 
 from __future__ import annotations
 
+import sys
 from itertools import compress
 
 import numpy as np
@@ -32,16 +33,20 @@ _W_ARITH = {"add": "+", "sub": "-", "wand": "&", "wor": "|", "wxor": "^"}
 
 
 def _lane_dtype(space: str):
-    """Bits bool, D words int16 (the signed value), the others (timer and counter values, the
-    timers' remainders) int64."""
+    """Bits bool, D words int16 (the signed value), D pairs int32, the others (timer and
+    counter values, the timers' remainders) int64."""
     if space in WORD_BIT_SPACES or space in ("TR", "CP"):
         return bool
-    return np.int16 if space == "D" else np.int64
+    return np.int16 if space == "D" else np.int32 if space == "DD" else np.int64
 
 
 def _raw(arr: np.ndarray) -> np.ndarray:
-    """The lane array as raw 16-bit patterns (a view: writes go through)."""
-    return arr.view(np.uint16) if arr.dtype == np.int16 else arr
+    """The lane array as raw 16-bit patterns (a view: writes go through); a D pair's array
+    as its words, two per lane (in memory order: _HALVES)."""
+    return arr.view(np.uint16) if arr.dtype == np.int16 or arr.dtype == np.int32 else arr
+
+
+_HALVES = (0, 1) if sys.byteorder == "little" else (1, 0)  # the low and high word of an int32 in _raw
 
 
 def _view_slots(v: DeviceView, m: Machine) -> list[tuple[tuple[str, int], object, int]] | None:
@@ -59,6 +64,21 @@ def _view_slots(v: DeviceView, m: Machine) -> list[tuple[tuple[str, int], object
     if k == "C" and v.view == "w" and not m.is_c32(n):
         return [(("CW", n), m.cval, n)]
     return None
+
+
+def _pairs(steps) -> set[int]:
+    """D pairs (n, n+1) the program only ever uses as one 32-bit value at n: they get one
+    int32 lane array ("DD", n), so a 32-bit operation on them is one numpy call, not the
+    joining and splitting of two 16-bit words (the stimulus and the results still address
+    their words, through _Addresses)."""
+    w16: set[int] = set()
+    w32: set[int] = set()
+    for s in steps:
+        for k, ref in enumerate(s.ops):
+            if type(ref) is WordRef and ref.kind == "D" and ref.ix is None:
+                wide = ref.width == 32 or (s.ins.spec.op == "mul" and k == 2)
+                (w32 if wide and ref.num + 1 <= ref.hi else w16).add(ref.num)
+    return {n for n in w32 if not {n, n + 1} & w16 and not {n - 1, n + 1} & w32}
 
 
 class WordLaneProgram(RungCodegen):
@@ -113,6 +133,7 @@ class WordLaneProgram(RungCodegen):
         steps = self.prog.steps
         if not steps or steps[-1].ins.spec.op != "end":
             return False
+        self.pairs = _pairs(steps[:-1])
         try:
             for s in steps[:-1]:
                 self.body += self._instr(s)
@@ -157,6 +178,8 @@ class WordLaneProgram(RungCodegen):
         if type(ref) is WordRef and ref.ix is None and ref.kind == "D":
             if w == 16:
                 return self.name("D", ref.num), 16
+            if ref.num in self.pairs:
+                return self.name("DD", ref.num), 32
             if ref.num + 1 <= ref.hi:
                 hi, lo = self.name("D", ref.num + 1), self.name("D", ref.num)
                 return f"(({hi}.astype(np.int32) << 16) | {lo}.view(np.uint16))", 32
@@ -177,17 +200,20 @@ class WordLaneProgram(RungCodegen):
         raise _NoLane
 
     def dest(self, ref, width: int) -> list[str]:
-        """D words a store writes (1 or 2)."""
+        """The lanes a store writes: one D word, a D pair's two words, or its DD lanes."""
         if type(ref) is WordRef and ref.ix is None and ref.kind == "D":
             if width == 16:
                 return [self.name("D", ref.num)]
+            if ref.num in self.pairs:
+                return [self.name("DD", ref.num)]
             if ref.num + 1 <= ref.hi:
                 return [self.name("D", ref.num), self.name("D", ref.num + 1)]
         raise _NoLane
 
     def store(self, words: list[str], expr: str) -> list[str]:
-        """`words` (int16 lanes) take `expr` where the rung is On: its value for one word (an
-        int16 expression), its low and high 16 bits for two."""
+        """`words` take `expr` where the rung is On: one int16 word its value (an int16
+        expression), a DD pair its value (an int32 expression), two words its low and high
+        16 bits."""
         if len(words) == 1:
             return [f"{words[0]} = np.where(a, {expr}, {words[0]})"]
         return [f"v = {expr}", f"{words[0]} = np.where(a, v.astype(np.int16), {words[0]})",
@@ -195,7 +221,8 @@ class WordLaneProgram(RungCodegen):
 
     def store_const(self, words: list[str], value: int) -> list[str]:
         if len(words) == 1:
-            return [f"{words[0]} = np.where(a, {self.const(value, 16)}, {words[0]})"]
+            bits = 32 if words[0].startswith("DD_") else 16
+            return [f"{words[0]} = np.where(a, {self.const(value, bits)}, {words[0]})"]
         return [f"{words[0]} = np.where(a, {self.const(value, 16)}, {words[0]})",
                 f"{words[1]} = np.where(a, {self.const(value >> 16, 16)}, {words[1]})"]
 
@@ -262,11 +289,14 @@ class WordLaneProgram(RungCodegen):
             (x, bx), (y, by) = self.operand(s.ops[0]), self.operand(s.ops[1])
             if bx is None and by is None:
                 out += self.store_const(words, (x * y) & 0xFFFFFFFF)
-            else:  # in int64: a 16-bit product fits, and so does one with any constant
+            else:
                 if bx is None:
                     (x, bx), (y, by) = (y, by), (x, bx)
-                y = y if by is None else f"{y}.astype(np.int64)"
-                out += self.store(words, f"({x}.astype(np.int64) * {y})")
+                if by is None and not -32768 <= y <= 32767:  # in int64: a product with any constant fits
+                    v = f"({x}.astype(np.int64) * {y})"
+                    out += self.store(words, f"{v}.astype(np.int32)" if len(words) == 1 else v)
+                else:  # a 16-bit product fits int32
+                    out += self.store(words, f"({x}.astype(np.int32) * {self.const(y, 32) if by is None else y})")
         elif op == "tmr":
             out.append(self.tmr(s))
         elif op == "cnt":
@@ -397,23 +427,61 @@ class _Scratch:
         return v
 
 
+class _Addresses:
+    """Where a stimulus/result slot key (("D", 7), ("TW", 0), ...) lives: (lane array index,
+    stride, offset) in its array's _raw view, lane `l` at `l * stride + offset`. A word of
+    a DD pair is one half of each int32 lane."""
+
+    def __init__(self, wp: WordLaneProgram):
+        self.slots = dict(wp.slots)
+        self.pairs = wp.pairs
+        self.at: dict[tuple[str, int], tuple[int, int, int]] = {}
+        for space, num in wp.slots:  # the program's devices (a pair as its two words): the results read them
+            for key in [("D", num), ("D", num + 1)] if space == "DD" else [(space, num)]:
+                self.of(key)
+
+    def of(self, key: tuple[str, int]) -> tuple[int, int, int]:
+        hit = self.at.get(key)
+        if hit is None:
+            space, num = key
+            if space == "D" and num in self.pairs:
+                hit = (self.slots[("DD", num)], 2, _HALVES[0])
+            elif space == "D" and num - 1 in self.pairs:
+                hit = (self.slots[("DD", num - 1)], 2, _HALVES[1])
+            else:
+                hit = (self.slots.setdefault(key, len(self.slots)), 1, 0)
+            self.at[key] = hit
+        return hit
+
+
 def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], period: int, n_scans: int,
                    watch: list[DeviceView], target: Target) -> list[RunResult | None]:
     """Run the scenarios of `group` as numpy lanes; None for a scenario whose expectations failed."""
     scratch = _Scratch(target, len(wp.prog.steps))
-    slots = dict(wp.slots)
+    addr = _Addresses(wp)
     n = len(group)
-    for _, st in group:
-        for e in st.events:
-            for v in [v for v, _ in e.assigns] + [c.view for c in e.checks]:
-                for key, _, _ in _view_slots(v, scratch.m):
-                    slots.setdefault(key, len(slots))
-    space = {i: key[0] for key, i in slots.items()}
-    S: list = [np.zeros(n, dtype=_lane_dtype(space[i])) for i in range(len(slots))]
-    by_scan: dict[int, list[tuple[int, object]]] = {}
+    # one pass over the events: the writes of each scan, by lane array, as raw index -> value
+    sets: dict[int, dict[int, dict[int, int]]] = {}
+    events: dict[int, list[tuple[int, object]]] = {}  # scan -> (lane, force/release/expect event)
     for lane, (_, st) in enumerate(group):
         for e in st.events:
-            by_scan.setdefault(e.scan_index(period), []).append((lane, e))
+            k = e.scan_index(period)
+            if e.kind == "set":
+                per_scan = sets.setdefault(k, {})
+                for v, value in e.assigns:
+                    for key, raw in scratch.raw(v, value):
+                        i, stride, off = addr.of(key)
+                        per_scan.setdefault(i, {})[lane * stride + off] = raw
+            else:
+                for v in [v for v, _ in e.assigns] + [c.view for c in e.checks]:
+                    for key, _, _ in _view_slots(v, scratch.m):
+                        addr.of(key)
+                events.setdefault(k, []).append((lane, e))
+    slots = addr.slots
+    space = {i: key[0] for key, i in slots.items()}
+    S: list = [np.zeros(n, dtype=_lane_dtype(space[i])) for i in range(len(slots))]
+    writes = {k: [(i, np.fromiter(d, dtype=np.int64, count=len(d)), list(d.values())) for i, d in per_scan.items()]
+              for k, per_scan in sets.items()}
     forces: list[dict] = [{} for _ in range(n)]
     fslots: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     E: dict = {}
@@ -423,53 +491,57 @@ def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], perio
 
     def apply_forces():
         for i, (mask, val) in fslots.items():
-            S[i] = np.where(mask, val, S[i])
+            arr = S[i]
+            S[i] = np.where(mask, val, _raw(arr)).view(arr.dtype)
 
     for k in range(n_scans):
-        events = by_scan.get(k, ())
-        sets: dict[int, dict[int, int]] = {}
-        forces_changed = False
-        for lane, e in events:
-            if e.kind == "set":
-                for v, value in e.assigns:
-                    for key, raw in scratch.raw(v, value):
-                        sets.setdefault(slots[key], {})[lane] = raw
-            elif e.kind == "force":
-                for v, value in e.assigns:
-                    forces[lane][v] = value
-                forces_changed = True
-            elif e.kind == "release":
-                for v, _ in e.assigns:
-                    forces[lane].pop(v, None)
-                forces_changed = True
-        for i, vals in sets.items():
-            arr = S[i].copy()
-            _raw(arr)[list(vals)] = list(vals.values())
+        for i, at, raws in writes.get(k, ()):
+            arr = S[i].copy()  # (lane arrays may be shared: `TR_0 = a`)
+            _raw(arr)[at] = raws
             S[i] = arr
-        if forces_changed:
+        scan_events = events.get(k, ())
+        if any(e.kind != "expect" for _, e in scan_events):
+            for lane, e in scan_events:
+                if e.kind == "force":
+                    for v, value in e.assigns:
+                        forces[lane][v] = value
+                elif e.kind == "release":
+                    for v, _ in e.assigns:
+                        forces[lane].pop(v, None)
             masks: dict[int, dict[int, int]] = {}
             for lane, fs in enumerate(forces):
                 for v, value in fs.items():
                     for key, raw in scratch.raw(v, value):
-                        masks.setdefault(slots[key], {})[lane] = raw
+                        i, stride, off = addr.of(key)
+                        masks.setdefault(i, {})[lane * stride + off] = raw
             fslots = {}
             for i, vals in masks.items():
-                mask = np.zeros(n, dtype=bool)
+                raw = _raw(S[i])
+                mask = np.zeros(len(raw), dtype=bool)
                 mask[list(vals)] = True
-                val = np.zeros(n, dtype=S[i].dtype)
-                _raw(val)[list(vals)] = list(vals.values())
+                val = np.zeros(len(raw), dtype=raw.dtype)
+                val[list(vals)] = list(vals.values())
                 fslots[i] = (mask, val)
-        apply_forces()
-        scan(S, E, k * period, F, np)
-        apply_forces()
-        for lane, e in events:
+        if fslots:
+            apply_forces()
+            scan(S, E, k * period, F, np)
+            apply_forces()
+        else:
+            scan(S, E, k * period, F, np)
+        for lane, e in scan_events:
             if e.kind == "expect" and lane not in failed:
                 for c in e.checks:
                     keys = tuple(key for key, _, _ in _view_slots(c.view, scratch.m))
-                    raws = tuple(_raw(S[slots[key]])[lane].item() for key in keys)
-                    if not c.holds(scratch.value(c.view, keys, raws)):
+                    raws = []
+                    for key in keys:
+                        i, stride, off = addr.of(key)
+                        raws.append(_raw(S[i])[lane * stride + off].item())
+                    if not c.holds(scratch.value(c.view, keys, tuple(raws))):
                         failed.add(lane)
-    final = {key: _raw(S[i]).tolist() for key, i in slots.items()}
+    final = {}
+    for key, (i, stride, off) in addr.at.items():
+        raw = _raw(S[i])
+        final[key] = (raw[off::stride] if stride > 1 else raw).tolist()
     return _word_results(wp.prog, group, final, failed, period, n_scans, watch, scratch)
 
 

@@ -110,16 +110,21 @@ def random_stimulus(rnd, k: int, period_ms: int, uniform: bool) -> str:
     lines += [f"{when()} {r.choice(BITS[:9])}={r.randrange(2)}" for _ in range(8)]
     lines += [f"{when()} {r.choice(WORDS16)}={r.choice(EDGE_VALUES)}" for _ in range(3)]
     lines += [f"{when()} {r.choice(WORDS32)}:d={r.choice(EDGE_VALUES32)}" for _ in range(2)]
+    lines.append(f"{when()} {r.choice(['D30', 'D31', 'D41'])}={r.choice(EDGE_VALUES)}")  # a word of a pair
     if r.random() < 0.3:
         lines.append(f"{when()} T0:w={r.choice([0, 1, 4, 65535])} C0:w={r.choice([0, 3, 65535])}")
     if r.random() < 0.3:
         lines += [f"{r.randrange(0, 100, period_ms)}ms force D{r.randrange(4)}={r.choice(EDGE_VALUES)}",
                   f"{r.randrange(100, 200, period_ms)}ms release D0 D1 D2 D3",
                   f"{r.randrange(0, 100, period_ms)}ms force M1=1", f"{r.randrange(100, 300, period_ms)}ms release M1"]
+    if r.random() < 0.3:
+        lines += [f"{r.randrange(0, 100, period_ms)}ms force D31={r.choice(EDGE_VALUES)}",
+                  f"{r.randrange(0, 100, period_ms)}ms force D40:d={r.choice(EDGE_VALUES32)}",
+                  f"{r.randrange(100, 300, period_ms)}ms release D31 D40:d"]
     if uniform and k % 3 == 0:
         lines.append(f"{rnd.randrange(0, 300, period_ms)}ms D0={rnd.choice(EDGE_VALUES)}")
     if k % 4 == 1:  # an expectation that mostly fails: the lane runs again on its own
-        lines.append(f"{rnd.randrange(0, 300, period_ms)}ms expect D1={rnd.choice(EDGE_VALUES)} Y0=1")
+        lines.append(f"{rnd.randrange(0, 300, period_ms)}ms expect D1={rnd.choice(EDGE_VALUES)} D31=0 Y0=1")
     return "\n".join(lines) + "\nrun 300ms\n"
 
 
@@ -138,7 +143,7 @@ def check_lanes_equal_single(tmp_path, program: str, rnd, periods, uniform: bool
         if k % 4 == 2 and sc.result is not None:
             d = sc.result.devices
             with open(paths[k], "a") as f:
-                checks = [f"{v}={d[v]}" for v in ("D2", "D20:d", "T0:w", "C0:w", "D30:d") if v in d]
+                checks = [f"{v}={d[v]}" for v in ("D2", "D20:d", "T0:w", "C0:w", "D30:d", "D31", "D40") if v in d]
                 f.write(f"{last[k]}ms expect {' '.join(checks)}\n")
     lanes, stats = run_batch(image, NC5, paths, Options())
     single, _ = run_batch(image, NC5, paths, Options(), lanes=False)
