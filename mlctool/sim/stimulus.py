@@ -34,6 +34,7 @@ _SCAN_NO = re.compile(r"#[0-9]+")
 # (mlctool/limits.py), so long_number() cannot find one.
 _LINES = re.compile(r"^(?:([ \t]*)(#[0-9]{1,9}|[0-9][0-9.]{0,14}[A-Za-z]{1,3})([ \t]+)"
                     r"([A-Za-z][^\s=#]{0,15}=[^\s=#]{1,16})[ \t]*|.*)$", re.M)
+_RUN_SCANS = re.compile(r"run[ \t]+#([0-9]{1,9})[ \t]*")  # the usual last line
 KEYWORDS = ("expect", "force", "release", "power-cycle")
 DIRECTIVES = ("scan", "run", "model", "port")  # the words that may start a line instead of a time
 
@@ -192,6 +193,11 @@ class _Parser:
                     continue
                 if self.set_line(no, when, col, item):
                     continue
+            elif not raw:
+                continue
+            elif raw[0] == "r" and (run := _RUN_SCANS.fullmatch(raw)) and int(run[1]) <= MAX_SCANS:
+                self.st.run_scans = int(run[1])  # `run #1000`, as line() reads it
+                continue
             body = _strip_comment(raw)
             toks = [(m.group(), m.start() + 1) for m in _TOKEN.finditer(body)]
             if not toks:

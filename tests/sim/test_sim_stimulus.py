@@ -135,13 +135,16 @@ _FAST_LINES = ["#0 X0=1", "#250 M5=0", "  #7\tm5=1  ", "10ms X1=1", "1.5s Y0=0",
                "10xs X0=1", "#1 X0=1 # comment", "#1 X0=1 X1=0", "#99999999999 X0=1", "#999999999 X0=1",
                "0.0000001s X0=1", "10ms X0==1", "10ms =1", "10ms XC1.pos=1", "#2 D0:f=1.5",
                "#2 D0=1.5", "+10ms X0=1", "5ms X0=on", "#1 expect=1", "# comment only", "",
-               "#1 X0=" + "1" * 30, "10ms M" + "9" * 25 + "=1", "\u00a0#1 X0=1", "#1 X0=1\u00a0"]
+               "#1 X0=" + "1" * 30, "10ms M" + "9" * 25 + "=1", "\u00a0#1 X0=1", "#1 X0=1\u00a0",
+               "run #1000", "run #0", " run #5", "run\t#7\t", "RUN #5", "run #999999999", "run #1000 # note",
+               "run #12 X0=1", "run #", "run 10ms", "run #00012", "run #" + "9" * 30]
 
 
 def _parsed(text: str, cache=None):
     st, diags = parse_stimulus_text("s.stim", text, NC5, cache)
     events = [(e.scan, e.time_us, e.kind, e.line, e.col, e.text, e.assigns, e.checks) for e in st.events]
-    return events, [(d.code, d.span.line, d.span.col, d.message) for d in diags]
+    return events + [(st.run_scans, st.run_time_us, st.scan_us)], \
+        [(d.code, d.span.line, d.span.col, d.message) for d in diags]
 
 
 def test_set_line_fast_path_reads_as_the_full_parser(monkeypatch):
@@ -158,6 +161,7 @@ def test_set_line_fast_path_reads_as_the_full_parser(monkeypatch):
     shared = stimulus.NameCache(NC5)  # the inline path: items read by an earlier file of a batch
     fast_shared = [_parsed(t, shared) for t in texts]
     monkeypatch.setattr(stimulus, "_LINES", re.compile(r"^()()()().*$", re.M))  # no line is a set line
+    monkeypatch.setattr(stimulus, "_RUN_SCANS", re.compile(r"(?!)"))  # nor a plain `run #N`
     full = [_parsed(t) for t in texts]
     assert fast == full and fast_shared == full
     assert any(events for events, _ in fast) and any(diags for _, diags in fast)
