@@ -270,9 +270,11 @@ def run_lanes(lp: LaneProgram, group: list[tuple[str, Stimulus]], period: int, n
     fval: dict[int, int] = {}
     failed = 0
     scan = lp.scan
+    no_sets: dict = {}
     for k in range(n_scans):
-        for slot, (on, off) in sets.get(k, {}).items():
-            S[slot] = (S[slot] | on) & ~off
+        for slot, (on, off) in sets.get(k, no_sets).items():  # (a 1024-bit operation is ~50 ns: the fewest)
+            x = S[slot] | on if on else S[slot]
+            S[slot] = x & ~off if off else x
         for slot, bit, value in forcing.get(k, ()):
             if value is None:
                 fmask[slot] = fmask.get(slot, 0) & ~bit
