@@ -47,7 +47,7 @@ class OpsCode:
         self.emit(f"v += q; {wt}[{n}] = v if v < {pr} else {pr}", i, 5)
         self.emit("else:", i, 2)
         self.emit(f"{tr}[{n}] = 1; {tl}[{n}] = now; {tf}[{n}] = 0", i, 3)
-        self.emit(f"{bt}[{n}] = 1 if {wt}[{n}] >= {pr} else 0", i, 2)
+        self.emit(f"{bt}[{n}] = {wt}[{n}] >= {pr}", i, 2)  # a bool stores 1/0 in the bytearray
         self.emit("else:", i)
         self.emit(f"{wt}[{n}] = 0; {bt}[{n}] = 0; {tr}[{n}] = 0; {tf}[{n}] = 0", i, 2)
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import array
 import math
+import operator
 import os
 from collections.abc import Callable
 
@@ -70,14 +71,10 @@ def _f32_tables() -> dict:
     if not _F32_TABLES:
         base = memoryview(array.array("I", range(0, 1 << 32, 1 << 16))).cast("B").cast("f").tolist()
         one = memoryview(array.array("I", range(1, 1 << 32, 1 << 16))).cast("B").cast("f").tolist()
-        steps: dict = {}  # one object per distinct step (~512)
-        fs = []
-        for b, o in zip(base, one):
-            if math.isinf(b):
-                fs.append(_InfRow(0.0))
-            else:
-                step = o - b
-                fs.append(steps.setdefault(step, step))
+        steps: dict = {}  # one object per distinct step (~512 and the NaN rows')
+        fs = [steps.setdefault(step, step) for step in map(operator.sub, one, base)]
+        for hi in (0x7F80, 0xFF80):  # +inf, -inf
+            fs[hi] = _InfRow(0.0)
         _F32_TABLES.update(G_FB=base, G_FS=fs)
     return _F32_TABLES
 
