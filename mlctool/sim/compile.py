@@ -34,6 +34,7 @@ codegen.py.
 from __future__ import annotations
 
 import hashlib
+import re
 from collections import OrderedDict
 from types import CodeType
 
@@ -124,6 +125,18 @@ def compile_program(prog: Program) -> Code | None:
 # reads (decode._combine: `contact and m.bus`); programs with them run on the interpreter
 _BUS_OPS = frozenset({"stl", "ret", "mc", "mcr"})
 _ACC_FREE_FLOW = frozenset({"for", "next", "fend", "end", "sret"})  # run whatever the rung result
+
+
+_BIT_READ = re.compile(r"b([A-Z])\[([0-9]+)\]")
+
+
+def _bit_key(tree) -> tuple[str, str, int] | None:
+    """The cache key (_Gen.ixc) of a rung result that is one plain bit read, else None."""
+    if type(tree) is str:
+        match = _BIT_READ.fullmatch(tree)
+        if match and match[1] in BIT_KINDS:
+            return ("bit", match[1], int(match[2]))
+    return None
 
 
 def _reads_acc_at_entry(block: list[Step]) -> bool:
@@ -360,7 +373,7 @@ class _Gen(OpsCode):
         self.pending: dict[tuple[str, int], int] = {}
         self.gopen, self.gpend = False, {}
         self.known: dict[tuple[str, int], int] = {}  # words of the open group holding a constant
-        self.ixc: dict[tuple, str] = {}  # index register value -> local holding it (index())
+        self.ixc: dict[tuple, str] = {}  # index register value, or ("bit", kind, n) -> local holding it (index(), settle())
         self.ix_dirty = False  # the open group wrote V/Z: no index values hoisted before it
         self.gopen_at = 0  # line of the open group's `if a:`
         self.blocks: list[str] = []  # symbolic ANB/ORB block stack: names of locals
@@ -762,7 +775,7 @@ class _Gen(OpsCode):
         if op not in ("contact", "contact_not", "contact_rise", "contact_fall"):
             return None
         if _bit_simple(ref):
-            b = self.bit(ref)
+            b = self.ixc.get(("bit", ref.kind, ref.num)) or self.bit(ref)
         elif type(ref) is BitRef and ref.kind in BIT_KINDS:
             b = f"{self.use('b' + ref.kind)}[{self.index(ref, i, 0, 1, 1)}]"
         else:
@@ -808,8 +821,21 @@ class _Gen(OpsCode):
 
     def settle(self, i: int) -> None:
         if self.acc is not None:
-            self.emit(f"a = {r_text(self.acc)}", i)
+            key = _bit_key(self.acc)
+            if key is not None and key not in self.ixc:
+                # a rung of one plain contact (`LD M1000` before each group of a unit): its bit
+                # is kept in a local that later loads of it read until the bit may change
+                # (bit_written, ix_clobber: reference routines), with the index values
+                name = self.new_tmp("bv")
+                self.ixc[key] = name
+                self.emit(f"a = {name} = {self.acc}", i)
+            else:
+                self.emit(f"a = {r_text(self.acc)}", i)
             self.acc = None
+
+    def bit_written(self, kind: str, num: int) -> None:
+        """An inline write to a bit: later reads read the device again."""
+        self.ixc.pop(("bit", kind, num), None)
 
     def rung(self, s: Step) -> None:
         spec = s.ins.spec
@@ -885,6 +911,7 @@ class _Gen(OpsCode):
             else:
                 self.emit(f"{dst} = a", i)
             self.defer_writer((s.ops[0].kind, s.ops[0].num), i)
+            self.bit_written(s.ops[0].kind, s.ops[0].num)
             return
         self.settle(i)
         if op in ("set", "rst", "pls", "plf") and _bit_simple(s.ops[0]) \
@@ -907,6 +934,7 @@ class _Gen(OpsCode):
         op, i, ref = s.ins.spec.op, s.index, s.ops[0]
         key = (ref.kind, ref.num)
         dst = self.bit(ref)
+        self.bit_written(ref.kind, ref.num)
         if op in ("set", "rst"):
             self.cond([key], i)
             self.emit(f"{dst} = {1 if op == 'set' else 0}", i, 2)

@@ -28,6 +28,7 @@ class OpsCode:
         wt, bt, tr, tl, tf, tp, ts = (self.use(x) for x in ("wT", "bT", "tr", "tl", "tf", "tp", "ts"))
         self.use("now")
         self.direct(("T", n), i)
+        self.bit_written("T", n)
         self.emit(f"{ts}[{n}] = 1", i)
         self.emit("if a:", i)
         if preset.isdigit():  # a constant preset: a literal where it is used

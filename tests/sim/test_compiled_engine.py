@@ -4,6 +4,7 @@ must give identical traces, final devices, expectations, alarms, faults and writ
 from __future__ import annotations
 
 import os
+import re
 import tempfile
 
 from hypothesis import HealthCheck, assume, given, settings
@@ -569,3 +570,23 @@ def test_timers_with_literal_and_register_presets_match_the_interpreter():
     for target_name in ("nc5", "vs"):
         assert _image(il if target_name == "nc5" else vs_dialect(il), NC5 if target_name == "nc5" else VS)
         engines_agree(il, stim, target_name)
+
+
+def test_a_loaded_bit_kept_in_a_local_is_read_again_after_every_write_to_it():
+    """A rung of one plain contact keeps its bit in a local for later loads of it (compile
+    settle()); OUT, RST, SET, PLS, a TMR's contact, a reference routine (a Kn destination)
+    and an index register write between the loads make the next load read the device again."""
+    il = ("LD X0\nOUT M0\nLD M0\nINC D0\nLD M0\nINC D8\nLD X1\nRST M0\nLD M0\nINC D1\nLD X2\nSET M0\n"
+          "LD M0\nINC D2\nLD X3\nPLS M0\nLD M0\nINC D3\nLD M0\nTMR T0 K2\nLD T0\nINC D4\nLD M0\nTMR T0 K2\n"
+          "LD T0\nINC D5\nLD X4\nMOV K5 K1M0\nLD M0\nINC D6\nLD M0\nMOV K1 V0\nLD M0\nINC D9\nLD X5\nOUT M0\n"
+          "LD M0\nINC D7\nEND")
+    stim = ("#0 X0=1\n#1 X1=1\n#2 X1=0 X0=0 X2=1\n#3 X2=0 X3=1\n#4 X3=0\n#5 X4=1\n#6 X4=0 X5=1\n"
+            "#7 X5=0 X0=1\n#9 X1=1\n#10 X1=0 X3=1\nrun #14\n")
+    engines_agree(il, stim, "nc5")
+    prog = load_program(image_of(il), NC5)
+    source = Scanner(prog, Machine(NC5, len(prog.steps))).code.source
+    # M0 read at its first load and after each of its 5 writers and the V0 write; 4 loads
+    # read the local (one after the TMRs, which write T0), T0 after each TMR
+    assert len(re.findall(r"a = bv[0-9]+ = bM\[0\]", source)) == 7
+    assert len(re.findall(r"a = bv[0-9]+\n", source)) == 4
+    assert len(re.findall(r"a = bv[0-9]+ = bT\[0\]", source)) == 2
