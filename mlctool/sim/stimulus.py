@@ -71,8 +71,11 @@ class Event:
     line: int
     col: int
     text: str
-    assigns: list[tuple[DeviceView, int | float]] = field(default_factory=list)
-    checks: list[Check] = field(default_factory=list)
+    # tuples (none by default; a set line's shares its NameCache entry): a batch holds ~20
+    # events a file for the whole run, and lists (two per event) were half its objects the
+    # garbage collector walks
+    assigns: tuple[tuple[DeviceView, int | float], ...] = ()
+    checks: tuple[Check, ...] = ()
     alarm: str = ""
     port: str = ""  # receive: the PLC's serial port (CP1...) and the bytes sent to it
     data: bytes = b""
@@ -161,7 +164,8 @@ class NameCache:
     def __init__(self, target: Target):
         self.target = target
         self.views: dict[str, DeviceView] = {}
-        self.items: dict[str, tuple[DeviceView, int | float]] = {}  # `M5=1` of a set line
+        # `M5=1` of a set line -> the line's Event.assigns, ((view, value),), shared
+        self.items: dict[str, tuple[tuple[DeviceView, int | float]]] = {}
 
 
 class _Parser:
@@ -189,7 +193,7 @@ class _Parser:
                 assign = items.get(item) if when[0] == "#" else None
                 col = len(lead) + len(when) + len(gap) + 1
                 if assign is not None and (scan := int(when[1:])) <= MAX_SCANS:
-                    events.append(Event(scan, None, "set", no, col, f"{when} {item}", [assign]))
+                    events.append(Event(scan, None, "set", no, col, f"{when} {item}", assign))
                     continue
                 if self.set_line(no, when, col, item):
                     continue
@@ -281,12 +285,12 @@ class _Parser:
                 view = self.view(name, 1)
                 if view.kind.startswith(SIGNAL):
                     return False
-                assign = self.items[item] = (view, self.at(1, lambda: parse_value(value, view)))
+                assign = self.items[item] = ((view, self.at(1, lambda: parse_value(value, view))),)
         except StimError:
             return False
         if time_us is not None:
             self.last_time = time_us
-        self.st.events.append(Event(scan, time_us, "set", no, col, f"{when} {item}", [assign]))
+        self.st.events.append(Event(scan, time_us, "set", no, col, f"{when} {item}", assign))
         return True
 
     @staticmethod
@@ -317,7 +321,7 @@ class _Parser:
                 ev.kind, ev.alarm = "alarm", toks[2][0].upper()
             else:
                 ev.kind = "expect"
-                ev.checks = [self.check(t, col, off + 1 + k) for k, (t, col) in enumerate(toks[1:])]
+                ev.checks = tuple(self.check(t, col, off + 1 + k) for k, (t, col) in enumerate(toks[1:]))
         elif len(toks) > 1 and toks[1][0].lower() == "pulses":
             self.pulses(ev, toks, off)
         elif len(toks) > 1 and toks[1][0].lower() == "receive":
@@ -331,7 +335,7 @@ class _Parser:
             if len(toks) < 2:
                 raise StimError("release needs device names", off)
             ev.kind = "release"
-            ev.assigns = [(self.view(t, off + 1 + k), 0) for k, (t, _) in enumerate(toks[1:])]
+            ev.assigns = tuple((self.view(t, off + 1 + k), 0) for k, (t, _) in enumerate(toks[1:]))
         else:
             items = toks
             if word == "force":
@@ -340,6 +344,7 @@ class _Parser:
                 if not items:
                     raise StimError("force needs DEV=VALUE items", off)
                 off += 1
+            assigns = []
             for k, (t, _) in enumerate(items):
                 if "=" not in t or t.startswith("="):
                     hint = _near(t, KEYWORDS) if k == 0 and word != "force" else ""  # `expcet X0=1`
@@ -354,7 +359,8 @@ class _Parser:
                 if view.kind.startswith(SIGNAL):
                     raise StimError(f"{name}: a model signal is the device's own state: expect "
                                     "it, it cannot be set or forced", off + k, "E602")
-                ev.assigns.append((view, self.at(off + k, lambda v=value, w=view: parse_value(v, w))))
+                assigns.append((view, self.at(off + k, lambda v=value, w=view: parse_value(v, w))))
+            ev.assigns = tuple(assigns)
         self.st.events.append(ev)
 
     def pulses(self, ev: Event, toks: list[tuple[str, int]], off: int) -> None:
@@ -390,7 +396,7 @@ class _Parser:
                 raise StimError(f"{toks[4][0]}: the train must end after it starts", off + 4)
         period = None if hz == 0 else Fraction(1_000_000) / hz
         ev.kind = "pulses"
-        ev.assigns = [(view, (ev.time_us, period, end) + ((views[1], sign) if len(views) == 2 else ()))]
+        ev.assigns = ((view, (ev.time_us, period, end) + ((views[1], sign) if len(views) == 2 else ())),)
 
     def view(self, name: str, offset: int) -> DeviceView:
         view = self.views.get(name)
