@@ -93,10 +93,10 @@ class WordLaneProgram(RungCodegen):
 
     def __init__(self, prog: Program):
         super().__init__(prog)
-        self.counters: list[int] = []
+        self.counters: dict[int, list[int]] = {}  # counter -> the presets of its CNTs
         self.timers: set[int] = set()
         self.consts: dict[str, object] = {}
-        self.body: list = []  # generated lines; a TMR is a tuple, expanded per scan period
+        self.body: list = []  # generated lines; a TMR or CNT is a tuple, expanded in scan_for
         self.scans: dict[int, object] = {}
         t = prog.target
         self.c32_lo = t.settings["counters32"][0]
@@ -139,18 +139,28 @@ class WordLaneProgram(RungCodegen):
                 self.body += self._instr(s)
         except _NoLane:
             return False
-        for n in self.counters:  # counter contacts act at the end of the scan (1.7)
-            self.body.append(f"C_{n} = C_{n} | CP_{n}; CP_{n} = F")
         self.scan = self.scan_for(DEFAULT_SCAN_US)
         return True
 
-    def scan_for(self, period: int):
-        """The scan function for scans `period` us apart (the timers' code depends on it)."""
-        scan = self.scans.get(period)
+    def scan_for(self, period: int, written: frozenset = frozenset()):
+        """The scan function for scans `period` us apart (the timers' code depends on it) and
+        scenarios that write the timer and counter lanes in `written` (("TW", n), ("C", n),
+        ("CW", n)): the others are known to hold only what their TMR/CNT left."""
+        written = written & {(sp, n) for n in self.timers for sp in ("TW",)} \
+            | written & {(sp, n) for n in self.counters for sp in ("C", "CW")}
+        scan = self.scans.get((period, written))
         if scan is None:
             body: list[str] = []
             for b in self.body:
-                body += self.tmr_code(period, *b) if type(b) is tuple else [b]
+                if type(b) is not tuple:
+                    body.append(b)
+                elif b[0] == "tmr":
+                    body += self.tmr_code(period, *b[1:], alone=("TW", b[1]) not in written)
+                else:
+                    body += self.cnt_code(*b[1:], alone=self.counted_alone(b[1], written))
+            for n, presets in self.counters.items():  # counter contacts act at the end of the scan (1.7)
+                body.append(f"C_{n} = CW_{n} >= {presets[0]}" if self.counted_alone(n, written)
+                            else f"C_{n} = C_{n} | CP_{n}; CP_{n} = F")
             names = sorted(self.slots, key=self.slots.get)
             load = [f"    {sp}_{n} = S[{self.slots[(sp, n)]}]" for sp, n in names]
             store = [f"    S[{self.slots[(sp, n)]}] = {sp}_{n}" for sp, n in names]
@@ -158,7 +168,7 @@ class WordLaneProgram(RungCodegen):
                    + "\n".join(load + ["    " + b for b in body] + store) + "\n")
             g: dict = dict(self.consts)
             exec(compile(src, "<mlc-word-lanes>", "exec"), g)  # noqa: S102 - our own generated code
-            scan = self.scans[period] = g["scan"]
+            scan = self.scans[(period, written)] = g["scan"]
             self.source = src
         return scan
 
@@ -313,20 +323,28 @@ class WordLaneProgram(RungCodegen):
                 or t.num in self.timers:
             raise _NoLane
         self.timers.add(t.num)
-        for sp in ("TW", "T", "TR", "TF"):
+        for sp in ("TW", "T", "TR", "TF", "TJ"):
             self.name(sp, t.num)
-        return (t.num, pre.get(None) & 0xFFFF, target.timer_base_ms(t.num) * 1000)
+        return ("tmr", t.num, pre.get(None) & 0xFFFF, target.timer_base_ms(t.num) * 1000)
 
     @staticmethod
-    def tmr_code(period: int, n: int, p: int, base: int) -> list[str]:
+    def tmr_code(period: int, n: int, p: int, base: int, alone: bool) -> list[str]:
         """semantics.tmr + advance_timer per lane. Every TMR runs once every scan (the program
         is straight-line and names each timer once), so a timer running since the last scan
         was last updated `period` ago: that is its elapsed time, no last-update word needed.
-        The tick is a bool when a scan is shorter than the base, a constant when the base
-        divides it (no remainder then)."""
+
+        `alone` (no scenario writes the timer's value): the value is the whole ticks in the
+        scans it has run, capped at the preset, min(TJ * period // base, p) with TJ those
+        scans: the remainders sum up exactly so. Otherwise the ticks are added scan by scan:
+        a bool when a scan is shorter than the base, a constant when the base divides it."""
         tw, tb, tr, tf = f"TW_{n}", f"T_{n}", f"TR_{n}", f"TF_{n}"
         out = [f"r = a & {tr}"]  # running since the last scan and still On
-        if period % base == 0:
+        if alone:
+            tj = f"TJ_{n}"
+            ticks = (tj if period == base else f"{tj} * {period // base}" if period % base == 0
+                     else f"{tj} // {base // period}" if base % period == 0 else f"{tj} * {period} // {base}")
+            out += [f"{tj} = ({tj} + 1) * r", f"{tw} = np.minimum({ticks}, {p})"]
+        elif period % base == 0:
             k = period // base
             out.append(f"{tw} = ({tw} + (r & ({tw} < {p}))) * a" if k == 1 else
                        f"{tw} = np.where(r & ({tw} < {p}), np.minimum({tw} + {k}, {p}), {tw}) * a")
@@ -345,13 +363,25 @@ class WordLaneProgram(RungCodegen):
                 or pre.is_f or self.prog.target.settings.get("counter16_preset_range"):
             raise _NoLane
         n, p = c.num, max(pre.get(None) & 0xFFFF, 1)
-        cw, cb, cp = self.name("CW", n), self.name("C", n), self.name("CP", n)
-        if n not in self.counters:
-            self.counters.append(n)
-        e = self._new("e")
-        return [f"{e} = E.get({s.index}, F); E[{s.index}] = a",
-                f"{cw} = {cw} + ((a > {e}) & ({cw} < {p}))",
-                f"{cp} = {cp} | (({cw} >= {p}) > {cb})"]
+        for sp in ("CW", "C", "CP"):
+            self.name(sp, n)
+        self.counters.setdefault(n, []).append(p)
+        return [("cnt", n, p, s.index, self._new("e"))]
+
+    def counted_alone(self, n: int, written: frozenset) -> bool:
+        """One CNT counts counter n and no scenario writes its value or contact."""
+        return len(self.counters[n]) == 1 and ("CW", n) not in written and ("C", n) not in written
+
+    @staticmethod
+    def cnt_code(n: int, p: int, index: int, e: str, alone: bool) -> list[str]:
+        """semantics.cnt per lane. `alone` (counted_alone): the value only rises, by this CNT,
+        and stops at the preset, so the contact is value >= preset at the end of the scan
+        (a pending contact would be set exactly then)."""
+        out = [f"{e} = E.get({index}, F); E[{index}] = a"]
+        if alone:
+            return out + [f"CW_{n} = np.minimum(CW_{n} + (a > {e}), {p})"]
+        return out + [f"CW_{n} = CW_{n} + ((a > {e}) & (CW_{n} < {p}))",
+                      f"CP_{n} = CP_{n} | ((CW_{n} >= {p}) > C_{n})"]
 
 
 class _NoLane(Exception):
@@ -401,8 +431,9 @@ class _Scratch:
         return hit
 
     def value(self, view: DeviceView, keys: tuple, raws: tuple) -> int | float:
-        """read() of the view whose slots `keys` hold `raws`."""
-        key = (view, raws)
+        """read() of the view whose slots `keys` hold `raws` (the same for every device of a
+        kind and view: DeviceView.read indexes by the number, nothing else)."""
+        key = (view.kind, view.view, raws) if view.special is None else (view, raws)
         hit = self.values.get(key)
         if hit is None:
             got = dict(zip(keys, raws))
@@ -463,6 +494,7 @@ def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], perio
     # one pass over the events: the writes of each scan, by lane array, as raw index -> value
     sets: dict[int, dict[int, dict[int, int]]] = {}
     events: dict[int, list[tuple[int, object]]] = {}  # scan -> (lane, force/release/expect event)
+    written: set[tuple[str, int]] = set()  # the keys the scenarios set or force
     for lane, (_, st) in enumerate(group):
         for e in st.events:
             k = e.scan_index(period)
@@ -472,10 +504,13 @@ def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], perio
                     for key, raw in scratch.raw(v, value):
                         i, stride, off = addr.of(key)
                         per_scan.setdefault(i, {})[lane * stride + off] = raw
+                        written.add(key)
             else:
                 for v in [v for v, _ in e.assigns] + [c.view for c in e.checks]:
                     for key, _, _ in _view_slots(v, scratch.m):
                         addr.of(key)
+                        if e.kind == "force":
+                            written.add(key)
                 events.setdefault(k, []).append((lane, e))
     slots = addr.slots
     space = {i: key[0] for key, i in slots.items()}
@@ -487,7 +522,7 @@ def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], perio
     E: dict = {}
     F = np.zeros(n, dtype=bool)
     failed = set()
-    scan = wp.scan_for(period)
+    scan = wp.scan_for(period, frozenset(written))
 
     def apply_forces():
         for i, (mask, val) in fslots.items():
@@ -563,7 +598,9 @@ def _word_results(prog: Program, group: list[tuple[str, Stimulus]], final: dict,
             continue
         keys = tuple(key for key, _, _ in slots)
         cols = [final.get(key) or [0] * n for key in keys]
-        columns.append([scratch.value(v, keys, raws) for raws in zip(*cols)])
+        lanes = cols[0] if len(cols) == 1 else list(zip(*cols))
+        value = {raws: scratch.value(v, keys, raws if len(cols) > 1 else (raws,)) for raws in set(lanes)}
+        columns.append(list(map(value.__getitem__, lanes)))
     base_set = {rank[v] for v in names}
     base_flags = bytes(1 if k in base_set else 0 for k in range(len(order)))
     out: list[RunResult | None] = []
