@@ -11,7 +11,6 @@ from dataclasses import dataclass
 from mlctool.check.constraints import constraint_problems
 from mlctool.check.interrupts import pointer_named, pointer_numbered
 from mlctool.check.labels import cjk_width, is_label_name, is_symbol_name
-from mlctool.check.tables import parse_row, table_kinds
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module
 from mlctool.syntax.operands import (
@@ -81,7 +80,7 @@ class _Resolver:
         self.plain_forms = caches.plain_forms  # id(instruction form) -> plain_form()
         self.line_cache = caches.texts  # line text -> (cache entry, operand texts as the Instr keeps them)
         self.mnemonics = caches.mnemonics  # mnemonic -> its plain form for plain_line(), or (None, ...)
-        self.step_memo = caches.steps  # (id(instruction form), first operand's kind, number) -> steps
+        self.step_memo = caches.steps  # (id(instruction form), first operand's kind) -> Target.step_spans
         self._problems: list = []
         self.syntax = target.operand_syntax
         self.names = names or {}  # named labels of this file -> P number (check/labels.py)
@@ -168,7 +167,9 @@ class _Resolver:
                     self.err(st.line, w, "E105", f".export takes P labels, not {w.text!r}")
         elif name == ".library" and not ops:
             self.module.library = True
-        elif name == ".table" and table_kinds(self.t):  # a communication-table row (check/tables.py)
+        elif name == ".table" and _table_kinds(self.t):  # a communication-table row (check/tables.py)
+            from mlctool.check.tables import parse_row
+
             for p in parse_row(self.t, [w.text for w in ops], self.module.symbols)[1]:
                 self.err(st.line, st.name if p.index < 0 else ops[p.index], p.code, p.message)
         else:
@@ -273,12 +274,18 @@ class _Resolver:
             operands.append(op)
             k += 1
         ops = tuple(operands)
-        if stepped and ops:  # steps(): Target.instr_steps reads the form and the first operand's kind and number
+        if stepped and ops:  # steps(): Target.instr_steps, its spans kept per form and kind
             first = ops[0]
-            key = (form_id, first.kind, first.number)
-            steps = self.step_memo.get(key)
-            if steps is None:
-                steps = self.step_memo[key] = self.t.instr_steps(spec, ops)
+            key = (form_id, first.kind)
+            by_number = self.step_memo.get(key)
+            if by_number is None:
+                by_number = self.step_memo[key] = self.t.step_spans(spec, first.kind)
+            spans, steps = by_number
+            n = first.number
+            for lo, hi, s in spans:
+                if lo <= n <= hi:
+                    steps = s
+                    break
         else:
             steps = spec.steps
         return spec, ops, (), True, (), steps
@@ -763,6 +770,15 @@ class _Resolver:
         col = st.name.col
         self.module.instrs.append(Instr(spec, ops, texts, steps, self.addr, self.path, st.line, col, table))
         self.addr += steps
+
+
+def _table_kinds(t: Target):
+    """check/tables.py's table_kinds; the module is imported at the first `.table` row: most
+    programs have none, and its dataclasses cost every start of `mlc check` a millisecond or
+    two (issue 19)."""
+    from mlctool.check.tables import table_kinds
+
+    return table_kinds(t)
 
 
 def _no_plain_line(name: str, texts: tuple[str, ...]) -> None:

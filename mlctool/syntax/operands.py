@@ -133,14 +133,23 @@ def _alias(t: str, syntax: OperandSyntax, text: str) -> Operand | None:
 def parse_operand(text: str, syntax: OperandSyntax = DEFAULT_SYNTAX) -> Operand:
     """Parse one operand as written (case-insensitive). Raises OperandSyntaxError.
 
-    A plain device (`M1005`, `D5V0`) whose first letter no other form of the target claims
-    is read at once; everything else goes through every form in order (full_parse_operand;
+    A plain device (`M1005`, `D5V0`) whose first letter no other form of the target claims,
+    and a plain decimal constant (`K10`) where K is no other form's, are read at once;
+    everything else goes through every form in order (full_parse_operand;
     tests/syntax/test_parser.py checks that both agree)."""
     t = text.upper()
-    if len(t) <= 40 and t[:1] not in _claimed_initials(syntax) and (m := _DEV.fullmatch(t)):
-        kind, digits, ix = m.group("dev", "num", "ix")
-        number, radix = _number(digits, kind, syntax, text) if kind in syntax.octal else (int(digits), 10)
-        return _device(kind, number, (ix, int(m["ixn"])) if ix else None, radix)
+    if len(t) <= 40:
+        first, digits = t[:1], t[1:]
+        if first not in _claimed_initials(syntax):
+            if digits.isascii() and digits.isdigit() and "A" <= first <= "Z":  # M1005: no regex needed
+                number, radix = _number(digits, first, syntax, text) if first in syntax.octal else (int(digits), 10)
+                return _device(first, number, None, radix)
+            if m := _DEV.fullmatch(t):  # D5V0
+                kind, digits, ix = m.group("dev", "num", "ix")
+                number, radix = _number(digits, kind, syntax, text) if kind in syntax.octal else (int(digits), 10)
+                return _device(kind, number, (ix, int(m["ixn"])) if ix else None, radix)
+        elif first == "K" and digits.isascii() and digits.isdigit() and _plain_k(syntax):
+            return _k_constant(int(digits))
     return full_parse_operand(text, syntax)
 
 
@@ -166,6 +175,28 @@ def _device(kind: str, number: int, index: tuple[str, int] | None, radix: int) -
     _set_radix(op, radix)
     _set_unit(op, "")
     return op
+
+
+def _k_constant(value: int) -> Operand:
+    """Operand("K", value=value), built as _device builds a device."""
+    op = _new(Operand)
+    _set_kind(op, "K")
+    _set_number(op, 0)
+    _set_value(op, value)
+    _set_digits(op, 0)
+    _set_index(op, None)
+    _set_decimals(op, 0)
+    _set_bit(op, 0)
+    _set_radix(op, 10)
+    _set_unit(op, "")
+    return op
+
+
+@lru_cache(maxsize=64)
+def _plain_k(syntax: OperandSyntax) -> bool:
+    """Whether K followed by digits only is a decimal constant and nothing else: no alias or
+    unit word of the target starts with K (a float prefix is never K)."""
+    return "K" not in {p[0] for p, *_ in syntax.aliases} | {u for u, _ in syntax.unit_words} | {syntax.float_prefix}
 
 
 @lru_cache(maxsize=64)

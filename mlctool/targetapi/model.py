@@ -184,15 +184,28 @@ class Target:
         """Steps of one written instruction: the first target.toml `[[step_rules]]` entry whose
         op and first-operand kind (and number range) fit, else the "short" rule (1 in the
         short ranges, else 2), else the table's steps."""
-        first = ops[0] if ops else None
-        if first is not None:
-            for rule in self.settings.get("step_rules", ()):
-                if spec.op in rule["ops"] and first.kind in rule["kinds"] \
-                        and rule.get("lo", 0) <= first.number <= rule.get("hi", 1 << 31):
-                    return rule["steps"]
-            if spec.short_steps:
-                return 1 if self.short_operand(first.kind, first.number) else 2
-        return spec.steps
+        if not ops:
+            return spec.steps
+        first = ops[0]
+        spans, steps = self.step_spans(spec, first.kind)
+        for lo, hi, n in spans:
+            if lo <= first.number <= hi:
+                return n
+        return steps
+
+    def step_spans(self, spec: InstrSpec, kind: str) -> tuple[tuple[tuple[int, int, int], ...], int]:
+        """instr_steps for a first operand of `kind`, as (spans, steps): the first (lo, hi, n)
+        span holding the operand's number gives n steps, a number in none `steps`. A caller
+        that keeps it per form and kind (the checker) does not read the settings at each line."""
+        spans = [(rule.get("lo", 0), rule.get("hi", 1 << 31), rule["steps"])
+                 for rule in self.settings.get("step_rules", ())
+                 if spec.op in rule["ops"] and kind in rule["kinds"]]
+        if not spec.short_steps:
+            return tuple(spans), spec.steps
+        short = self.settings.get("short_operand", {}).get(kind)
+        if short is not None:
+            spans.append((short[0], short[1], 1))
+        return tuple(spans), 2
 
     @property
     def end_labels(self) -> frozenset[int]:

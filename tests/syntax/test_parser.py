@@ -165,8 +165,9 @@ def test_operand_shortcut_matches_the_full_parse(text, lower):
 
 
 def test_plain_devices_are_whole_operands():
-    """parse_operand builds plain devices without Operand's __init__ (operands._device): every
-    field is set, and the object is the one __init__ builds (equal, same hash, same repr)."""
+    """parse_operand builds plain devices and K constants without Operand's __init__
+    (operands._device, _k_constant): every field is set, and the object is the one __init__
+    builds (equal, same hash, same repr)."""
     import dataclasses
 
     from mlctool.targetapi import load_target
@@ -174,7 +175,9 @@ def test_plain_devices_are_whole_operands():
     vs = load_target("vs").operand_syntax  # octal X/Y
     for text, syntax, want in [("M1005", DEFAULT_SYNTAX, Operand("M", number=1005)),
                                ("d5v1", DEFAULT_SYNTAX, Operand("D", number=5, index=("V", 1))),
-                               ("X17", vs, Operand("X", number=15, radix=8))]:
+                               ("X17", vs, Operand("X", number=15, radix=8)),
+                               ("K105", DEFAULT_SYNTAX, Operand("K", value=105)),
+                               ("k007", vs, Operand("K", value=7))]:
         got = parse_operand.__wrapped__(text, syntax)
         assert type(got) is Operand
         assert [getattr(got, f.name) for f in dataclasses.fields(Operand)] == \
