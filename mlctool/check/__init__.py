@@ -148,9 +148,11 @@ def _check_texts(sources: list[SourceText], target: Target, config: Config | Non
                 diags.append(diag(m.path, Span.at(ins.line, ins.col), "E303", f"P{p} is also exported by {exported[p]}"))
             else:
                 exported[p] = m.path
-    refs, calls = referenced_labels(valid)
+    # where each instruction form is, per module, for the rules below
+    index = {id(m): FormIndex(m.instrs) for m in valid}
+    refs, calls = referenced_labels(valid, [index[id(m)] for m in valid])
     for m in valid:
-        forms = FormIndex(m.instrs)  # where each instruction form is, for the rules below
+        forms = index[id(m)]
         diags += check_layout(m, target, {p: f for p, f in exported.items() if f != m.path}, calls,
                               broken[m.path], forms)
         diags += check_blocks(m, target, forms)
@@ -162,7 +164,7 @@ def _check_texts(sources: list[SourceText], target: Target, config: Config | Non
     libs = [m for m in valid if m.library]
     programs = [[m, *libs] for m in valid if not m.library] or [libs]
     for program in programs:
-        diags += set_without_reset(program)
+        diags += set_without_reset(program, [index[id(m)] for m in program])
         diags += foreign_specials(program, target)
         if len(program) > 1:
             diags += cross_module_coils(program)

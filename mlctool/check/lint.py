@@ -162,12 +162,16 @@ def lint_module(module: Module, target: Target, referenced: set[int],
     words16: dict[int, Instr] = {}
     spans: dict[int, tuple[Instr, int]] = {}  # first register -> (instruction, words)
     widest = 1
+    words_of: dict[int, tuple[int, ...]] = {}  # id(form) -> the words each of its operands occupies
     for k in forms.matching(lambda spec: spec.api is not None):
         ins = instrs[k]
-        for spec_o, o in zip(ins.spec.operands, ins.operands, strict=False):
+        words = words_of.get(id(ins.spec))
+        if words is None:
+            words = words_of[id(ins.spec)] = tuple(s.words[1] if ins.spec.width == 32 else s.words[0]
+                                                   for s in ins.spec.operands)
+        for n, o in zip(words, ins.operands, strict=False):
             if o.kind != "D" or o.index:
                 continue
-            n = spec_o.words[1] if ins.spec.width == 32 else spec_o.words[0]
             if n > 1:
                 for other in range(o.number - widest + 1, o.number + n):
                     hit = spans.get(other)
@@ -225,9 +229,12 @@ def _dead_code(instrs: list[Instr], forms: FormIndex) -> list[Diagnostic]:
     return out
 
 
-def set_without_reset(modules: list[Module]) -> list[Diagnostic]:
+def set_without_reset(modules: list[Module], forms: list[FormIndex] | None = None) -> list[Diagnostic]:
     """W405 over one program (a main module and its libraries): a SET device that nothing
-    resets (RST, ZRST, OUT, or an application instruction writing it)."""
+    resets (RST, ZRST, OUT, or an application instruction writing it). `forms`: the modules'
+    FormIndex, in their order, if the caller has them."""
+    if forms is not None and not any(f.where(ops=("set",)) for f in forms):
+        return []  # (the usual program SETs little or nothing: no walk to find out)
     instrs = [ins for m in modules for ins in m.instrs]
     sets = [ins for ins in instrs if ins.spec.op == "set" and not ins.operands[0].index]
     if not sets:  # nothing to look for (the usual program SETs little or nothing)
@@ -260,11 +267,13 @@ def set_without_reset(modules: list[Module]) -> list[Diagnostic]:
     return out
 
 
-def referenced_labels(modules: list[Module]) -> tuple[set[int], set[int]]:
-    """(all P referenced by CJ/CALL, P referenced by CALL)."""
+def referenced_labels(modules: list[Module], forms: list[FormIndex] | None = None) -> tuple[set[int], set[int]]:
+    """(all P referenced by CJ/CALL, P referenced by CALL). `forms`: the modules' FormIndex,
+    in their order, if the caller has them."""
     refs, calls = set(), set()
-    for m in modules:
-        for ins in m.instrs:
+    for k, m in enumerate(modules):
+        jumps = m.instrs if forms is None else [m.instrs[j] for j in forms[k].where(ops=("cj", "call"))]
+        for ins in jumps:
             if ins.spec.op in ("cj", "call") and not ins.operands[0].index:
                 refs.add(ins.operands[0].number)
                 if ins.spec.op == "call":

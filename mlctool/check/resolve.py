@@ -78,7 +78,7 @@ class _Resolver:
         self.operand_cache = caches.operands  # (instruction form, position, text) -> (ok, problems)
         self.legal_spans = caches.legal_spans  # (instruction form, position, kind) -> numbers passing
         self.plain_forms = caches.plain_forms  # id(instruction form) -> plain_form()
-        self.line_cache = caches.texts  # line text -> (cache entry, operand texts as the Instr keeps them)
+        self.line_cache = caches.texts  # line text -> (cache entry, what its Instr is made of: run())
         self.mnemonics = caches.mnemonics  # mnemonic -> its plain form for plain_line(), or (None, ...)
         self.step_memo = caches.steps  # (id(instruction form), first operand's kind) -> Target.step_spans
         self._problems: list = []
@@ -98,19 +98,24 @@ class _Resolver:
         # number written) is spelled out here with locals: it runs once per line.
         # While no symbol is defined, a line's text alone fixes its resolution: the text is
         # the key of line_cache, which also keeps the operand texts the instruction records.
+        # A line's entry holds what its Instr is made of when it resolved without a word
+        # (`made`, else None: place() reports its problems).
         cache = self.cache
         by_text = self.line_cache if self.shortcuts else None
         lines = self.p.lines
         symbols = self.module.symbols  # filled in place by .define as the lines go
-        instrs = self.module.instrs
+        add = self.module.instrs.append
         path = self.path
         plain = self.plain_line if self.shortcuts else _no_plain_line
+        addr = self.addr  # (self.addr again around the methods that emit)
         for st in self.p.statements:
             if st.kind != "instr":
+                self.addr = addr
                 if st.kind == "directive":
                     self.directive(st)
                 else:
                     self.label(st, st.name)
+                addr = self.addr
                 continue
             if symbols or by_text is None:
                 written = tuple([w.text for w in st.operands])
@@ -118,8 +123,7 @@ class _Resolver:
                 res = cache.get(key)
                 if res is None:
                     res = cache[key] = plain(*key) or self.resolved(*key)
-                n = len(res[1])
-                texts = written if len(written) == n else written[:n]
+                made = _made(res, written)
             else:
                 hit = by_text.get(lines[st.line - 1])
                 if hit is None:
@@ -128,15 +132,17 @@ class _Resolver:
                     res = cache.get(key)
                     if res is None:
                         res = cache[key] = plain(*key) or self.resolved(*key)
-                    n = len(res[1])
-                    hit = by_text[lines[st.line - 1]] = (res, written if len(written) == n else written[:n])
-                res, texts = hit
-            spec, operands, table, ok, problems, steps = res
-            if problems or not ok or spec is None or st.step is not None:
+                    hit = by_text[lines[st.line - 1]] = (res, _made(res, written))
+                res, made = hit
+            if made is None or st.step is not None:
+                self.addr = addr
                 self.place(st, tuple([w.text for w in st.operands]), res)
+                addr = self.addr
                 continue
-            instrs.append(Instr(spec, operands, texts, steps, self.addr, path, st.line, st.name.col, table))
-            self.addr += steps
+            spec, operands, texts, steps, table = made
+            add(Instr(spec, operands, texts, steps, addr, path, st.line, st.name.col, table))
+            addr += steps
+        self.addr = addr
         return self.module, self.diags
 
     def directive(self, st: Statement) -> None:
@@ -779,6 +785,16 @@ def _table_kinds(t: Target):
     from mlctool.check.tables import table_kinds
 
     return table_kinds(t)
+
+
+def _made(res: tuple, written: tuple[str, ...]) -> tuple | None:
+    """What the Instr of a line resolved as `res` is made of, (spec, operands, operand texts,
+    steps, table), when the line resolved without a word; else None."""
+    spec, operands, table, ok, problems, steps = res
+    if problems or not ok or spec is None:
+        return None
+    n = len(operands)
+    return spec, operands, written if len(written) == n else written[:n], steps, table
 
 
 def _no_plain_line(name: str, texts: tuple[str, ...]) -> None:

@@ -10,7 +10,14 @@ import pytest
 from progen import random_program
 
 from mlctool.check import check_texts
-from mlctool.check.lint import _at, _dead_code, double_coils, exclusive_regions, set_without_reset
+from mlctool.check.lint import (
+    _at,
+    _dead_code,
+    double_coils,
+    exclusive_regions,
+    referenced_labels,
+    set_without_reset,
+)
 from mlctool.program import FormIndex
 from mlctool.syntax.source import SourceText
 from mlctool.targetapi import load_target
@@ -91,6 +98,8 @@ def test_indexed_rules_find_what_a_walk_finds(name):
         assert double_coils(instrs, forms=forms) == _walked_double_coils(instrs)
         module.instrs = instrs
         assert set_without_reset([module]) == _walked_set_without_reset(instrs)
+        assert set_without_reset([module], [forms]) == _walked_set_without_reset(instrs)
+        assert referenced_labels([module], [forms]) == referenced_labels([module])
         for ops in [("out",), ("fend", "sret", "iret"), ("nothing",)]:
             assert forms.where(ops=ops) == [k for k, i in enumerate(instrs) if i.spec.op in ops]
         assert forms.where(classes=("label",)) == [k for k, i in enumerate(instrs) if i.spec.cls == "label"]
