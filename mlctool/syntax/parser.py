@@ -75,6 +75,18 @@ def _fast_line(ascii_only: bool = False):
     return instr, label, directive, re.compile(t["OPERAND"]).findall, blank
 
 
+@cache
+def _plain_line():
+    """A regex for the plainest instruction line: a mnemonic and operands of the grammar's
+    ASCII forms, separated by one space each, nothing before, after or between (`LD X0`,
+    `MOV K10 D0`). Its words are found by splitting at the spaces, without the regex's groups;
+    every other line takes _fast_line's regexes (tests/syntax/test_parser.py compares with
+    lark, which reads every line the grammar's way)."""
+    t = {m["name"]: m["re"].replace(CJK_RANGES, "") for m in _TERMINAL.finditer(grammar_text())}
+    # (?!"): no "string" constant, which may hold spaces
+    return re.compile(rf'(?:{t["MNEMONIC"]})(?: (?!")(?:{t["OPERAND"]}))*').fullmatch
+
+
 def parse(src: SourceText, fast: bool = True, memo: dict | None = None) -> ParsedFile:
     """`memo`: line text -> its statement's parts, kept by the caller between parses of
     versions of the same text (the language server); each parse fills it. A line of the
@@ -85,12 +97,23 @@ def parse(src: SourceText, fast: bool = True, memo: dict | None = None) -> Parse
     diagnostics: list[Diagnostic] = []
     seen: dict = {} if memo is None else memo
     instr, label, directive, operands, blank = _fast_line(src.text.isascii())
+    plain = _plain_line() if fast else None
     add, known = statements.append, seen.get  # (the loop runs once per line)
     for number, text in enumerate(lines, 1):
         parts = known(text)
         if parts is not None:
             if parts:  # () for a blank or comment line
                 add(Statement(number, *parts))
+            continue
+        if plain is not None and plain(text):  # `MNEMONIC OPERAND ...`, one space apart
+            name, *written = text.split(" ")
+            words = []
+            col = len(name) + 2
+            for o in written:
+                words.append(Word(o, col))
+                col += len(o) + 1
+            parts = seen[text] = ("instr", Word(name, 1), words, None)
+            add(Statement(number, *parts))
             continue
         kind = "instr"
         m = instr(text) if fast else None

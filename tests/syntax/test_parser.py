@@ -183,3 +183,28 @@ def test_plain_devices_are_whole_operands():
         assert [getattr(got, f.name) for f in dataclasses.fields(Operand)] == \
             [getattr(want, f.name) for f in dataclasses.fields(Operand)]
         assert got == want and hash(got) == hash(want) and repr(got) == repr(want)
+
+
+def test_plain_lines_read_as_the_regexes_read_them(monkeypatch):
+    """The plainest lines (`MOV K10 D0`: one space between words) are split at their spaces
+    (parser._plain_line); the statements are those of the instruction regex's reading."""
+    import random
+
+    from progen import random_program
+
+    from mlctool.syntax import parser
+    from mlctool.syntax.source import SourceText
+    from mlctool.targetapi import load_target
+
+    lines = ["LD X0", "MOV K10 D0", "LD= D0 K-5", "$MOV \"a b\" D0", "OUT  Y0", "ld x0 ; c", "AND<> D0 D1",
+             "DMOV K70000 D0", "OUT Y0 ", " OUT Y0", "LD X0,X1", "MOVP F1.5 D0", "LD\tX0"]
+    for name in ("nc5", "vs"):
+        lines += random_program(random.Random(name), load_target(name), 300)
+    src = SourceText("t.il", "\n".join(lines) + "\n")
+    taken = []
+    real = parser._plain_line()
+    monkeypatch.setattr(parser, "_plain_line", lambda: lambda text: taken.append(text) or real(text))
+    split = parse(src)
+    monkeypatch.setattr(parser, "_plain_line", lambda: lambda text: None)
+    assert split.statements == parse(src).statements
+    assert sum(real(t) is not None for t in taken) > 200  # the split is taken
