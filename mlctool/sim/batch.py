@@ -196,7 +196,12 @@ def _lane_ready(st: Stimulus, opts: Options, n_scans: int) -> bool:
     if st.models:
         return False
     period = st.scan_us or opts.scan_us or DEFAULT_SCAN_US
-    for e in st.events:
+    for e in st.entries:  # (set lines possibly as SetLine tuples, read so: no Events made)
+        if type(e) is tuple:
+            for v, _ in e[6]:
+                if v.view != "bit" or v.kind not in LANE_KINDS:
+                    return False
+            continue
         kind = e.kind
         if kind == "expect":
             if e.scan_index(period) >= n_scans:
@@ -228,9 +233,16 @@ def run_lanes(lp: LaneProgram, group: list[tuple[str, Stimulus]], period: int, n
         bit = 1 << lane
         own: set[int] = set()
         owns.append(own)
-        for e in st.events:
-            k = e.scan if e.scan is not None else -(-e.time_us // period)  # Event.scan_index
-            kind = e.kind
+        for e in st.entries:  # (set lines possibly as SetLine tuples: no Events made for them)
+            if type(e) is tuple:
+                _, k, time_us, _, _, _, assigns = e
+                if k is None:
+                    k = -(-time_us // period)  # Event.scan_index
+                kind = "set"
+            else:
+                k = e.scan if e.scan is not None else -(-e.time_us // period)  # Event.scan_index
+                kind = e.kind
+                assigns = e.assigns
             if kind == "expect":
                 expects.setdefault(k, []).append((lane, e))
                 for c in e.checks:
@@ -241,7 +253,7 @@ def run_lanes(lp: LaneProgram, group: list[tuple[str, Stimulus]], period: int, n
                         new_views[slot] = c.view
                     own.add(slot)
                 continue
-            for v, value in e.assigns:
+            for v, value in assigns:
                 key = (v.kind, v.number)
                 slot = slots.get(key)
                 if slot is None:

@@ -93,6 +93,13 @@ class ModelSpec:
     col: int
 
 
+# A set line as the parser keeps it until its Event is asked for (Stimulus.entries):
+# (line, scan, time_us, col, when, item, assigns) -> Event(scan, time_us, "set", line, col,
+# f"{when} {item}", assigns). A tuple costs a seventh of an Event to make; a batch of 1024
+# files of 20 lines made 20 k Events that the bool lanes never read.
+SetLine = tuple
+
+
 @dataclass(slots=True)
 class Stimulus:
     path: str
@@ -100,9 +107,20 @@ class Stimulus:
     scan_us: int | None = None
     run_time_us: int | None = None
     run_scans: int | None = None
-    events: list[Event] = field(default_factory=list)
+    # the events in line order, set lines possibly as SetLine tuples: read them as `events`
+    entries: list[Event | SetLine] = field(default_factory=list)
     models: list[ModelSpec] = field(default_factory=list)
     ports: list = field(default_factory=list)  # serial_stim.PortSpec of `port CPn ...` lines
+    compact: bool = False  # some entries are SetLine tuples
+
+    @property
+    def events(self) -> list[Event]:
+        """The events in line order (the set lines kept as tuples made Events on first read)."""
+        if self.compact:
+            self.entries = [e if type(e) is not tuple else Event(e[1], e[2], "set", e[0], e[3], f"{e[4]} {e[5]}", e[6])
+                            for e in self.entries]
+            self.compact = False
+        return self.entries
 
     def devices(self) -> set[DeviceView]:
         out: set[DeviceView] = set()
@@ -184,7 +202,8 @@ class _Parser:
         self.diags.append(diag(self.st.path, Span.at(line, col, length), code, msg))
 
     def run(self) -> Stimulus:
-        events, items = self.st.events, self.items
+        entries, items = self.st.entries, self.items
+        self.st.compact = True  # (set lines are SetLine tuples)
         parts = _LINES.findall(self.text)
         for no, (raw, (lead, when, gap, item)) in enumerate(zip(self.st.lines, parts, strict=True), 1):
             if when:
@@ -193,7 +212,7 @@ class _Parser:
                 assign = items.get(item) if when[0] == "#" else None
                 col = len(lead) + len(when) + len(gap) + 1
                 if assign is not None and (scan := int(when[1:])) <= MAX_SCANS:
-                    events.append(Event(scan, None, "set", no, col, f"{when} {item}", assign))
+                    entries.append((no, scan, None, col, when, item, assign))
                     continue
                 if self.set_line(no, when, col, item):
                     continue
@@ -290,7 +309,7 @@ class _Parser:
             return False
         if time_us is not None:
             self.last_time = time_us
-        self.st.events.append(Event(scan, time_us, "set", no, col, f"{when} {item}", assign))
+        self.st.entries.append((no, scan, time_us, col, when, item, assign))
         return True
 
     @staticmethod
@@ -361,7 +380,7 @@ class _Parser:
                                     "it, it cannot be set or forced", off + k, "E602")
                 assigns.append((view, self.at(off + k, lambda v=value, w=view: parse_value(v, w))))
             ev.assigns = tuple(assigns)
-        self.st.events.append(ev)
+        self.st.entries.append(ev)
 
     def pulses(self, ev: Event, toks: list[tuple[str, int]], off: int) -> None:
         """`X0 pulses 1kHz [until TIME | for TIME]`: a pulse train on an input (sim/pulses.py)."""

@@ -82,3 +82,34 @@ def test_lazy_result_reads_its_values_once_and_equals_the_eager_one():
         _same(lazy, eager)
         assert len(calls) == 1 and repr(lazy) == repr(eager)
         assert type(lazy) is RunResult and not hasattr(lazy, "no_such_field")
+
+
+def test_set_lines_kept_as_tuples_run_and_read_as_events(tmp_path, monkeypatch):
+    """A stimulus keeps its set lines as tuples until its events are read (Stimulus.entries):
+    the lanes read the tuples, and give the results they give from the Events; the events
+    read later, or after pickling (a cluster's chunks), are the parser's."""
+    from mlctool.sim.stimulus import NameCache, load_stimulus
+
+    monkeypatch.chdir(tmp_path)
+    paths = _scenarios(tmp_path)
+    image = image_of(PROGRAM)
+
+    def loaded(read_events: bool) -> dict:
+        names = NameCache(NC5)
+        out = {p: load_stimulus(p, NC5, names) for p in paths}
+        for st, _ in out.values():
+            assert st.compact and any(type(e) is tuple for e in st.entries)
+            if read_events:
+                assert st.events and not st.compact
+        return out
+
+    compact = loaded(False)
+    shipped = pickle.loads(pickle.dumps(compact))
+    a, _ = run_batch(image, NC5, paths, Options(), loaded=compact)
+    b, _ = run_batch(image, NC5, paths, Options(), loaded=loaded(True))
+    assert [sc.result for sc in a] == [sc.result for sc in b]
+    eager = loaded(True)
+    for p in paths:
+        events = eager[p][0].events
+        assert shipped[p][0].events == compact[p][0].events == events
+        assert all(type(e) is not tuple for e in events) and any(e.kind == "set" for e in events)
