@@ -160,6 +160,17 @@ _SRET = "\0goto BLK.get(m.calls.pop(), NB)"  # how SRET's goto() reads (inlined:
 _NO_FALL = frozenset({"fend", "end", "sret"})  # the block after one of these is reached by a jump only
 
 
+def function_head(name: str, params: str, used: set[str], marks: bool) -> list[str]:
+    """`def` of a generated function: the containers its code names (bM, wD ... ; R: the
+    writer stamps) are parameters whose defaults are the containers (G_<name>), so a call
+    binds them without a global load each (engine.Scanner sets the defaults again when the
+    machine replaces a container); `now` is read per call. A local the function takes from
+    a container is called as the container without its G_ prefix."""
+    names = sorted(used - {"now"}) + (["R"] if marks else [])
+    params += "".join(f", {n}=G_{n}" for n in names)
+    return [f"def {name}({params}):"] + (["    now = m.now_us"] if "now" in used else [])
+
+
 class _Body:
     """The code of one block (_Gen.block): lines at depth >= 1 and their steps."""
 
@@ -210,12 +221,8 @@ class _Layout:
         first = bodies[lo].first
         parts = bodies[lo:hi] + [bodies[t] for t in self.called(lo, hi) if t in self.inline]
         used = set().union(*(b.used for b in parts))
-        head = [f"{name} = G_{name}" for name in sorted(used - {"now"})]
-        if any(b.marks for b in parts):
-            head.append("R = G_R")
-        if "now" in used:
-            head.append("now = m.now_us")
-        out = [f"def F{r}(m, ws, ex, jb):"] + ["    " + h for h in head] + ["    a = False", "    while True:"]
+        out = function_head(f"F{r}", "m, ws, ex, jb", used, any(b.marks for b in parts)) + ["    a = False",
+                                                                                           "    while True:"]
         lines += out
         linemap += [first] * len(out)
         for k in range(lo, hi):
@@ -316,15 +323,6 @@ class _Gen(OpsCode):
         self.used: set[str] = set()
         self.block_marks = False
 
-    def header(self) -> list[str]:
-        """The locals a function body reads its containers through (one global load each)."""
-        out = [f"{name} = G_{name}" for name in sorted(self.used - {"now"})]
-        if self.block_marks:
-            out.append("R = G_R")
-        if "now" in self.used:
-            out.append("now = m.now_us")
-        self.all_used |= self.used
-        return out
 
     def build(self) -> Code:
         steps = self.prog.steps
@@ -440,7 +438,8 @@ class _Gen(OpsCode):
 
     def finish_piece(self, i: int) -> None:
         self.emit("return a", i)
-        head = [f"def {self.piece_name}(m, ws):"] + ["    " + h for h in self.header()]
+        self.all_used |= self.used
+        head = function_head(self.piece_name, "m, ws", self.used, self.block_marks)
         self.pieces.append((head + self.lines, [self.piece_first] * len(head) + self.linemap))
 
     def end_piece(self, i: int) -> None:

@@ -12,6 +12,7 @@ import math
 import operator
 import os
 from collections.abc import Callable
+from types import FunctionType
 
 from mlctool.sim import scan as _scan
 from mlctool.sim.codecache import compiled as compiled_code
@@ -226,9 +227,16 @@ class Scanner:
             g.update(_f32_tables())
         self.g = g
         self._lx, self._watchdog = g["LX"], g["WD"]
+        self._defaulted: list[tuple[Callable, tuple[str, ...]]] = []
         self._rebind()
         run_parts(code.code, g)  # our own generated code (compile.py, in parts: pycompile.py)
         self.fns: list[Callable] = [g[name] for name in code.funcs] + [self._past_end]
+        # the containers a function names are its parameters' defaults (compile.function_head)
+        for f in g.values():
+            if type(f) is FunctionType and f.__code__.co_filename == code.filename and f.__defaults__:
+                c = f.__code__
+                params = c.co_varnames[c.co_argcount - len(f.__defaults__):c.co_argcount]
+                self._defaulted.append((f, tuple("G_" + p for p in params)))
 
     def _past_end(self, m: Machine, ws: int, ex: int, jb: int) -> int:
         """The block after the last one: control ran off the program."""
@@ -251,6 +259,8 @@ class Scanner:
         self._writer = w
         for n, d in enumerate(w.dyn):
             g[f"DY{n}"] = d
+        for f, names in self._defaulted:
+            f.__defaults__ = tuple(g[n] for n in names)
         if self._stale is None:
             self._stale = self._stale_check()
 
