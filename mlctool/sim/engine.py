@@ -202,6 +202,7 @@ class Scanner:
         self.engine = "compiled" if self.code is not None else "interp"
         self._zero_t = bytearray(len(m.t_seen))  # a bytearray: a bytes source is copied first
         self._checked = False
+        self._ready = False  # compiled code checked: scans run it
         self._stale = None
         self._layout = m.layout
         self._before = _scan.before_scan_routine(m.target)  # what run_scan does before step 0
@@ -281,14 +282,13 @@ class Scanner:
         return self.g["_stale"]
 
     def __call__(self, watchdog: int = DEFAULT_WATCHDOG) -> None:
-        if self.code is None:
-            run_scan(self.prog, self.m, watchdog)
-            return
-        if not self._checked:
-            self._check_instrumented()
+        if not self._ready:  # the interpreter, or the first scan (instrumentation check)
+            if self.code is not None and not self._checked:
+                self._check_instrumented()
             if self.code is None:
                 run_scan(self.prog, self.m, watchdog)
                 return
+            self._ready = True
         m = self.m
         m.t_seen[:] = self._zero_t
         if m.layout != self._layout or m.writer is not self._writer:  # power cycle, another Scanner
@@ -296,10 +296,11 @@ class Scanner:
             if self._stale(m):
                 self._rebind()
         m.acc = False
-        m.blocks.clear()
-        m.stack.clear()
-        m.calls = []
-        m.fors = []
+        if m.blocks or m.stack or m.calls or m.fors:  # (a scan that ran to its end left them empty)
+            m.blocks.clear()
+            m.stack.clear()
+            m.calls = []
+            m.fors = []
         if self._before is not None:
             self._before(m)
         fns = self.fns
