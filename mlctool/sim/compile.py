@@ -64,7 +64,7 @@ from mlctool.sim.operands import BitRef, ConstRef, CounterRef, GroupRef
 from mlctool.sim.pycompile import compile_parts
 from mlctool.sim.state import s16, s32
 
-COMPILER_VERSION = "13"
+COMPILER_VERSION = "14"
 
 
 class Code:
