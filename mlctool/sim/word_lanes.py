@@ -223,18 +223,20 @@ class WordLaneProgram(RungCodegen):
     def store(self, words: list[str], expr: str) -> list[str]:
         """`words` take `expr` where the rung is On: one int16 word its value (an int16
         expression), a DD pair its value (an int32 expression), two words its low and high
-        16 bits."""
+        16 bits. In place (np.putmask, ~0.8 us against np.where's ~1.2): no other name or
+        slot holds a D or DD lane array (every write to one is this, a stimulus write into a
+        copy, or a force's fresh array)."""
         if len(words) == 1:
-            return [f"{words[0]} = np.where(a, {expr}, {words[0]})"]
-        return [f"v = {expr}", f"{words[0]} = np.where(a, v.astype(np.int16), {words[0]})",
-                f"{words[1]} = np.where(a, (v >> 16).astype(np.int16), {words[1]})"]
+            return [f"np.putmask({words[0]}, a, {expr})"]
+        return [f"v = {expr}", f"np.putmask({words[0]}, a, v.astype(np.int16))",
+                f"np.putmask({words[1]}, a, (v >> 16).astype(np.int16))"]
 
     def store_const(self, words: list[str], value: int) -> list[str]:
         if len(words) == 1:
             bits = 32 if words[0].startswith("DD_") else 16
-            return [f"{words[0]} = np.where(a, {self.const(value, bits)}, {words[0]})"]
-        return [f"{words[0]} = np.where(a, {self.const(value, 16)}, {words[0]})",
-                f"{words[1]} = np.where(a, {self.const(value >> 16, 16)}, {words[1]})"]
+            return [f"np.putmask({words[0]}, a, {self.const(value, bits)})"]
+        return [f"np.putmask({words[0]}, a, {self.const(value, 16)})",
+                f"np.putmask({words[1]}, a, {self.const(value >> 16, 16)})"]
 
     def compare(self, op: str, r0, r1) -> str:
         (x, bx), (y, by) = self.operand(r0), self.operand(r1)
@@ -337,23 +339,22 @@ class WordLaneProgram(RungCodegen):
         scans it has run, capped at the preset, min(TJ * period // base, p) with TJ those
         scans: the remainders sum up exactly so. Otherwise the ticks are added scan by scan:
         a bool when a scan is shorter than the base, a constant when the base divides it."""
-        tw, tb, tr, tf = f"TW_{n}", f"T_{n}", f"TR_{n}", f"TF_{n}"
-        out = [f"r = a & {tr}"]  # running since the last scan and still On
-        if alone:
-            tj = f"TJ_{n}"
+        tw, tb, tr, tf, tj = f"TW_{n}", f"T_{n}", f"TR_{n}", f"TF_{n}", f"TJ_{n}"
+        if alone:  # TJ + TR: + 1 running since the last scan, 0 when starting (TJ was zeroed while Off)
             ticks = (tj if period == base else f"{tj} * {period // base}" if period % base == 0
                      else f"{tj} // {base // period}" if base % period == 0 else f"{tj} * {period} // {base}")
-            out += [f"{tj} = ({tj} + 1) * r", f"{tw} = np.minimum({ticks}, {p})"]
-        elif period % base == 0:
+            out = [f"{tj} = ({tj} + {tr}) * a", f"{tw} = np.minimum({ticks}, {p})"]
+        elif period % base == 0:  # r: running since the last scan and still On
             k = period // base
-            out.append(f"{tw} = ({tw} + (r & ({tw} < {p}))) * a" if k == 1 else
-                       f"{tw} = np.where(r & ({tw} < {p}), np.minimum({tw} + {k}, {p}), {tw}) * a")
+            out = [f"r = a & {tr}",
+                   f"{tw} = ({tw} + (r & ({tw} < {p}))) * a" if k == 1 else
+                   f"{tw} = np.where(r & ({tw} < {p}), np.minimum({tw} + {k}, {p}), {tw}) * a"]
         elif period < base:
-            out += [f"f = {tf} + {period}", f"q = f >= {base}", f"{tf} = (f - q * {base}) * r",
-                    f"{tw} = ({tw} + (q & r & ({tw} < {p}))) * a"]
+            out = [f"r = a & {tr}", f"f = {tf} + {period}", f"q = f >= {base}", f"{tf} = (f - q * {base}) * r",
+                   f"{tw} = ({tw} + (q & r & ({tw} < {p}))) * a"]
         else:
-            out += [f"q, f = np.divmod({tf} + {period}, {base})", f"{tf} = f * r",
-                    f"{tw} = np.where(r & ({tw} < {p}), np.minimum({tw} + q, {p}), {tw}) * a"]
+            out = [f"r = a & {tr}", f"q, f = np.divmod({tf} + {period}, {base})", f"{tf} = f * r",
+                   f"{tw} = np.where(r & ({tw} < {p}), np.minimum({tw} + q, {p}), {tw}) * a"]
         out += [f"{tr} = a", f"{tb} = ({tw} >= {p})" if p else f"{tb} = a"]
         return out
 
@@ -515,8 +516,9 @@ def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], perio
     slots = addr.slots
     space = {i: key[0] for key, i in slots.items()}
     S: list = [np.zeros(n, dtype=_lane_dtype(space[i])) for i in range(len(slots))]
-    writes = {k: [(i, np.fromiter(d, dtype=np.int64, count=len(d)), list(d.values())) for i, d in per_scan.items()]
-              for k, per_scan in sets.items()}
+    raw_type = [_raw(arr).dtype for arr in S]
+    writes = {k: [(i, np.fromiter(d, dtype=np.intp, count=len(d)), np.fromiter(d.values(), dtype=raw_type[i], count=len(d)))
+                  for i, d in per_scan.items()] for k, per_scan in sets.items()}
     forces: list[dict] = [{} for _ in range(n)]
     fslots: dict[int, tuple[np.ndarray, np.ndarray]] = {}
     E: dict = {}
@@ -531,9 +533,10 @@ def run_word_lanes(wp: WordLaneProgram, group: list[tuple[str, Stimulus]], perio
 
     for k in range(n_scans):
         for i, at, raws in writes.get(k, ()):
-            arr = S[i].copy()  # (lane arrays may be shared: `TR_0 = a`)
+            arr = S[i]
+            if arr.dtype == bool or arr.dtype == np.int64:  # (arrays may be shared: `TR_0 = a`) D and DD are not
+                S[i] = arr = arr.copy()
             _raw(arr)[at] = raws
-            S[i] = arr
         scan_events = events.get(k, ())
         if any(e.kind != "expect" for _, e in scan_events):
             for lane, e in scan_events:
