@@ -159,7 +159,7 @@ class WordLaneProgram(RungCodegen):
                 else:
                     body += self.cnt_code(*b[1:], alone=self.counted_alone(b[1], written))
             for n, presets in self.counters.items():  # counter contacts act at the end of the scan (1.7)
-                body.append(f"C_{n} = CW_{n} >= {presets[0]}" if self.counted_alone(n, written)
+                body.append(f"C_{n} = CW_{n} >= {self.const(presets[0], 64)}" if self.counted_alone(n, written)
                             else f"C_{n} = C_{n} | CP_{n}; CP_{n} = F")
             names = sorted(self.slots, key=self.slots.get)
             load = [f"    {sp}_{n} = S[{self.slots[(sp, n)]}]" for sp, n in names]
@@ -307,8 +307,9 @@ class WordLaneProgram(RungCodegen):
                 if by is None and not -32768 <= y <= 32767:  # in int64: a product with any constant fits
                     v = f"({x}.astype(np.int64) * {y})"
                     out += self.store(words, f"{v}.astype(np.int32)" if len(words) == 1 else v)
-                else:  # a 16-bit product fits int32
-                    out += self.store(words, f"({x}.astype(np.int32) * {self.const(y, 32) if by is None else y})")
+                else:  # a 16-bit product fits int32 (multiply casts the int16 operands: one call)
+                    y = self.const(y, 32) if by is None else y
+                    out += self.store(words, f"np.multiply({x}, {y}, dtype=np.int32)")
         elif op == "tmr":
             out.append(self.tmr(s))
         elif op == "cnt":
@@ -329,8 +330,7 @@ class WordLaneProgram(RungCodegen):
             self.name(sp, t.num)
         return ("tmr", t.num, pre.get(None) & 0xFFFF, target.timer_base_ms(t.num) * 1000)
 
-    @staticmethod
-    def tmr_code(period: int, n: int, p: int, base: int, alone: bool) -> list[str]:
+    def tmr_code(self, period: int, n: int, p: int, base: int, alone: bool) -> list[str]:
         """semantics.tmr + advance_timer per lane. Every TMR runs once every scan (the program
         is straight-line and names each timer once), so a timer running since the last scan
         was last updated `period` ago: that is its elapsed time, no last-update word needed.
@@ -340,10 +340,12 @@ class WordLaneProgram(RungCodegen):
         scans: the remainders sum up exactly so. Otherwise the ticks are added scan by scan:
         a bool when a scan is shorter than the base, a constant when the base divides it."""
         tw, tb, tr, tf, tj = f"TW_{n}", f"T_{n}", f"TR_{n}", f"TF_{n}", f"TJ_{n}"
+        k64 = lambda x: self.const(x, 64)  # noqa: E731
         if alone:  # TJ + TR: + 1 running since the last scan, 0 when starting (TJ was zeroed while Off)
-            ticks = (tj if period == base else f"{tj} * {period // base}" if period % base == 0
-                     else f"{tj} // {base // period}" if base % period == 0 else f"{tj} * {period} // {base}")
-            out = [f"{tj} = ({tj} + {tr}) * a", f"{tw} = np.minimum({ticks}, {p})"]
+            ticks = (tj if period == base else f"{tj} * {k64(period // base)}" if period % base == 0
+                     else f"{tj} // {k64(base // period)}" if base % period == 0
+                     else f"{tj} * {k64(period)} // {k64(base)}")
+            out = [f"{tj} = ({tj} + {tr}) * a", f"{tw} = np.minimum({ticks}, {k64(p)})"]
         elif period % base == 0:  # r: running since the last scan and still On
             k = period // base
             out = [f"r = a & {tr}",
@@ -355,7 +357,7 @@ class WordLaneProgram(RungCodegen):
         else:
             out = [f"r = a & {tr}", f"q, f = np.divmod({tf} + {period}, {base})", f"{tf} = f * r",
                    f"{tw} = np.where(r & ({tw} < {p}), np.minimum({tw} + q, {p}), {tw}) * a"]
-        out += [f"{tr} = a", f"{tb} = ({tw} >= {p})" if p else f"{tb} = a"]
+        out += [f"{tr} = a", f"{tb} = ({tw} >= {k64(p)})" if p else f"{tb} = a"]
         return out
 
     def cnt(self, s) -> list[str]:
@@ -373,14 +375,13 @@ class WordLaneProgram(RungCodegen):
         """One CNT counts counter n and no scenario writes its value or contact."""
         return len(self.counters[n]) == 1 and ("CW", n) not in written and ("C", n) not in written
 
-    @staticmethod
-    def cnt_code(n: int, p: int, index: int, e: str, alone: bool) -> list[str]:
+    def cnt_code(self, n: int, p: int, index: int, e: str, alone: bool) -> list[str]:
         """semantics.cnt per lane. `alone` (counted_alone): the value only rises, by this CNT,
         and stops at the preset, so the contact is value >= preset at the end of the scan
         (a pending contact would be set exactly then)."""
         out = [f"{e} = E.get({index}, F); E[{index}] = a"]
         if alone:
-            return out + [f"CW_{n} = np.minimum(CW_{n} + (a > {e}), {p})"]
+            return out + [f"CW_{n} = np.minimum(CW_{n} + (a > {e}), {self.const(p, 64)})"]
         return out + [f"CW_{n} = CW_{n} + ((a > {e}) & (CW_{n} < {p}))",
                       f"CP_{n} = CP_{n} | ((CW_{n} >= {p}) > C_{n})"]
 
