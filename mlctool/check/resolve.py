@@ -128,10 +128,13 @@ class _Resolver:
                 hit = by_text.get(lines[st.line - 1])
                 if hit is None:
                     written = tuple([w.text for w in st.operands])
-                    key = (st.name.text.upper(), written)
-                    res = cache.get(key)
-                    if res is None:
-                        res = cache[key] = plain(*key) or self.resolved(*key)
+                    name = st.name.text.upper()
+                    res = plain(name, written)
+                    if res is None:  # (the usual line needs no entry of its words: its text has one)
+                        key = (name, written)
+                        res = cache.get(key)
+                        if res is None:
+                            res = cache[key] = self.resolved(name, written)
                     hit = by_text[lines[st.line - 1]] = (res, _made(res, written))
                 res, made = hit
             if made is None or st.step is not None:

@@ -231,7 +231,8 @@ def check_layout(module: Module, target: Target, exported: dict[int, str], is_ca
     out += _call_nesting(instrs, labels, sub_start, target.settings["call_depth"])
 
     capacity = target.capacity
-    if module.total_steps > capacity:
+    total = module.total_steps
+    if total > capacity:
         out.append(diag(module.path, Span.at(instrs[-1].line), "E314",
-                        f"program has {module.total_steps} steps; the target holds {capacity}"))
+                        f"program has {total} steps; the target holds {capacity}"))
     return out
