@@ -143,3 +143,26 @@ def test_a_huge_block_is_split_into_functions_of_bounded_size():
 @given(program(), stimulus(), st.sampled_from(["nc5", "vs"]))
 def test_random_programs_split_into_tiny_functions_match_the_interpreter(tiny_layout, il, stim, target_name):
     engines_agree(il, stim, target_name)
+
+
+def test_functions_take_the_new_containers_after_a_power_cycle():
+    """A generated function's containers are its parameters' defaults: a power cycle (new
+    device lists) and another Scanner on the same machine (a new writer dict) set them again."""
+    image = image_of(FLOW)
+    found = []
+    for engine in ("compiled", "interp"):
+        prog = load_program(image, NC5)
+        m = Machine(NC5, len(prog.steps))
+        sc = Scanner(prog, m, engine)
+        out = []
+        for k in range(6):
+            if k == 2:
+                m.power_cycle()
+            if k == 4:
+                Scanner(prog, m, engine)()
+            m.bits["X"][0:5] = bytes([1, 1, k & 1, 1, 1])
+            sc()
+            out.append((m.words["D"][:40], dict(m.writer)))
+        found.append(out)
+    assert found[0] == found[1]
+    assert found[0][1][0] != found[0][2][0]  # the power cycle cleared D (the code wrote the new lists)
