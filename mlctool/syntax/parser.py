@@ -49,6 +49,12 @@ _TERMINAL = re.compile(r"^(?P<name>[A-Z_]+):\s*/(?P<re>(?:\\.|[^/\\\n])*)/", re.
 
 
 @cache
+def _terminals() -> dict[str, str]:
+    """The grammar's terminal regexes by name (read once for the regexes below)."""
+    return {m["name"]: m["re"] for m in _TERMINAL.finditer(grammar_text())}
+
+
+@cache
 def _fast_line(ascii_only: bool = False):
     """A regex for the common line shape, built from the grammar's own terminal definitions.
 
@@ -61,7 +67,7 @@ def _fast_line(ascii_only: bool = False):
     `ascii_only`: the regexes for a text of ASCII only, without the Han ranges of the names
     (which cannot match there): each class with them takes ~2 ms to compile, at every start.
     """
-    t = {m["name"]: m["re"] for m in _TERMINAL.finditer(grammar_text())}
+    t = dict(_terminals())
     if ascii_only:
         t = {name: rx.replace(CJK_RANGES, "") for name, rx in t.items()}
     head = rf"(?:{t['SEP']})?(?:(?P<step>{t['STEP']})(?:{t['SEP']}))?"
@@ -82,7 +88,7 @@ def _plain_line():
     `MOV K10 D0`). Its words are found by splitting at the spaces, without the regex's groups;
     every other line takes _fast_line's regexes (tests/syntax/test_parser.py compares with
     lark, which reads every line the grammar's way)."""
-    t = {m["name"]: m["re"].replace(CJK_RANGES, "") for m in _TERMINAL.finditer(grammar_text())}
+    t = {name: rx.replace(CJK_RANGES, "") for name, rx in _terminals().items()}
     # (?!"): no "string" constant, which may hold spaces
     return re.compile(rf'(?:{t["MNEMONIC"]})(?: (?!")(?:{t["OPERAND"]}))*').fullmatch
 
