@@ -49,13 +49,20 @@ def check_positioning(paths: list[str], config: Config | None = None,
         if src is None:
             continue
         out.lines[path] = src.text.split("\n")
-        program, diags = parse_program(path, src.text, tables().dialect_for(path))
+        program, diags = parse_program(path, src.text, tables().dialect_for(path), _pulse_modes(config))
         out.programs[path] = program
         for d in diags:
             sev = severity_of(d.code, d.severity, config, ignore)
             if sev != "off":
                 out.diagnostics.append(d if sev == d.severity else d.with_severity(sev))
     return out
+
+
+def _pulse_modes(config: Config | None) -> tuple[str, ...]:
+    """mlc.toml `pulse_modes` in the target's spelling ("P/R" -> "PR"); axes not listed keep
+    the packaged U/D, which FUN147 allows, so they need not be named."""
+    modes = config.data.get("pulse_modes") if config is not None else None
+    return tuple(m.replace("/", "") for m in modes or ())
 
 
 def build_image(program: PosProgram, output: str, sr_text: str | None) -> str:

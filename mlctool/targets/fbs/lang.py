@@ -18,6 +18,7 @@ from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.limits import long_number, too_long_message
 from mlctool.targets.fbs.model import (
     BLANK,
+    MHSPO_FORBIDDEN_MODE,
     NEXT,
     Cond,
     Dialect,
@@ -84,8 +85,9 @@ class _StepBuilder:
 
 
 class _Parser:
-    def __init__(self, path: str, text: str, dialect: Dialect):
+    def __init__(self, path: str, text: str, dialect: Dialect, pulse_modes: tuple[str, ...] = ()):
         self.path = path
+        self.pulse_modes = pulse_modes
         self.text = text
         self.d = dialect
         self.t = tables()
@@ -318,7 +320,12 @@ class _Parser:
         if all(t.kind == "" for t in travels):
             self.at(fields[1], "F033", f"{kw.text}: every axis travel is blank")
             return None
-        return Motion(kw.text, cu[0], "", tuple(travels), cu[1])
+        motion = Motion(kw.text, cu[0], "", tuple(travels), cu[1])
+        for i in motion.driven_axes():
+            if i < len(self.pulse_modes) and self.pulse_modes[i] == MHSPO_FORBIDDEN_MODE:
+                self.at(fields[1 + i], "E236", f"{kw.text} drives Ps{i}, whose pulse output mode is P/R "
+                        "(mlc.toml pulse_modes): FUN147 takes U/D or A/B only (11.6)")
+        return motion
 
     def bit(self, f: Field) -> Val | None:
         m = _REG.fullmatch(f.text)
@@ -453,8 +460,11 @@ def _check_chain_lengths(p: _Parser, steps: list[Step]) -> None:
                   col, end, line=line)
 
 
-def parse_program(path: str, text: str, dialect: Dialect) -> tuple[PosProgram, list[Diagnostic]]:
-    p = _Parser(path, text, dialect)
+def parse_program(path: str, text: str, dialect: Dialect,
+                  pulse_modes: tuple[str, ...] = ()) -> tuple[PosProgram, list[Diagnostic]]:
+    """The program and its diagnostics; `pulse_modes` (Ps0-Ps3, "UD"/"PR"/"AB", from mlc.toml)
+    lets a FUN147 program be checked against the modes of the axes it drives (E236)."""
+    p = _Parser(path, text, dialect, pulse_modes)
     p.run()
     steps = _finish_steps(p)
     _check_program(p, steps)

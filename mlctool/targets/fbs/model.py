@@ -48,6 +48,13 @@ class Motion:
     unit: str = "Ut"  # Ut (FUN141 unit) | Ps (one pulse)
     mode: int = 0  # DRVZ MD0..MD2
 
+    def driven_axes(self) -> tuple[int, ...]:
+        """The axes (Ps0-Ps3) a LIN/LINE outputs pulses to: not those with a blank travel, nor
+        ADR 0 ("ADR with a travel of 0 or blank: that axis does not output"; ABS 0 moves to 0).
+        Decision: a register travel counts as driving its axis, whatever it holds."""
+        return tuple(i for i, v in enumerate(self.travel)
+                     if v.kind and not (self.coord == "ADR" and v.kind == "K" and v.n == 0))
+
 
 @dataclass(frozen=True, slots=True)
 class Cond:
@@ -71,6 +78,18 @@ class Step:
 class PosProgram:
     dialect: str  # "hspso" | "mhspo"
     steps: tuple[Step, ...]
+
+
+# FUN147 MHSPO drives U/D and A/B axes only (11.6 FUN147: "務必設定 Pulse Output 之工作模式 ...
+# 為 U/D 或 A/B 等二種模式之一，Pulse Output 才能正常輸出"); the FUN140 page allows all three.
+MHSPO_FORBIDDEN_MODE = "PR"
+
+
+def mhspo_mode_conflicts(program: PosProgram, pulse_modes) -> list[tuple[int, int]]:
+    """(step index, axis) of every LIN/LINE that drives an axis whose pulse output mode
+    (target spelling "UD"/"PR"/"AB") FUN147 does not allow."""
+    return [(k, i) for k, step in enumerate(program.steps) for i in step.motion.driven_axes()
+            if i < len(pulse_modes) and pulse_modes[i] == MHSPO_FORBIDDEN_MODE]
 
 
 @dataclass(frozen=True, slots=True)

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from mlctool.sim.semantics import OPERATION_ALARM, alarm
 from mlctool.sim.state import DeviceView, Machine, s16, s32
 from mlctool.targetapi.simulation import Simulation
 from mlctool.targets.fbs import mpg as follow
@@ -26,7 +27,7 @@ from mlctool.targets.fbs import pulses
 from mlctool.targets.fbs.axis import TICK_US, Axis, Params
 from mlctool.targets.fbs.files import table_preload
 from mlctool.targets.fbs.interp import Group
-from mlctool.targets.fbs.model import PosProgram, tables
+from mlctool.targets.fbs.model import PosProgram, mhspo_mode_conflicts, tables
 from mlctool.targets.fbs.table import TableError, decode, execution_error
 
 AXES = 4
@@ -206,11 +207,17 @@ def _pins(m: Machine, p: int, slot: Slot) -> None:
         y[clr] = int(a.clr)
 
 
+def _mode_overrides(m: Machine, st: State) -> None:
+    """A stimulus `model stepper mode=` over the project's pulse output mode (the models step
+    after before_scan, so scan 0's instructions apply it themselves)."""
+    for p, mode in m.ext.get("pulse_modes", {}).items():
+        st.slots[p].pin_mode = mode
+
+
 def before_scan(m: Machine) -> None:
     """Every axis runs to the scan's start time (hardware keeps going between scans)."""
     st = _state(m)
-    for p, mode in m.ext.get("pulse_modes", {}).items():  # a stimulus `model stepper mode=`
-        st.slots[p].pin_mode = mode
+    _mode_overrides(m, st)
     trace = m.pin_window
     if trace is not None and not st.window_open and m.now_us >= trace.from_us:
         st.window_open = True  # the pins of the axes in use go to rest at the window's start
@@ -429,10 +436,16 @@ def mhspo(m: Machine, s) -> None:
     if (rising or not grp.last_en) and en and not abt and grp.state == "idle":
         program = _load_table(m, s.ops[1].kind, s.ops[1].addr(m, 2))
         code = execution_error(program) if program is not None and program.dialect == "mhspo" else 0
+        _mode_overrides(m, st)
         if program is None or program.dialect != "mhspo":
             grp.error, grp.last_en = 34, True
         elif code:
             grp.error, grp.last_en = code, True  # a table written at run time breaks a build rule
+        elif conflicts := mhspo_mode_conflicts(program, [slot.pin_mode for slot in st.slots]):
+            k, i = conflicts[0]  # 11.6: U/D or A/B only; the manual names no error code for it
+            alarm(m, OPERATION_ALARM, f"FUN147 step {k + 1:03d} drives Ps{i}, whose pulse output mode is "
+                  "P/R: FUN147 takes U/D or A/B only (11.6); not started")
+            grp.last_en = True  # not retried until EN rises again
         else:
             grp.program = program
             wr0 = m.words[gs.wr[0]][gs.wr[1]]

@@ -58,3 +58,26 @@ def test_bad_requests_and_images(tmp_path):
     bad.write_text("register,value,hex\nR0,1,0001\nR1,1,0001\n", "utf-8")
     r = mlc("objdump", str(bad))
     assert r.returncode == 2 and "F034" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_check_reports_a_fun147_axis_in_p_r_mode_at_its_travel(tmp_path):
+    """11.6, FUN147: "務必設定 Pulse Output 之工作模式 ... 為 U/D 或 A/B 等二種模式之一": a LIN/LINE
+    travel that drives an axis mlc.toml sets to P/R is E236 at that operand; blank and ADR 0 do
+    not drive it (ABS 0 does: it moves to 0); FUN140 (.pos) may drive a P/R axis."""
+    from conftest import run_mlc
+
+    (tmp_path / "mlc.toml").write_text('target = "fbs"\nsources = []\npulse_modes = ["U/D", "P/R", "A/B"]\n',
+                                       "utf-8")
+    (tmp_path / "ok.mpos").write_text("001 SPD 5000\n LIN ADR,500,0,300, ,Ut\n GOTO NEXT\n"
+                                      "002 SPD 5000\n LINE ADR,500, ,300,200,Ut\n MEND\n", "utf-8")
+    (tmp_path / "ok.pos").write_text("001 SPD 1000\n DRV ADR,+,1000,Ps\n MEND\n", "utf-8")
+    r = run_mlc("check", "ok.mpos", "ok.pos", cwd=tmp_path)
+    assert r.code == 0, r.err
+    (tmp_path / "bad.mpos").write_text("001 SPD 5000\n LIN ADR,500,400, , ,Ut\n GOTO NEXT\n"
+                                       "002 SPD 5000\n LINE ABS,500,0, , ,Ut\n MEND\n", "utf-8")
+    r = run_mlc("check", "bad.mpos", cwd=tmp_path)
+    assert r.code == 1 and "Traceback" not in r.err
+    assert "bad.mpos:2:14: error[E236]" in r.err and "bad.mpos:5:15: error[E236]" in r.err, r.err
+    assert r.err.count("E236") == 2 and "Ps1" in r.err
+    (tmp_path / "mlc.toml").write_text('target = "fbs"\nsources = []\n', "utf-8")  # the default: U/D
+    assert run_mlc("check", "bad.mpos", cwd=tmp_path).code == 0

@@ -324,3 +324,58 @@ def test_mlc_toml_pulse_modes_set_the_axes_output_mode(tmp_path):
     assert sim('pulse_modes = ["P/R"]\n', "Y0=1 Y1=0").code == 1  # the expectation can fail
     r = sim('pulse_modes = ["PR"]\n', "Y0=1")
     assert r.code == 2 and "E110" in r.err and "pulse_modes" in r.err and "Traceback" not in r.err
+
+
+# FUN147 takes U/D or A/B axes only (11.6, FUN147: "務必設定 Pulse Output 之工作模式 ... 為 U/D 或
+# A/B 等二種模式之一"); the manual names no error code: E236 in `mlc check`, an alarm in `mlc sim`.
+MHSPO_IL = PARAMS.replace("MPARA K0 R2000", "MPARA K0 R2000\nMPARA K1 R2000") + """
+LD M0
+LD M10
+LD M11
+MHSPO K0 R5100 R2200
+OUT M20
+END
+"""
+MHSPO_TABLE = {"R5100": "001 SPD 1000\n LIN ADR,1000,500, , ,Ps\n MEND\n"}
+
+
+def test_mhspo_on_a_p_r_axis_from_the_stimulus_does_not_start_and_raises_an_alarm(tmp_path):
+    """`model stepper axis=1 mode=P/R`: the group's LIN drives Ps1, so FUN147 does not start
+    (no pulses, ACT Off, no error code) and the alarm OPERATION_ERROR is raised; U/D and A/B
+    run it, and an axis the LIN does not drive (ADR 0) may be P/R."""
+    from conftest import run_mlc
+
+    (tmp_path / "t.il").write_text(MHSPO_IL.strip() + "\n", "utf-8")
+    (tmp_path / "mlc.toml").write_text('target = "fbs"\n', "utf-8")
+
+    def sim(mode: str, lin: str, expect: str):
+        (tmp_path / "t.mpos").write_text(f"001 SPD 1000\n LIN ADR,{lin}, , ,Ps\n MEND\n", "utf-8")
+        (tmp_path / "t.stim").write_text(f"scan 10ms\nmodel stepper axis=1 mode={mode}\n0ms M0=1\n"
+                                         f"{expect}\n", "utf-8")
+        return run_mlc("sim", "t.il", "--table", "R5100=t.mpos", "--stimulus", "t.stim", cwd=tmp_path)
+
+    for mode in ("U/D", "A/B"):
+        r = sim(mode, "1000,500", "2s expect R4088:d=1000 R4090:d=500")
+        assert r.code == 0, r.out + r.err
+    r = sim("P/R", "1000,0", "2s expect R4088:d=1000 R4090:d=0")
+    assert r.code == 0, r.out + r.err
+    r = sim("P/R", "1000,500", "500ms expect alarm OPERATION_ERROR\n"
+            "500ms expect R4088:d=0 R4090:d=0 M20=0 D4060=0 R2201=0")
+    assert r.code == 0, r.out + r.err
+    r = sim("P/R", "1000,500", "500ms expect R4088:d=0")
+    assert r.code == 1 and "E604" in r.err and "Ps1" in r.err and "P/R" in r.err, r.out + r.err
+
+
+def test_mhspo_p_r_alarm_through_the_cli_is_e604_at_the_fun147_line(tmp_path):
+    from conftest import run_mlc
+
+    (tmp_path / "t.il").write_text(MHSPO_IL.strip() + "\n", "utf-8")
+    (tmp_path / "t.mpos").write_text(MHSPO_TABLE["R5100"], "utf-8")
+    (tmp_path / "mlc.toml").write_text('target = "fbs"\n', "utf-8")
+    line = MHSPO_IL.strip().split("\n").index("MHSPO K0 R5100 R2200") + 1
+    for extra, code in (("500ms expect M20=0\n", 1), ("500ms expect alarm OPERATION_ERROR\n", 0)):
+        (tmp_path / "t.stim").write_text("scan 10ms\nmodel stepper axis=0 mode=P/R\n0ms M0=1\n" + extra, "utf-8")
+        r = run_mlc("sim", "t.il", "--table", "R5100=t.mpos", "--stimulus", "t.stim", cwd=tmp_path)
+        assert r.code == code, r.out + r.err
+        if code:
+            assert "E604" in r.err and f"t.il:{line}" in r.err and "Traceback" not in r.err
