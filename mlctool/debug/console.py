@@ -8,10 +8,11 @@ command gets a message, never a traceback.
 from __future__ import annotations
 
 import shlex
+import signal
 import sys
 from collections.abc import Callable, Iterable
 
-from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Stop
+from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Interrupted, Stop
 from mlctool.sim.stimulus import StimError, parse_time
 
 HELP = """commands:
@@ -49,6 +50,7 @@ class Console:
         self.displays: list[str] = []
         session.output = out
         self.saved: list[str] = []
+        self.last_stop: Stop | None = None  # where the latest move ended
 
     # one line -> False to quit
     def execute(self, line: str) -> bool:
@@ -76,6 +78,7 @@ class Console:
         return True
 
     def report(self, stop: Stop) -> None:
+        self.last_stop = stop
         self.out(stop.text)
         for name in self.displays:
             try:
@@ -91,21 +94,25 @@ class Console:
             raise DebugError(f"{rest!r}: give a count (1, 2, ...)")
         return int(rest)
 
-    def cmd_step(self, rest: str) -> None:
+    def _repeat(self, rest: str, move: Callable[[], Stop]) -> None:
+        """`move` N times; the session's poll hook between two (a Pause or Ctrl-C ends them)."""
         stop = None
-        for _ in range(self._count(rest)):
-            stop = self.s.step()
-            if stop.reason == "fault":
-                break
+        try:
+            for i in range(self._count(rest)):
+                if i and self.s.poll is not None:
+                    self.s.poll()
+                stop = move()
+                if stop.reason in ("fault", "pause"):
+                    break
+        except Interrupted:
+            stop = self.s.interrupted()
         self.report(stop)
 
+    def cmd_step(self, rest: str) -> None:
+        self._repeat(rest, self.s.step)
+
     def cmd_scan(self, rest: str) -> None:
-        stop = None
-        for _ in range(self._count(rest)):
-            stop = self.s.step_scan()
-            if stop.reason == "fault":
-                break
-        self.report(stop)
+        self._repeat(rest, self.s.step_scan)
 
     cmd_next = cmd_scan
 
@@ -285,6 +292,28 @@ class Console:
     def cmd_help(self, rest: str) -> None:
         self.out(HELP)
 
+    def execute_interruptible(self, line: str) -> bool:
+        """execute(line) where Ctrl-C ends a long move where it is (`step 99999999`, `run #N`)
+        and comes back to the prompt, as in gdb, instead of ending the debugger. Main thread only."""
+        pressed = []
+
+        def on_sigint(signum, frame):
+            if pressed:  # a second Ctrl-C: a move without pause points (goto, reverse-continue)
+                raise KeyboardInterrupt
+            pressed.append(signum)
+
+        def poll() -> None:
+            if pressed:
+                raise Interrupted
+
+        previous = signal.signal(signal.SIGINT, on_sigint)
+        self.s.poll = poll
+        try:
+            return self.execute(line)
+        finally:
+            self.s.poll = None
+            signal.signal(signal.SIGINT, previous)
+
     # -- reading lines ------------------------------------------------------------------
     def run_lines(self, lines: Iterable[str], echo: bool = False) -> None:
         for line in lines:
@@ -318,7 +347,7 @@ def interactive(console: Console) -> None:
             line = session.prompt("(mlc) ")
         except (EOFError, KeyboardInterrupt):
             break
-        if not console.execute(line):
+        if not console.execute_interruptible(line):
             break
 
 

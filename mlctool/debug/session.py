@@ -45,6 +45,10 @@ class DebugError(ValueError):
     """A request the session cannot do: the message is for the user."""
 
 
+class Interrupted(Exception):
+    """Raised by a `poll` hook to end a long move where it is (a Pause, a Ctrl-C)."""
+
+
 @dataclass
 class Breakpoint:
     id: int
@@ -119,6 +123,10 @@ class DebugSession:
         self.output: Callable[[str], None] = lambda text: None  # logpoints, expectation failures
         self.expect_failures: list[str] = []
         self.stops: list[tuple[Position, dict[str, int | float]]] = []  # watched values at stops
+        # called between the scans of a long `run` (and between a console count's moves), where
+        # the machine is consistent: a front end lets other requests in there, or raises
+        # Interrupted to end the move (the web page's Pause, Ctrl-C on the terminal)
+        self.poll: Callable[[], None] | None = None
         self._memo_seed = {id(x): x for x in (target, image, self.prog, *self.steps)}
         self._layouts = 1 << 30
         self.checkpoints: dict[int, dict] = {}
@@ -437,8 +445,15 @@ class DebugSession:
                 if self.scan >= goal:
                     return self._stopped(Stop("pause" if scans is None else "step",
                                               f"ran to {self.where()}"))
+                if self.poll is not None:
+                    self.poll()
         except Fault as f:
             return self._fault_stop(f)
+        except Interrupted:
+            return self._stopped(self.interrupted())
+
+    def interrupted(self) -> Stop:
+        return Stop("pause", f"interrupted at {self.where()}")
 
     def _run_instructions(self, first: bool) -> Stop | None:
         """The rest of this scan (or the next one) instruction by instruction, stopping before

@@ -24,11 +24,12 @@ from __future__ import annotations
 import json
 import threading
 import time
+from collections import deque
 from dataclasses import dataclass, field
 from http import HTTPStatus
 
 from mlctool.debug.console import ALIASES, Console
-from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Stop, _fmt, _time
+from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Interrupted, Stop, _fmt, _time
 from mlctool.ladder.document import RungView, build_sheet
 from mlctool.ladder.html import page, sheets_body
 from mlctool.sim import semantics
@@ -40,6 +41,7 @@ TICK_S = 0.05  # a running machine's state goes out at most this often
 MAX_SPEED = 0  # `run` speed 0: as fast as the engine goes
 MAX_BATCH_S = 0.04  # at speed 0, scans run between two looks at the clock
 MAX_PENDING = 200  # output lines sent a tick while running
+MAX_REPLY_LINES = 2000  # output lines in the reply to one request
 MAX_GOTO_AHEAD = 100_000  # scans a `goto` may replay forward (under the lock)
 # console lines the page may send: not `save` (it writes files) nor `quit`
 CONSOLE_REFUSED = ("save", "quit")
@@ -130,6 +132,11 @@ class Monitor:
         self._dropped = 0
         self.console = Console(session, self._output)
         self.closed = threading.Event()
+        self._move_lock = threading.Lock()  # held by the console move in flight
+        self._moves_lock = threading.Lock()
+        self._moves = 0  # bumped by each pause: a console move started before it ends
+        self._move_generation = 0
+        self._polled = 0.0
 
     # -- state --------------------------------------------------------------------------
     def _lit(self, el: Element) -> bool | None:
@@ -206,8 +213,12 @@ class Monitor:
         caused them; while running, to every tab with the next state (at most MAX_PENDING
         lines a tick: a logpoint hit every scan cannot flood the page)."""
         collect = getattr(self._local, "collect", None)
-        if collect is not None:
-            collect.append(text)
+        if collect is not None:  # a long console move with a logpoint: a reply of bounded size
+            if len(collect) < MAX_REPLY_LINES:
+                collect.append(text)
+            else:  # the last lines are kept: they say where the move stopped
+                self._local.overflow += 1
+                self._local.tail.append(text)
         elif len(self._pending) < MAX_PENDING:
             self._pending.append(text)
         else:
@@ -246,10 +257,13 @@ class Monitor:
             cmd = msg.get("cmd")
             if cmd not in COMMANDS:
                 raise RequestError(f"unknown cmd {str(cmd)[:40]!r}: one of {', '.join(COMMANDS)}")
-            self._local.collect = []
+            self._local.collect, self._local.overflow, self._local.tail = [], 0, deque(maxlen=10)
             try:
                 text_out, changed = getattr(self, "cmd_" + cmd.replace("-", "_"))(msg)
                 lines = self._local.collect + ([text_out] if text_out else [])
+                tail = list(self._local.tail)
+                if tail:
+                    lines[MAX_REPLY_LINES:] = [f"({self._local.overflow - len(tail)} more lines not shown)", *tail]
             finally:
                 self._local.collect = None
             reply = {"type": "reply", "id": msg_id, "ok": True}
@@ -340,24 +354,55 @@ class Monitor:
         line = self._arg(msg, "line")
         if len(line) > 1000 or "\n" in line:
             raise RequestError("`line`: one console command of at most 1000 characters")
-        word = line.strip().split(" ", 1)[0].lower()
-        if ALIASES.get(word, word) in CONSOLE_REFUSED:
+        word, _, rest = line.strip().partition(" ")
+        word = ALIASES.get(word.lower(), word.lower())
+        if word in CONSOLE_REFUSED:
             raise RequestError(f"`{word}` is not available from the page (use the terminal console)")
-        self.pause()
-        with self.lock:
-            self.console.execute(line)
+        rest = rest.strip().lstrip("#")
+        if word == "goto" and rest.isdigit() and int(rest) > self.s.scan + MAX_GOTO_AHEAD:
+            raise RequestError(f"`goto`: at most {MAX_GOTO_AHEAD} scans ahead (run goes further)")
+        generation = self.pause()
+        with self._move_lock, self.lock:
+            # a long move (step 99999999, run #N, continue) runs in batches: between two the lock
+            # is let go (the other tabs are served, see its progress) and a later move or Pause
+            # from any tab ends it where it is (as Ctrl-C does in gdb)
+            self._move_generation, self._polled = generation, time.perf_counter()
+            self.console.last_stop = None
+            self.s.poll = self._poll
+            try:
+                self.console.execute(line)
+            finally:
+                self.s.poll = None
             out = self._local.collect
             if len(out) == 1 and out[0].startswith("error: "):
                 raise RequestError(out[0][len("error: "):])
-            if ALIASES.get(word, word) in CONSOLE_MOVES and out and not out[0].startswith("error:"):
-                self.stop_text = out[0]
+            if word in CONSOLE_MOVES and self.console.last_stop is not None:
+                self.stop_text = self.console.last_stop.text
             return "", True
+
+    def _poll(self) -> None:
+        """The session's poll hook during a console move (the lock held once, by this thread)."""
+        if self._moves != self._move_generation:
+            raise Interrupted
+        if time.perf_counter() - self._polled < MAX_BATCH_S:
+            return
+        self.stop_text = "running a console command (Pause ends it)"
+        self.lock.release()
+        try:
+            self.publish()
+            time.sleep(0.002)  # let the requests waiting for the lock in
+        finally:
+            self.lock.acquire()
+        self._polled = time.perf_counter()
+        if self._moves != self._move_generation:
+            raise Interrupted
 
     # -- running --------------------------------------------------------------------------
     def cmd_run(self, msg):
         speed = msg.get("speed", 1)
         if isinstance(speed, bool) or not isinstance(speed, (int, float)) or not 0 <= speed <= 1e6:
             raise RequestError("`speed`: a number, 1 = real time, 0 = as fast as possible")
+        self._end_move()  # a console move in flight ends: one move at a time
         with self.lock:
             self.s._need_running()
             self.speed = float(speed)
@@ -379,12 +424,22 @@ class Monitor:
                 self.stop_text = f"paused at {self.s.where()}"
         return "", True
 
-    def pause(self) -> None:
+    def pause(self) -> int:
+        """Stop the runner and end a console move in flight; the new move generation."""
         runner = self._runner
         self.running = False
         if runner is not None and runner is not threading.current_thread():
             runner.join(5)  # a tab that stopped reading can hold a send up: it ends soon after
         self._runner = None
+        return self._end_move()
+
+    def _end_move(self) -> int:
+        with self._moves_lock:
+            self._moves += 1
+            generation = self._moves
+        if self._move_lock.acquire(timeout=5):  # the move sees the new generation at its next batch
+            self._move_lock.release()
+        return generation
 
     def _run(self, generation: int) -> None:
         """Scans as virtual time owes wall time (speed x); the state out every tick."""

@@ -247,3 +247,26 @@ def test_rung_view_says_when_the_rail_is_off(tmp_path):
     for _ in range(4):
         s.step()
     assert "OUT Y0" in s.where() and "rail Off" not in rung_text(s)
+
+
+def test_ctrl_c_ends_a_long_console_move_and_the_console_goes_on():
+    """As gdb's Ctrl-C: `step 99999999` or `run #N` ends where it is, the debugger lives on."""
+    import os
+    import signal
+    import threading
+
+    s = session(stim=None)
+    out: list[str] = []
+    console = Console(s, out.append)
+    for line in ("step 99999999", "scan 99999999", "run #99999999"):
+        out.clear()
+        timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))
+        timer.start()
+        try:
+            assert console.execute_interruptible(line)
+        finally:
+            timer.cancel()
+        assert len(out) == 1 and out[0].startswith("interrupted at scan "), out
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # put back
+    console.execute("where")
+    assert out[-1] == s.where() and s.scan > 0

@@ -147,6 +147,7 @@ def test_force_scan_release_and_junk(server):
     assert "not a bit" in tab.request("toggle", device="D0")["message"]
     assert "`scan`" in tab.request("goto", scan="3")["message"]
     assert "at most 100000 scans ahead" in tab.request("goto", scan=10**30)["message"]
+    assert "at most 100000 scans ahead" in tab.request("console", line="goto #99999999")["message"]
     assert "no scan before scan 0" in tab.request("goto", scan=-1)["message"]
     assert "not available" in tab.request("console", line="save /tmp/x.stim")["message"]
     assert "unknown command" in tab.request("console", line="frobnicate")["message"]
@@ -296,3 +297,40 @@ def test_any_message_gets_a_reply_or_an_error_never_an_internal_one(program, mes
         assert monitor.handle_text('{"cmd": "state"}')[0]["ok"]
     finally:
         monitor.close()
+
+
+@pytest.mark.parametrize("line", ["step 99999999", "next 99999999", "run #99999999", "run 100000s"])
+def test_a_huge_console_move_is_paused_by_another_tab(server, line):
+    """A console move runs in batches that let the other tabs in: a Pause from a second
+    connection ends it within a second, where it got to (the server never hangs)."""
+    tab, other = Tab(server), Tab(server)
+    tab.request("toggle", device="X0")
+    tab.next_id += 1
+    tab.ws.send(json.dumps({"id": tab.next_id, "cmd": "console", "line": line}))
+    deadline = time.monotonic() + 10
+    while tab.state["scan"] < 3:  # the move is under way: its progress reaches every tab
+        assert time.monotonic() < deadline
+        tab.recv("state")
+    started = time.monotonic()
+    assert other.request("pause")["ok"]
+    reply = tab.reply(tab.next_id)
+    assert time.monotonic() - started < 1.0
+    assert reply["ok"] and reply["text"].startswith("interrupted at scan "), reply
+    st = other.request("state") and other.state
+    assert st["stop"].startswith("interrupted at scan ") and not st["running"]
+    scan = st["scan"]
+    assert int(st["values"]["D0"]) == scan or "step" in line  # a consistent machine: D0 counts the scans
+    assert other.request("console", line="step")["ok"] and other.state["scan"] in (scan, scan + 1)
+    # a move button from any tab ends a console move too (no two moves interleave); a logpoint
+    # hit every scan of it: the reply keeps its first and last lines, the stop last
+    assert other.request("console", line='log 6 "count {D0}"')["ok"]
+    tab.next_id += 1
+    tab.ws.send(json.dumps({"id": tab.next_id, "cmd": "console", "line": "scan 99999999"}))
+    while tab.state["scan"] < scan + 2500:
+        tab.recv("state")
+    assert other.request("back")["ok"]
+    lines = tab.reply(tab.next_id)["text"].split("\n")
+    assert len(lines) == 2000 + 1 + 10 and lines[-1].startswith("interrupted at scan ")
+    assert lines[0].startswith("count ") and lines[2000].endswith("more lines not shown)")
+    tab.close()
+    other.close()
