@@ -44,8 +44,11 @@ ALIASES = {"s": "step", "n": "next", "c": "continue", "p": "print", "b": "break"
 
 
 class Console:
-    def __init__(self, session: DebugSession, out: Callable[[str], None]):
+    def __init__(self, session: DebugSession, out: Callable[[str], None], max_count: int | None = None):
         self.s = session
+        # a front end that cannot interrupt a move (DAP reads one request at a time) bounds
+        # counts: step/scan N, run #N or TIME (in scans), goto scans ahead
+        self.max_count = max_count
         self.out = out
         self.displays: list[str] = []
         session.output = out
@@ -86,13 +89,17 @@ class Console:
             except DebugError as e:
                 self.out(f"  {name}: {e}")
 
-    @staticmethod
-    def _count(rest: str) -> int:
+    def _count(self, rest: str) -> int:
         if not rest:
             return 1
         if not rest.isdigit() or int(rest) < 1:
             raise DebugError(f"{rest!r}: give a count (1, 2, ...)")
-        return int(rest)
+        return self._bounded(int(rest))
+
+    def _bounded(self, n: int) -> int:
+        if self.max_count is not None and n > self.max_count:
+            raise DebugError(f"at most {self.max_count} at a time here (nothing can interrupt a move)")
+        return n
 
     def _repeat(self, rest: str, move: Callable[[], Stop]) -> None:
         """`move` N times; the session's poll hook between two (a Pause or Ctrl-C ends them)."""
@@ -128,7 +135,7 @@ class Console:
             return
         us = parse_time(rest)
         target_scan = -(-(self.s.time_us + us) // self.s.period)
-        self.report(self.s.run(scans=max(1, target_scan - self.s.scan)))
+        self.report(self.s.run(scans=self._bounded(max(1, target_scan - self.s.scan))))
 
     def cmd_continue(self, rest: str) -> None:
         self.report(self.s.run())
@@ -254,7 +261,9 @@ class Console:
     def cmd_goto(self, rest: str) -> None:
         if not rest.lstrip("#").isdigit():
             raise DebugError("goto SCAN (a scan number)")
-        self.report(self.s.goto_scan(int(rest.lstrip("#"))))
+        k = int(rest.lstrip("#"))
+        self._bounded(k - self.s.scan)
+        self.report(self.s.goto_scan(k))
 
     def cmd_diff(self, rest: str) -> None:
         parts = rest.replace("#", "").split()

@@ -22,6 +22,8 @@ from mlctool.sim.stimulus import StimError
 
 THREAD = 1
 MAX_FRAME = 16 * 1024 * 1024
+# a debug-console move runs while no request is read (not even pause): counts are bounded
+MAX_CONSOLE_COUNT = 100_000
 SCOPES = ("Inputs", "Outputs", "Relays", "Words", "Timers", "Counters", "Watched", "Symbols")
 _STOP_REASONS = {"breakpoint": "breakpoint", "watch": "data breakpoint", "condition": "breakpoint",
                  "step": "step", "entry": "entry", "fault": "exception", "goto": "goto",
@@ -453,7 +455,7 @@ class DapServer:
         if ALIASES.get(word, word) not in COMMANDS:
             raise error
         lines: list[str] = []
-        console = Console(s, lines.append)
+        console = Console(s, lines.append, max_count=MAX_CONSOLE_COUNT)
         console.execute(text)
         s.output = self.output
         self.respond(req, {"result": "\n".join(lines), "variablesReference": 0})

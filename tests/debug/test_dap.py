@@ -125,6 +125,10 @@ def test_a_debugging_session_over_stdio(client):
     assert stop["reason"] == "data breakpoint" and "M0 changed 1 -> 0" in stop["text"], stop
     out = client.request("evaluate", expression="print M0 X1", context="repl")["result"]
     assert out == "M0 = 0\nX1 = 1 (forced)"  # STOP forced On dropped the run latch
+    for line in ("step 99999999", "run #100001", "run 100000s", "goto 99999999"):  # pause is not read meanwhile
+        out = client.request("evaluate", expression=line, context="repl")["result"]
+        assert out == "error: at most 100000 at a time here (nothing can interrupt a move)", (line, out)
+        client.event("stopped")
 
     client.request("reverseContinue", threadId=1)
     stop = client.event("stopped")  # back to the end of scan 0, where the latch came on
