@@ -109,7 +109,7 @@ class Console:
                 if i and self.s.poll is not None:
                     self.s.poll()
                 stop = move()
-                if stop.reason in ("fault", "pause"):
+                if stop.reason != "step":  # a breakpoint, watch or condition on the way, a fault
                     break
         except Interrupted:
             stop = self.s.interrupted()

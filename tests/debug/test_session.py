@@ -270,3 +270,14 @@ def test_ctrl_c_ends_a_long_console_move_and_the_console_goes_on():
         assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # put back
     console.execute("where")
     assert out[-1] == s.where() and s.scan > 0
+
+
+def test_scan_n_stops_where_a_breakpoint_fires_on_the_way(tmp_path):
+    path = tmp_path / "p.il"
+    path.write_text("LD X0\nADD D0 K1 D0\nEND\n")
+    s = load_session([str(path)], None, NC5)
+    out: list[str] = []
+    console = Console(s, out.append)
+    for line in ("force X0=1", "break if D0 == 2", "scan 5"):
+        console.execute(line)
+    assert out[-1] == "condition #1 (D0 == 2) holds at scan 2 (t=20ms), before the scan" and s.scan == 2
