@@ -49,7 +49,6 @@ import time
 sys.path.insert(0, os.path.dirname(__file__))
 
 from mlctool.asm import program_from_paths  # noqa: E402
-from mlctool.sim.batch import Options, run_batch  # noqa: E402
 from mlctool.sim.compile import compile_program  # noqa: E402
 from mlctool.sim.engine import Scanner  # noqa: E402
 from mlctool.sim.scan import load_program  # noqa: E402
@@ -684,67 +683,6 @@ def bench_mixed() -> None:
     goals(med, systems[0].label, (("pyrung CompiledPLC", 50),))
 
 
-def bench_batch(n: int = 1024, scans: int = 1000) -> None:
-    image = build(bool1000_il())
-    rnd = random.Random(SEED)
-    with tempfile.TemporaryDirectory() as d:
-        paths = []
-        for k in range(n):
-            lines = [f"#{rnd.randrange(scans)} M{rnd.randrange(1000)}={rnd.randrange(2)}" for _ in range(20)]
-            path = os.path.join(d, f"s{k:04}.stim")
-            with open(path, "w") as f:
-                f.write("\n".join(lines) + f"\nrun #{scans}\n")
-            paths.append(path)
-        t0 = time.perf_counter()
-        c0 = time.process_time()
-        scenarios, stats = run_batch(image, NC5, paths, Options())
-        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-        work = n * scans * 1000
-        print(f"\nbatch: {n} scenarios x {scans} scans of bool1000 as lanes ({stats.lanes} lanes): "
-              f"{work / wall / 1e6:,.0f} M scenario-instr/s wall ({wall:.2f} s), "
-              f"{work / cpu / 1e6:,.0f} M/s CPU; goal >= 300 M/s")
-        few = paths[:64]
-        t0 = time.perf_counter()
-        run_batch(image, NC5, few, Options(), jobs=2, lanes=False)
-        wall = time.perf_counter() - t0
-        print(f"  same scenarios one by one, compiled engine, --jobs 2: "
-              f"{len(few) * scans * 1000 / wall / 1e6:,.1f} M scenario-instr/s wall "
-              f"({len(few)} scenarios in {wall:.2f} s, process start-up included)")
-        assert all(s.ok for s in scenarios)
-
-
-def bench_batch_words(n: int = 1024, scans: int = 1000) -> None:
-    image = build(mixed_words_il())
-    instrs = executed_per_scan(image, lambda m: None)
-    rnd = random.Random(SEED)
-    with tempfile.TemporaryDirectory() as d:
-        paths = []
-        for k in range(n):
-            lines = [f"#{rnd.randrange(scans)} X{rnd.randrange(8)}={rnd.randrange(2)}" for _ in range(10)]
-            lines += [f"#{rnd.randrange(scans)} M{rnd.randrange(17)}={rnd.randrange(2)}" for _ in range(10)]
-            lines += [f"#{rnd.randrange(scans)} M1000={rnd.randrange(2)}" for _ in range(3)]
-            lines += [f"#{rnd.randrange(scans)} D{800 + rnd.randrange(16)}={rnd.randrange(-30, 30)}" for _ in range(5)]
-            path = os.path.join(d, f"w{k:04}.stim")
-            with open(path, "w") as f:
-                f.write("\n".join(lines) + f"\nrun #{scans}\n")
-            paths.append(path)
-        t0, c0 = time.perf_counter(), time.process_time()
-        scenarios, stats = run_batch(image, NC5, paths, Options())
-        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-        work = n * scans * instrs
-        print(f"\nbatch words: {n} scenarios x {scans} scans of mixed-words ({instrs} instructions/scan: TMR, "
-              f"CNT, MOV, ADD, SUB, MUL, LD>, DADD) as numpy lanes ({stats.word_lanes} lanes): "
-              f"{work / wall / 1e6:,.0f} M scenario-instr/s wall ({wall:.2f} s), {work / cpu / 1e6:,.0f} M/s CPU")
-        few = paths[:32]
-        t0 = time.perf_counter()
-        c0 = time.process_time()
-        run_batch(image, NC5, few, Options(), lanes=False)
-        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-        print(f"  same scenarios one by one, compiled engine, 1 process: "
-              f"{len(few) * scans * instrs / cpu / 1e6:,.1f} M scenario-instr/s CPU ({len(few)} scenarios in {wall:.2f} s)")
-        assert all(s.ok for s in scenarios) and stats.word_lanes == n
-
-
 def bench_compile() -> None:
     from gen import program
 
@@ -787,11 +725,11 @@ def bench_vs() -> None:
 
 def main() -> None:
     print(f"python {sys.version.split()[0]}, {os.cpu_count()} cores; CPU-time figures")
-    # (batch and words: superseded by bench/batch_speed.py, which verifies its ratios; run by name)
+    # (the batch figures are bench/batch_speed.py's, which verifies its ratios)
     which = sys.argv[1:] or ["bool1000", "mixed", "compile", "vs"]
     for name in which:
-        {"bool1000": bench_bool1000, "mixed": bench_mixed, "batch": bench_batch,
-         "words": bench_batch_words, "compile": bench_compile, "vs": bench_vs}[name]()
+        {"bool1000": bench_bool1000, "mixed": bench_mixed, "compile": bench_compile,
+         "vs": bench_vs}[name]()
 
 
 if __name__ == "__main__":
