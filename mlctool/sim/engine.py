@@ -1,6 +1,6 @@
 """Running compiled code (compile.py) on a Machine: the Scanner binds a program's generated
 functions to the machine's containers and calls them (each runs a run of blocks and returns
-the next block: compile._Layout), with the reference interpreter (scan.py) for the
+the next block: compile_layout._Layout), with the reference interpreter (scan.py) for the
 watchdog's last block and for programs the compiler leaves to it; `Writers` gives the machine the interpreter's writer records from the stamps the code
 keeps; the helpers the generated code calls on its fault paths.
 """
@@ -232,7 +232,7 @@ class Scanner:
         self._rebind()
         run_parts(code.code, g)  # our own generated code (compile.py, in parts: pycompile.py)
         self.fns: list[Callable] = [g[name] for name in code.funcs] + [self._past_end]
-        # the containers a function names are its parameters' defaults (compile.function_head)
+        # the containers a function names are its parameters' defaults (compile_layout.function_head)
         for f in g.values():
             if type(f) is FunctionType and f.__code__.co_filename == code.filename and f.__defaults__:
                 c = f.__code__
@@ -311,7 +311,7 @@ class Scanner:
         k = w.k  # the last stamp given to a block execution (Writers)
         try:
             j = fns[0](m, k, 0, 0)
-            while j >= 0:  # the functions count the blocks they run (compile._Layout)
+            while j >= 0:  # the functions count the blocks they run (compile_layout._Layout)
                 j = fns[j](m, lx[0], lx[1], j)
             k = lx[0]
             if j != -1:  # block -2-j would pass the watchdog: the interpreter stops at its step

@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from test_compiled_engine import engines_agree, program, stimulus
 
 from mlctool.sim import compile as compile_mod
+from mlctool.sim import compile_layout
 from mlctool.sim.engine import Scanner
 from mlctool.sim.scan import Fault, load_program
 from mlctool.sim.state import Machine
@@ -108,8 +109,8 @@ def tiny_layout(monkeypatch):
     """Thresholds so small that every block is split and laid out in many functions."""
     monkeypatch.setattr(compile_mod, "_CACHE", OrderedDict())
     monkeypatch.setattr(compile_mod, "PIECE_LINES", 3)
-    monkeypatch.setattr(compile_mod, "REGION_LINES", 12)
-    monkeypatch.setattr(compile_mod, "REGION_BLOCKS", 2)
+    monkeypatch.setattr(compile_layout, "REGION_LINES", 12)
+    monkeypatch.setattr(compile_layout, "REGION_BLOCKS", 2)
 
 
 def test_split_blocks_and_small_functions_match_the_interpreter(tiny_layout):
