@@ -324,10 +324,16 @@ def _area(a: dict) -> Area:
     return Area(**{k: v for k, v in a.items() if k != "models"})
 
 
-@cache
 def load_target(name: str, model: str | None = None) -> Target:
     """The target's tables; with models (target.toml `models`), cut to `model` (default:
-    `default_model`): device ranges by `model_range`, instructions by their `models`."""
+    `default_model`): device ranges by `model_range`, instructions by their `models`. One
+    Target per name and model however the call spells them (`load_target("vs")`,
+    `load_target("vs", None)`, `model="vs1"` and "VS1" are one cache entry each, not several)."""
+    return _load_target(name, model.upper() if model else None)
+
+
+@cache
+def _load_target(name: str, model: str | None) -> Target:
     try:
         folder = Path(target_package(name).tables)
     except UnknownTarget:

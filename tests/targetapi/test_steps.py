@@ -40,3 +40,12 @@ def test_step_spans_give_the_rules_steps(name):
                 compared += 1
         assert target.instr_steps(spec, ()) == spec.steps
     assert compared > 300
+
+
+def test_load_target_gives_one_target_however_the_call_spells_it():
+    """load_target's cache: the default model spelled three ways, and a model in either case,
+    give the same Target object (a second copy would be parsed again and compared unequal
+    by identity in the caches keyed on it)."""
+    assert load_target("vs") is load_target("vs", None) is load_target("vs", model=None)
+    assert load_target("vs", "vs1") is load_target("vs", "VS1")
+    assert load_target("vs", "VS1") is not load_target("vs")
