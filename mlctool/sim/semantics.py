@@ -148,8 +148,8 @@ def rst(m: Machine, s) -> None:
         clear(m, s.ops[0], s.ops[0].addr(m))
 
 
-def clear(m: Machine, ref, a: int) -> None:
-    kind = ref.kind
+def reset_device(m: Machine, kind: str, a: int) -> None:
+    """Device `kind` number `a` to Off/0 (a timer or counter: value, contact and state)."""
     if kind == "T":
         m.reset_timer(a)
     elif kind == "C":
@@ -158,7 +158,11 @@ def clear(m: Machine, ref, a: int) -> None:
         m.bits[kind][a] = 0
     else:
         m.words[kind][a] = 0
-    m.writer[(kind, a)] = m.pc
+
+
+def clear(m: Machine, ref, a: int) -> None:
+    reset_device(m, ref.kind, a)
+    m.writer[(ref.kind, a)] = m.pc
 
 
 def pls(m: Machine, s) -> None:

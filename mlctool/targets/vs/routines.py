@@ -372,14 +372,7 @@ def device_clear(m: Machine) -> None:
             if a.latched not in which or "special" in a.name or a.write == "absent":
                 continue
             for n in range(a.lo, a.hi + 1):
-                if kind == "T":
-                    m.reset_timer(n)
-                elif kind == "C":
-                    m.reset_counter(n)
-                elif kind in m.bits:
-                    m.bits[kind][n] = 0
-                else:
-                    m.words[kind][n] = 0
+                base.reset_device(m, kind, n)
 
 
 BASIC_ACTIONS = {
