@@ -98,6 +98,9 @@ _FLOAT = r"(?P<val>[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+))"
 _EXPONENT = r"(?:(?P<exp>[+-][0-9]+))?"
 _DEV = re.compile(r"(?P<dev>[A-Z])(?P<num>[0-9]+)" + _INDEX)
 _BIT_OF_WORD = re.compile(r"(?P<dev>[A-Z])(?P<num>[0-9]+)\.(?P<bit>[0-9A-F])")
+# a bit of a word with an index register, before or after the bit (D0.1Z0, D0Z0.1): not an
+# operand (VS 5-1: D.b and R.b may not be index-modified), reported as such, not as a symbol
+_INDEXED_BIT_OF_WORD = re.compile(r"[A-Z][0-9]+(?:\.[0-9A-F][VZ][0-9]+|[VZ][0-9]+\.[0-9A-F])")
 _UNIT_WORD = re.compile(r"(?P<u>[A-Z])(?P<un>[0-9]+)(?P<dev>[A-Z])(?P<num>[0-9]+)" + _INDEX)
 _STRING = re.compile(r'"(?P<val>[^"]*)"')
 _HEX_DIGITS = re.compile(r"H[0-9A-F]+")
@@ -256,6 +259,9 @@ def full_parse_operand(text: str, syntax: OperandSyntax = DEFAULT_SYNTAX) -> Ope
         if m["dev"] not in syntax.bit_of_word:
             raise OperandSyntaxError(f"{text!r}: only {'/'.join(sorted(syntax.bit_of_word))} words have bit operands")
         return Operand(m["dev"] + BIT_OF_WORD, number=int(m["num"]), bit=int(m["bit"], 16))
+    if syntax.bit_of_word and _INDEXED_BIT_OF_WORD.fullmatch(t):
+        raise OperandSyntaxError(f"{text!r}: a bit of a word ({'/'.join(k + '.b' for k in sorted(syntax.bit_of_word))}) "
+                                 "cannot be index-modified")
     if re.fullmatch(r"[+-]?[0-9]+", t):
         raise OperandSyntaxError(f"{text!r}: a constant needs the K prefix (K{t})")
     raise OperandSyntaxError(f"{text!r} is not a device, constant or pointer")

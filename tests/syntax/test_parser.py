@@ -134,6 +134,27 @@ def test_operand_errors_are_helpful():
             raise AssertionError(text)
 
 
+def test_indexed_bit_of_word_is_named_as_such():
+    """VS 5-1: D.b and R.b may not be index-modified; D0.1Z0 and D0Z0.1 say so (they were
+    'undefined symbol'), on a target with bit operands only."""
+    from mlctool.targetapi import load_target
+
+    vs = load_target("vs").operand_syntax
+    for text in ("D0.1Z0", "d0z0.1", "R5.FV1"):
+        try:
+            parse_operand(text, vs)
+        except OperandSyntaxError as e:
+            assert "bit of a word (D.b/R.b) cannot be index-modified" in str(e), (text, str(e))
+        else:
+            raise AssertionError(text)
+    assert parse_operand("D0.1", vs).bit == 1
+    nc5 = load_target("nc5").operand_syntax  # no bit operands: not this message
+    try:
+        parse_operand("D0.1Z0", nc5)
+    except OperandSyntaxError as e:
+        assert "index-modified" not in str(e)
+
+
 @given(st.sampled_from(["X0", "Y17", "M65535", "D5V0", "K-7", "K20Z3", "K4Y0", "K8M100V2", "F1.250", "F-3", "P7", "T255"]))
 def test_format_round_trip(text):
     op = parse_operand(text)
