@@ -36,7 +36,8 @@ demo: $(STAMP)
 
 # the benchmarks run in their own venv: the simulator's peers (awlsim, pyrung) are not test
 # dependencies, and pyrung's pyclickplc pins an older pymodbus than mlctool needs; mlctool
-# goes in with its cluster extra (bench/batch_speed.py's Dask LocalCluster figures)
+# goes in with its cluster extra (bench/batch_speed.py's Dask LocalCluster figures) and its
+# native extra (Cython: bench/sim_speed.py's native engine row)
 BENCH_VENV := .venv-bench
 BENCH_BIN := $(BENCH_VENV)/bin
 BENCH_STAMP := $(BENCH_VENV)/.installed
@@ -45,7 +46,7 @@ $(BENCH_STAMP): pyproject.toml
 	$(PY) -m venv $(BENCH_VENV)
 	$(BENCH_BIN)/pip install --quiet --upgrade pip
 	$(BENCH_BIN)/pip install --quiet awlsim pyrung
-	$(BENCH_BIN)/pip install --quiet -e '.[cluster]'
+	$(BENCH_BIN)/pip install --quiet -e '.[cluster,native]'
 	touch $(BENCH_STAMP)
 
 bench: $(BENCH_STAMP)

@@ -32,7 +32,7 @@ from mlctool.sim.stimulus import StimError, parse_time
               help="stimulus file (docs/stimulus.md): inputs, models, forces")
 @click.option("--scan-time", default=None, metavar="TIME", help="scan period (default 10ms)")
 @click.option("--engine", type=click.Choice(ENGINES), default=None, envvar=ENGINE_ENV,
-              help="engine of whole scans: compiled (default) or interp")
+              help="engine of whole scans: compiled (default), native or interp (docs/simulator.md)")
 @click.option("--checkpoint-every", type=click.IntRange(1), default=100, show_default=True,
               help="scans between time-travel checkpoints (at most 64 kept)")
 @click.option("--dap", is_flag=True, help="serve the Debug Adapter Protocol on stdin/stdout")

@@ -89,7 +89,8 @@ def _errors(diags: list[Diagnostic]) -> bool:
 @click.option("--report", "report_path", default=None, type=click.Path(dir_okay=False),
               help="write an HTML page: the ladder lit by scan, and waveforms (docs/ladder.md)")
 @click.option("--engine", type=click.Choice(ENGINES), default=None, envvar=ENGINE_ENV,
-              help="compiled (default) or interp, the reference interpreter (docs/simulator.md)")
+              help="compiled (default), native (compiled to C: needs Cython and a C compiler) or "
+                   "interp, the reference interpreter (docs/simulator.md)")
 @click.option("--jobs", "-j", type=click.IntRange(1, 64), default=1, show_default=True,
               help="worker processes for a batch (--stimulus 'tests/*.stim')")
 @click.option("--cluster", default=None, metavar="tcp://HOST:PORT",
@@ -147,6 +148,8 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         sys.exit(2)
 
     preload = _tables(tables, target)
+    if engine == "native":
+        _native_notes(ahead=True)
     if window is not None and simulation_of(target).pulse_pins is None:
         raise click.UsageError(f"--pulse-window: target {target.name} has no pulse outputs")
     if is_batch(stim_path):  # many scenarios: mlctool/cli/sim_batch.py
@@ -183,7 +186,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     with collector_paused():
         sim = Simulation(image, target, st, models, period, watch_views,
                          trace=vcd_path is not None or report_path is not None, watchdog=watchdog,
-                         probe=power, preload=preload, pulse_window=window)
+                         probe=power, engine=engine, preload=preload, pulse_window=window)
     vcd_stream = None
     if vcd_path and window is None and report_path is None:
         # streamed to a temporary file beside the VCD as the run goes (memory bounded by the
@@ -200,6 +203,8 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         raise click.UsageError(f"--pulse-window {pulse_window}: the pulse pins change more than "
                                f"{EDGE_LIMIT} times in the window; give a shorter one (no VCD written)")
 
+    if engine == "native":
+        _native_notes(ahead=False)
     _report(result, st, lines, as_json, watch_views)
     files = {}
     if vcd_path:
@@ -228,6 +233,17 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         files[report_path] = report_html(sim, result, power, lines, watch_views, "")
     plan.write(files)
     sys.exit(0 if result.ok else 1)
+
+
+def _native_notes(ahead: bool) -> None:
+    """Say on stderr when --engine native cannot run here (before: no Cython, no compiler)
+    or did not run a program (after: too long, a failed build); the compiled engine ran."""
+    from mlctool.sim import native
+
+    reasons = [native.unavailable()] if ahead else native.FALLBACKS
+    for reason in reasons:
+        if reason and (ahead or reason != native.unavailable()):
+            click.echo(f"note: the native engine did not run ({reason}); the compiled engine did", err=True)
 
 
 def _table_file(spec: str) -> str:

@@ -460,7 +460,8 @@ def _run_batch_lanes(image: Image, target: Target, paths: list[str], opts: Optio
     program load thaws them first."""
     rest: list[str] = []
     lp = wp = None
-    if lanes and (opts.engine or "compiled") != "interp" and lanes_target(target) and not opts.preload:
+    # lanes are the compiled engine's batch form: a run that asks for another engine runs one by one
+    if lanes and (opts.engine or "compiled") == "compiled" and lanes_target(target) and not opts.preload:
         prog = load_program(image, target)
         if prog.steps and sum(s.steps for s in prog.steps) <= opts.watchdog:
             lp = LaneProgram(prog)

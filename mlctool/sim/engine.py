@@ -14,6 +14,7 @@ import os
 from collections.abc import Callable
 from types import FunctionType
 
+from mlctool.sim import native
 from mlctool.sim import scan as _scan
 from mlctool.sim.codecache import compiled as compiled_code
 from mlctool.sim.codegen import K8_MOD
@@ -22,7 +23,7 @@ from mlctool.sim.pycompile import global_names, run_parts
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, end_of_scan, run_scan, run_steps
 from mlctool.sim.state import Machine, SimFault
 
-ENGINES = ("compiled", "interp")
+ENGINES = ("compiled", "interp", "native")
 DEFAULT_ENGINE = "compiled"
 ENGINE_ENV = "MLC_SIM_ENGINE"
 
@@ -282,6 +283,9 @@ class Scanner:
         return self.g["_stale"]
 
     def __call__(self, watchdog: int = DEFAULT_WATCHDOG) -> None:
+        self.scan(watchdog)
+
+    def scan(self, watchdog: int = DEFAULT_WATCHDOG) -> None:
         if not self._ready:  # the interpreter, or the first scan (instrumentation check)
             if self.code is not None and not self._checked:
                 self._check_instrumented()
@@ -354,13 +358,18 @@ class Scanner:
     def _fault_step(self, e: BaseException) -> Step | None:
         tb = e.__traceback__
         line = None
-        while tb is not None:
-            if tb.tb_frame.f_code.co_filename == self.code.filename:
-                line = tb.tb_lineno
+        while tb is not None:  # the innermost frame of the generated code
+            here = self._source_line(tb.tb_frame.f_code.co_filename, tb.tb_lineno)
+            if here is not None:
+                line = here
             tb = tb.tb_next
         if line is None:
             return None
-        return self.prog.steps[self.code.linemap[line - 1]]
+        return self.prog.steps[self.code.linemap[line]]
+
+    def _source_line(self, filename: str, lineno: int) -> int | None:
+        """The generated source's line (0-based) of a traceback entry, None: not its code."""
+        return lineno - 1 if filename == self.code.filename else None
 
     def _interp(self, pc: int, executed: int, watchdog: int) -> None:
         """The interpreter's loop (scan.run_steps) from step `pc` with `executed` steps done."""
@@ -374,4 +383,94 @@ def default_engine() -> str:
 
 
 def scanner(prog: Program, m: Machine, engine: str | None = None) -> Scanner:
-    return Scanner(prog, m, engine or default_engine())
+    engine = engine or default_engine()
+    if engine == "native":
+        return NativeScanner(prog, m)
+    return Scanner(prog, m, engine)
+
+
+class NativeScanner(Scanner):
+    """The native engine (native.py): the compiled engine's functions built into a C extension
+    and run over the machine's containers as C arrays. Where it cannot be built (no Cython or
+    C compiler, a program too long) this is the compiled engine, and `native_error` says why."""
+
+    def __init__(self, prog: Program, m: Machine):
+        self.native = None  # the extension module
+        self.native_error: str | None = None
+        self._origin: list[int] = []
+        self._native_file = ""
+        m.use_arrays()
+        super().__init__(prog, m, "compiled")
+        if self.code is None:
+            return
+        self._prepare()
+        lines = self.code.source.count("\n")
+        if lines > native.MAX_LINES:
+            self.native_error = f"the program's code ({lines} lines) is over the native engine's {native.MAX_LINES}"
+            native.fell_back(self.native_error)
+            return
+        names, itemwise = native.containers(self.code.source)
+        types = {name: native.c_type(self.g.get("G_" + name)) if name in itemwise and name not in native.OBJECT_NAMES
+                 else None for name in names}
+        try:
+            self.native, self._origin, self._native_file = native.build(self.code.source, types)
+        except native.NativeUnavailable as e:
+            self.native_error = str(e)
+            native.fell_back(self.native_error)
+            return
+        self._types = types
+        self._own = native.functions(self.code.source)
+        self.engine = "native"
+        self._bind_native()
+        self.fns = [getattr(self.native, name) for name in self.code.funcs] + [self._past_end]
+
+    def _prepare(self) -> None:
+        """The containers the extension types, as arrays: the machine's (use_arrays, again
+        after a power cycle or a restored checkpoint), the writer stamps and the tables."""
+        self.m.use_arrays()
+        g, w = self.g, self._writer
+        if type(w.marks) is list:
+            w.marks = array.array("q", w.marks)
+        g["G_R"] = w.marks
+        for name, table in _native_tables().items():
+            if name in g:
+                g[name] = table
+
+    def _rebind(self) -> None:
+        if self.native is not None:
+            self.m.use_arrays()
+        super()._rebind()
+        if self.native is not None:
+            self._prepare()
+            self._bind_native()
+
+    def _bind_native(self) -> None:
+        g = self.g
+        own = self._own  # the extension's functions, not the Python ones of the same names
+        self.native._bind(g, {k: v for k, v in g.items() if not k.startswith(("G_", "__")) and k not in own})
+        self.native._mlc_owner = self
+        self._bound_wd = g["WD"]
+
+    def __call__(self, watchdog: int = DEFAULT_WATCHDOG) -> None:
+        mod = self.native
+        if mod is not None and (mod._mlc_owner is not self or watchdog != self._bound_wd):
+            self._watchdog = self.g["WD"] = watchdog  # (another Scanner of the same program ran it)
+            self._bind_native()
+        self.scan(watchdog)
+
+    def _source_line(self, filename: str, lineno: int) -> int | None:
+        if filename == self._native_file and 0 < lineno <= len(self._origin):
+            line = self._origin[lineno - 1]
+            return line if line >= 0 else None
+        return super()._source_line(filename, lineno)
+
+
+_NATIVE_TABLES: dict = {}
+
+
+def _native_tables() -> dict:
+    """The compiled code's lookup tables as typed arrays (the Kn groups, the float bases)."""
+    if not _NATIVE_TABLES:
+        _NATIVE_TABLES.update({f"G_K{c}": array.array("q", _KN[c]) for c in range(4)})
+        _NATIVE_TABLES["G_FB"] = array.array("d", _f32_tables()["G_FB"])
+    return _NATIVE_TABLES

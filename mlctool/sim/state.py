@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import re
 import struct
+from array import array
 from dataclasses import dataclass, field
 
 from mlctool.limits import clip, long_number, too_long_message
@@ -128,7 +129,8 @@ class Machine:
         self.signals: dict[tuple[str, int], int] = {}
         self.pin_window = None  # sim/pin_window.py PinWindow: pulse pins inside a window (kept over power)
         self.image = None  # the linked program (Image): data kept beside the code (.table rows)
-        self.scans_done = 0  # scans completed since power-on (first-scan relays)  # 1 ms timers skipped by CJ: contact held until OUT runs
+        self.scans_done = 0  # scans completed since power-on (first-scan relays)
+        self.arrays = False  # word containers are 64-bit arrays (use_arrays), not lists  # 1 ms timers skipped by CJ: contact held until OUT runs
         self.power_on_values()
 
     def power_on_values(self) -> None:
@@ -137,6 +139,30 @@ class Machine:
         for name, value in self.target.settings.get("power_on", {}).get("words", {}).items():
             kind, number = name[0], int(name[1:])
             self.words[kind][number] = value & 0xFFFF
+
+    def zeros(self, n: int) -> list[int] | array:
+        """A new word container of n zeros, of the kind this machine keeps (use_arrays)."""
+        return array("q", bytes(8 * n)) if self.arrays else [0] * n
+
+    def use_arrays(self) -> bool:
+        """Keep the word registers, timer values, counter values and timer bookkeeping in
+        signed 64-bit arrays instead of lists (from now on, power cycles included): the native
+        engine (sim/native.py) reads and writes them as C memory. They index and compare as
+        the lists do (every value here is an int well inside 64 bits: raw 16-bit words, 32-bit
+        counters, microseconds). True when a container was replaced (Machine.layout moved)."""
+        changed = False
+        for k, words in self.words.items():
+            if type(words) is list:
+                self.words[k] = array("q", words)
+                changed = True
+        for name in ("cval", "t_last", "t_frac", "t_preset"):
+            if type(getattr(self, name)) is list:
+                setattr(self, name, array("q", getattr(self, name)))
+                changed = True
+        self.arrays = True
+        if changed:
+            self.layout += 1
+        return changed
 
     # -- timers and counters
     def is_c32(self, n: int) -> bool:
@@ -178,8 +204,8 @@ class Machine:
                 self.bits[k][:] = bytes(len(self.bits[k]))
         for k in self.words:
             if not isinstance(self.words[k], UnitWords):  # module memory, kept like self.bfm
-                self.words[k] = [0] * len(self.words[k])
-        self.cval = [0] * len(self.cval)
+                self.words[k] = self.zeros(len(self.words[k]))
+        self.cval = self.zeros(len(self.cval))
         for k, lo, data in keep_bits:
             self.bits[k][lo:lo + len(data)] = data
         for k, lo, data in keep_words:
@@ -201,7 +227,7 @@ class Machine:
         self.layout += 1
         n = len(self.t_running)
         self.t_running = bytearray(n)
-        self.t_frac = [0] * n
+        self.t_frac = self.zeros(n)
         self.c_pending.clear()
         self.edge = bytearray(self.n_instrs)
         self.servo_limit.clear()

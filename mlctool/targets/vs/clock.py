@@ -68,7 +68,8 @@ def refresh(m: Machine) -> None:
             _set(m, when)
             now = when
     values = _fields(now)
-    words[first:first + 7] = values
+    for k, v in enumerate(values):  # (the words may be a list or the native engine's array)
+        words[first + k] = v
     start, base_us, _ = m.fx_state[_KEY]
     m.fx_state[_KEY] = (start, base_us, values)
 

@@ -1,0 +1,218 @@
+"""The native engine (sim/native.py) against the compiled engine: one program per target that
+holds every kind of rung the compiled engine's random programs draw (test_compiled_engine.py),
+run on generated stimuli (power cycles, index registers out of range, float patterns), must
+give identical traces, devices, memory, faults, alarms, expectations and writers. A build
+takes seconds, so the program is fixed and the stimuli vary."""
+
+from __future__ import annotations
+
+import functools
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from test_compiled_engine import _image, engines_agree, stimulus, vs_dialect
+
+from mlctool.sim import native
+from mlctool.sim.engine import NativeScanner, Scanner, scanner
+from mlctool.sim.scan import Fault, load_program
+from mlctool.sim.state import Machine
+from simkit import NC5, image_of
+from vskit import VS
+
+pytestmark = pytest.mark.skipif(native.unavailable() is not None, reason=f"native engine: {native.unavailable()}")
+
+RUNGS = """
+LD X0
+ANI X1
+OR M0
+OUT Y0
+LDP X2
+OUT M1
+LDF X3
+SET M2
+LD X4
+RST M2
+LD X5
+PLS M3
+LDI X0
+PLF M4
+LD X1
+MPS
+AND X2
+OUT M5
+MRD
+ANI X3
+OUT M6
+MPP
+OUT M7
+LD X1
+INV
+TMR T0 K3
+LD X2
+CNT C0 K2
+LD> D0 K3
+AND<> D1 D2
+OR< D3 K5
+MOV K7 D1
+LD= D0 K0
+LD X3
+ORB
+ADD D0 D1 D2
+SUB D2 K5 D3
+WAND D0 K255 D4
+WOR D1 D2 D5
+WXOR D3 D4 D6
+INC D7
+DEC D6
+DADD D0 K70000 D2
+DSUB D3 D5 D1
+DWAND D0 K99999 D2
+DWOR D1 D3 D5
+DWXOR D2 D0 D3
+LD X4
+MOV D1V0 D5
+RST T0
+RST C1
+DIV D0 D1 D2
+MUL D0 K-300 D4
+CML D1 D7
+FADD D0 F1.5 D2
+FSUB D2 D4 D6
+FMUL D0V0 D0 D2
+FDIV F2.5 D0 D4
+FADD D2V0 D4 D6
+MOV K4M0 D3
+MOV D5 K2Y0
+DMOV K8M8 D2
+MOV K2X0 D7
+CNT C1 D1
+DMUL D0 K123 D4
+LD X5
+MOV K2 V0
+MOV K-1 Z0
+MOV D0Z0 D3V0
+INC D1Z0
+ADD D0V0 K2 D1Z0
+DMOV D0V0 D2
+DMOV K65537 V1
+DMOV V1 D4
+LD M0
+TMR T1 D1
+MOV T1 D3
+MOV K2 T1
+MOV K2M1 D4
+FOR K3
+LD X1
+INC D6
+NEXT
+FOR D0
+LD M1
+ADD D5 K1 D5
+NEXT
+LD X2
+CJ P10
+LD X3
+OUT Y1
+MOV K1 D0
+P10:
+P0:
+LD M15
+CJ P0
+LD X4
+CALL P2
+OUT Y2
+FEND
+P2:
+LD X1
+INC D7
+MOV D7 D0V0
+SRET
+END
+"""
+
+
+@functools.cache
+def program_image(target_name: str):
+    il = RUNGS.strip()
+    image = _image(il if target_name == "nc5" else vs_dialect(il), NC5 if target_name == "nc5" else VS)
+    assert image is not None, f"the native test program does not assemble for {target_name}"
+    return image
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(stimulus(), st.sampled_from(["nc5", "vs"]))
+def test_native_engine_matches_the_compiled_engine(stim, target_name):
+    engines_agree("", stim, target_name, engines=("native", "compiled"), image=program_image(target_name))
+
+
+def test_faults_and_watchdog_name_the_same_step():
+    """X5's rung reads D0Z0 with Z0 = -1 (an address fault); M15 jumps back to itself until
+    the watchdog stops the scan: both engines stop at the same step with the same memory."""
+    image = program_image("nc5")
+    for setup, text in (({"X5": 1}, "D-1"), ({"M15": 1}, "watchdog")):
+        found = []
+        for engine in ("native", "compiled"):
+            prog = load_program(image, NC5)
+            m = Machine(NC5, len(prog.steps))
+            sc = scanner(prog, m, engine)
+            assert sc.engine == engine
+            for name, v in setup.items():
+                m.bits[name[0]][int(name[1:])] = v
+            with pytest.raises(Fault) as caught:
+                sc(1000)
+            f = caught.value
+            found.append((f.message, f.step.index, list(m.words["D"][:8]), bytes(m.edge), dict(m.writer)))
+        assert found[0] == found[1] and text in found[0][0]
+
+
+def test_two_machines_of_one_program_share_the_extension():
+    """The extension of a program loads once per process; each Scanner binds its own
+    machine's containers before it runs: two machines' scans interleaved end as each one
+    run alone on the compiled engine."""
+    image = program_image("nc5")
+
+    def machine(engine: str, x1: int):
+        prog = load_program(image, NC5)
+        m = Machine(NC5, len(prog.steps))
+        m.bits["X"][1] = x1
+        m.bits["X"][4] = 1
+        return m, scanner(prog, m, engine)
+
+    pairs = [machine("native", x1) for x1 in (0, 1)]
+    assert pairs[0][1].native is pairs[1][1].native is not None
+    for _ in range(5):
+        for _m, sc in pairs:
+            sc()
+    for (m, _), x1 in zip(pairs, (0, 1), strict=True):
+        alone, sc = machine("compiled", x1)
+        for _ in range(5):
+            sc()
+        assert list(m.words["D"][:8]) == list(alone.words["D"][:8]) and m.bits == alone.bits
+    assert pairs[0][0].words["D"][:8] != pairs[1][0].words["D"][:8]
+
+
+def test_without_a_build_the_compiled_engine_runs_and_says_why(monkeypatch):
+    monkeypatch.setattr(native, "unavailable", lambda: "no C compiler (cc) found")
+    monkeypatch.setattr(native, "_LOADED", {})
+    monkeypatch.setenv("MLC_CACHE", "off")
+    image = image_of("LD X0\nOUT Y7\nEND")
+    prog = load_program(image, NC5)
+    m = Machine(NC5, len(prog.steps))
+    sc = scanner(prog, m, "native")
+    assert isinstance(sc, NativeScanner) and sc.engine == "compiled" and sc.native is None
+    assert sc.native_error == "no C compiler (cc) found"
+    m.bits["X"][0] = 1
+    sc()
+    assert m.bits["Y"][7] == 1
+
+
+def test_machine_arrays_survive_a_power_cycle():
+    prog = load_program(image_of("LD X0\nMOV K5 D0\nEND"), NC5)
+    m = Machine(NC5, len(prog.steps))
+    Scanner(prog, m, "compiled")
+    assert m.use_arrays() and not m.use_arrays()  # the second call changes nothing
+    m.words["D"][3] = 7
+    m.power_cycle()
+    assert type(m.words["D"]).__name__ == "array" and type(m.cval).__name__ == "array"
+    assert m.words["D"][3] == 0
