@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 
 from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.report import diagnostic_dict
 from mlctool.sim.run import RunResult
 from mlctool.sim.state import to_f32
 
@@ -34,7 +36,8 @@ def ms(us: int) -> int | float:
     return us // 1000 if us % 1000 == 0 else us / 1000
 
 
-def to_json(r: RunResult) -> str:
+def to_json(r: RunResult, warnings: Sequence[Diagnostic] = ()) -> str:
+    """`warnings`: the program's W608 (sim/unmodelled.py), the same for every run of it."""
     failures = [
         {"line": f.line, "time_ms": ms(f.time_us), "scan": f.scan, "device": f.device,
          "expected": f.expected, "actual": json_value(f.actual), "last_write": f.writer}
@@ -59,6 +62,7 @@ def to_json(r: RunResult) -> str:
             "address": r.fault.addr, "file": r.fault.file, "line": r.fault.line,
             "instruction": r.fault.source,
         },
+        "warnings": [diagnostic_dict(d) for d in warnings],
     }
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
 
