@@ -40,7 +40,8 @@ def to_json(r: RunResult, warnings: Sequence[Diagnostic] = ()) -> str:
     """`warnings`: the program's W608 (sim/unmodelled.py), the same for every run of it."""
     failures = [
         {"line": f.line, "time_ms": ms(f.time_us), "scan": f.scan, "device": f.device,
-         "expected": f.expected, "actual": json_value(f.actual), "last_write": f.writer}
+         "expected": f.expected, "actual": json_value(f.actual), "last_write": f.writer,
+         **({"note": f.note} if f.note else {})}
         for f in r.failed
     ]
     doc = {
@@ -73,6 +74,8 @@ def failure_message(f) -> str:
            f"actual {actual}")
     if f.writer:
         msg += f"; last written by {f.writer}"
+    if f.note:
+        msg += f"; {f.note}"
     return msg
 
 
