@@ -108,16 +108,9 @@ def summary_line(errors: int, warnings: int) -> str:
     return f"{errors} error{'s' if errors != 1 else ''}, {warnings} warning{'s' if warnings != 1 else ''}"
 
 
-def diagnostic_dict(d: Diagnostic) -> dict:
-    """One diagnostic as the JSON outputs write it (`mlc check --format json`, `mlc sim --json`)."""
-    return {"file": d.file, "line": d.span.line, "column": d.span.col, "end_line": d.span.end_line,
-            "end_column": d.span.end_col, "severity": d.severity, "code": d.code, "message": d.message,
-            **({"notes": list(d.notes)} if d.notes else {})}
-
-
 def to_json(diags: list[Diagnostic]) -> str:
     data = {
-        "diagnostics": [diagnostic_dict(d) for d in diags],
+        "diagnostics": [d.as_dict() for d in diags],
         "errors": sum(d.severity == "error" for d in diags),
         "warnings": sum(d.severity == "warning" for d in diags),
     }

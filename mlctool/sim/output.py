@@ -7,7 +7,6 @@ import math
 from collections.abc import Sequence
 
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.report import diagnostic_dict
 from mlctool.sim.run import RunResult
 from mlctool.sim.state import to_f32
 
@@ -63,7 +62,7 @@ def to_json(r: RunResult, warnings: Sequence[Diagnostic] = ()) -> str:
             "address": r.fault.addr, "file": r.fault.file, "line": r.fault.line,
             "instruction": r.fault.source,
         },
-        "warnings": [diagnostic_dict(d) for d in warnings],
+        "warnings": [d.as_dict() for d in warnings],
     }
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
 
