@@ -195,3 +195,16 @@ def test_every_row_is_a_device_the_program_may_write():
     assert len(unmodelled_specials("vs")) == sum(len(r["devices"]) for r in _rows())
     assert unmodelled_specials("nc5") == ()
 
+
+
+def test_a_batch_warns_once_and_every_document_has_the_warnings(mlc, tmp_path):
+    il = tmp_path / "t.il"
+    il.write_text("LD X0\nOUT M9039\nOUT Y0\nEND\n", encoding="utf-8")
+    for name in ("a", "b"):
+        (tmp_path / f"{name}.stim").write_text("0ms X0=1\n10ms expect Y0=1\n", encoding="utf-8")
+    pattern = str(tmp_path / "*.stim")
+    r = mlc("sim", "--target", "vs", str(il), "--stimulus", pattern)
+    assert r.code == 0 and r.err.count("W608") == 1, r.err
+    r = mlc("sim", "--target", "vs", str(il), "--stimulus", pattern, "--json")
+    docs = json.loads(r.out)["scenarios"]
+    assert [[w["code"] for w in d["warnings"]] for d in docs.values()] == [["W608"], ["W608"]]
