@@ -35,6 +35,12 @@ class Diagnostic:
     def with_severity(self, severity: str) -> Diagnostic:
         return replace(self, severity=severity)
 
+    def as_dict(self) -> dict:
+        """As the JSON outputs write it (`mlc check --format json`, `mlc sim --json` warnings)."""
+        return {"file": self.file, "line": self.span.line, "column": self.span.col,
+                "end_line": self.span.end_line, "end_column": self.span.end_col, "severity": self.severity,
+                "code": self.code, "message": self.message, **({"notes": list(self.notes)} if self.notes else {})}
+
     def sort_key(self):
         return (self.file, self.span.line, self.span.col, self.code, self.message)
 

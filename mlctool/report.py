@@ -110,12 +110,7 @@ def summary_line(errors: int, warnings: int) -> str:
 
 def to_json(diags: list[Diagnostic]) -> str:
     data = {
-        "diagnostics": [
-            {"file": d.file, "line": d.span.line, "column": d.span.col, "end_line": d.span.end_line,
-             "end_column": d.span.end_col, "severity": d.severity, "code": d.code, "message": d.message,
-             **({"notes": list(d.notes)} if d.notes else {})}
-            for d in diags
-        ],
+        "diagnostics": [d.as_dict() for d in diags],
         "errors": sum(d.severity == "error" for d in diags),
         "warnings": sum(d.severity == "warning" for d in diags),
     }

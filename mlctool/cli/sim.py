@@ -43,6 +43,7 @@ from mlctool.sim.run import (
 from mlctool.sim.scan import DEFAULT_WATCHDOG
 from mlctool.sim.state import NameError_, parse_device_name
 from mlctool.sim.stimulus import MAX_SCANS, StimError, Stimulus, load_stimulus, parse_time
+from mlctool.sim.unmodelled import unmodelled_writes
 from mlctool.targetapi.registry import simulation_of
 
 PROGRESS_MIN_SCANS = 5000
@@ -146,6 +147,9 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     if refused:
         show(refused, lines)
         sys.exit(2)
+    # W608: special devices the program writes whose function the run does not model; shown
+    # with the run's diagnostics, once per device, and in --json's `warnings`
+    unmodelled = unmodelled_writes(image, target)
 
     preload = _tables(tables, target)
     if engine == "native":
@@ -162,7 +166,8 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         from mlctool.sim.batch import Options  # (numpy: only batches need it)
 
         opts = Options(scan_us, until_us, scans, watch_views, watchdog, engine, preload)
-        sys.exit(batch_cmd(image, target, stim_path, opts, jobs, cluster, as_json, junit_path, program, lines, plan))
+        sys.exit(batch_cmd(image, target, stim_path, opts, jobs, cluster, as_json, junit_path, program, lines, plan,
+                           unmodelled))
 
     st, stim_diags = (load_stimulus(stim_path, target) if stim_path
                       else (Stimulus("<none>", []), []))
@@ -205,7 +210,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
 
     if engine == "native":
         _native_notes(ahead=False)
-    _report(result, st, lines, as_json, watch_views)
+    _report(result, st, lines, as_json, watch_views, unmodelled)
     files = {}
     if vcd_path:
         from mlctool.sim.vcd import gtkw_path, to_gtkw, to_vcd
@@ -332,13 +337,14 @@ def _run(sim: Simulation, n_scans: int) -> RunResult:
         return sim.run(n_scans, lambda k: progress.update(task, completed=k) if k % step == 0 else None)
 
 
-def _report(r: RunResult, st: Stimulus, lines: dict[str, list[str]], as_json: bool, watch) -> None:
-    diags = run_diagnostics(r, st.path)
+def _report(r: RunResult, st: Stimulus, lines: dict[str, list[str]], as_json: bool, watch,
+            unmodelled: list[Diagnostic]) -> None:
+    diags = unmodelled + run_diagnostics(r, st.path)
     all_lines = dict(lines)
     all_lines[st.path] = st.lines
     show(diags, all_lines)
     if as_json:
-        sys.stdout.write(to_json(r))
+        sys.stdout.write(to_json(r, unmodelled))
         return
     for v in watch:
         click.echo(f"{v.name} = {json_value(r.devices.get(v.name))}")

@@ -34,8 +34,9 @@ def expand(pattern: str) -> tuple[list[str], list[Diagnostic]]:
 
 def batch_cmd(image, target, pattern: str, opts, jobs: int, cluster: str | None, as_json: bool,
               junit_path: str | None, program: tuple[str, ...], lines: dict[str, list[str]],
-              plan: Outputs) -> int:
-    """Run, report and return the exit status (0 all passed, 1 a scenario failed, 2 bad input)."""
+              plan: Outputs, unmodelled: list[Diagnostic] = ()) -> int:
+    """Run, report and return the exit status (0 all passed, 1 a scenario failed, 2 bad input).
+    `unmodelled`: the program's W608 (sim/unmodelled.py), shown once, in every JSON document."""
     paths, problems = expand(pattern)
     if problems:
         show(problems, {})
@@ -49,6 +50,7 @@ def batch_cmd(image, target, pattern: str, opts, jobs: int, cluster: str | None,
     except ClusterError as e:
         show([cluster_diagnostic(e)], {})
         return 2
+    show(list(unmodelled), lines)
     bad_input = False
     docs = {}
     for sc in scenarios:
@@ -60,7 +62,7 @@ def batch_cmd(image, target, pattern: str, opts, jobs: int, cluster: str | None,
             docs[sc.stim] = None
             continue
         if as_json:  # (only then: a JSON document per scenario is most of a large batch's output cost)
-            docs[sc.stim] = json.loads(to_json(sc.result))
+            docs[sc.stim] = json.loads(to_json(sc.result, unmodelled))
         else:
             click.echo(f"{sc.stim}: {summary(sc.result)}")
     passed = sum(sc.ok for sc in scenarios)

@@ -36,6 +36,7 @@ from mlctool.sim.suite import (
     merged_probe,
     run_all,
 )
+from mlctool.sim.unmodelled import unmodelled_writes
 from mlctool.sim.vcd import gtkw_path
 
 COVERAGE_FILES = ("coverage.txt", "coverage.json", "coverage.xml")
@@ -124,6 +125,8 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
         sys.exit(2)
 
     all_lines = dict(lines)
+    unmodelled = unmodelled_writes(image, target)  # W608: once per device for the whole suite
+    show(unmodelled, lines)
     for sc in scenarios:
         all_lines[sc.stim] = sc.stim_lines
         show(sc.diagnostics, all_lines)
@@ -134,7 +137,7 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
             files.update(found)
             sc.artifacts = tuple(p for p in found if not p.endswith(".gtkw"))
     if as_json:
-        sys.stdout.write(_json(scenarios))
+        sys.stdout.write(_json(scenarios, unmodelled))
     else:
         _table(scenarios)
     if junit_path:
@@ -170,10 +173,11 @@ def _selected(stims: list[str], keywords: tuple[str, ...]) -> list[str]:
     return chosen
 
 
-def _json(scenarios) -> str:
+def _json(scenarios, unmodelled) -> str:
     """{"scenarios": {path: the `mlc sim --json` document, or null when the stimulus could not
     be read}, "passed", "failed", "artifacts": {path: [waveform, report]}}."""
-    docs = {sc.stim: json.loads(to_json(sc.result)) if sc.result is not None else None for sc in scenarios}
+    docs = {sc.stim: json.loads(to_json(sc.result, unmodelled)) if sc.result is not None else None
+            for sc in scenarios}
     passed = sum(sc.ok for sc in scenarios)
     return json.dumps({"scenarios": docs, "passed": passed, "failed": len(scenarios) - passed,
                        "artifacts": {sc.stim: list(sc.artifacts) for sc in scenarios if sc.artifacts}},

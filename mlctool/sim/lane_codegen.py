@@ -100,7 +100,8 @@ class RungCodegen:
 
 
 def lanes_target(target: Target) -> bool:
-    """Targets whose scans the lanes model: no system relays, no simulation extension."""
+    """Targets whose scans the lanes model: no system relays, no outputs-off relay (a Y read
+    from outside is not the lane's bit), no simulation extension."""
     own = simulation_of(target)
-    return (not target.settings.get("system_relays")
+    return (not target.settings.get("system_relays") and not target.settings.get("outputs_off")
             and own.before_scan is None and own.views is None)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.sim.run import RunResult
@@ -34,10 +35,12 @@ def ms(us: int) -> int | float:
     return us // 1000 if us % 1000 == 0 else us / 1000
 
 
-def to_json(r: RunResult) -> str:
+def to_json(r: RunResult, warnings: Sequence[Diagnostic] = ()) -> str:
+    """`warnings`: the program's W608 (sim/unmodelled.py), the same for every run of it."""
     failures = [
         {"line": f.line, "time_ms": ms(f.time_us), "scan": f.scan, "device": f.device,
-         "expected": f.expected, "actual": json_value(f.actual), "last_write": f.writer}
+         "expected": f.expected, "actual": json_value(f.actual), "last_write": f.writer,
+         **({"note": f.note} if f.note else {})}
         for f in r.failed
     ]
     doc = {
@@ -59,6 +62,7 @@ def to_json(r: RunResult) -> str:
             "address": r.fault.addr, "file": r.fault.file, "line": r.fault.line,
             "instruction": r.fault.source,
         },
+        "warnings": [d.as_dict() for d in warnings],
     }
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
 
@@ -69,6 +73,8 @@ def failure_message(f) -> str:
            f"actual {actual}")
     if f.writer:
         msg += f"; last written by {f.writer}"
+    if f.note:
+        msg += f"; {f.note}"
     return msg
 
 

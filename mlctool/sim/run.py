@@ -41,6 +41,7 @@ class Failure:
     actual: int | float | str
     writer: str  # "file:line: INSTR ..." of the last write, or "stimulus line N", or ""
     text: str
+    note: str = ""  # why the value is not what the writer left (an output Off: VS M9034 On)
 
 
 @dataclass
@@ -328,7 +329,15 @@ class Simulation:
 
     def _failure(self, e: Event, c: Check, k: int, actual) -> Failure:
         return Failure(e.line, c.col, k * self.period, k, c.view.name, c.expected_text(),
-                       actual, self.writer_of(c.view), c.text)
+                       actual, self.writer_of(c.view), c.text, self._outputs_off_note(c.view))
+
+    def _outputs_off_note(self, view: DeviceView) -> str:
+        """A Y read while the outputs-off relay is On: say so (the writer left the image On)."""
+        if "Y" not in (view.kind, view.gdev) or not self.m.outputs_disabled():
+            return ""
+        off = self.target.settings["outputs_off"]
+        return (f"every output is Off while {self.target.device_name('M', off['relay'])} is On "
+                f"(manual {off['section']}); the program's image is kept")
 
     def catch_up(self, k: int) -> None:
         """Virtual time moves to scan k: the target's hardware and the device models catch up

@@ -129,9 +129,17 @@ class Machine:
         self.signals: dict[tuple[str, int], int] = {}
         self.pin_window = None  # sim/pin_window.py PinWindow: pulse pins inside a window (kept over power)
         self.image = None  # the linked program (Image): data kept beside the code (.table rows)
+        # the relay that turns every external output Off while On (target.toml `outputs_off`,
+        # VS M9034): the program keeps its Y image, what is read from outside (DeviceView.read:
+        # the stimulus, the trace, models) is the terminals; None: the target has none
+        self.outputs_off: int | None = (target.settings.get("outputs_off") or {}).get("relay")
         self.scans_done = 0  # scans completed since power-on (first-scan relays)
-        self.arrays = False  # word containers are 64-bit arrays (use_arrays), not lists  # 1 ms timers skipped by CJ: contact held until OUT runs
+        self.arrays = False  # word containers are 64-bit arrays (use_arrays), not lists
         self.power_on_values()
+
+    def outputs_disabled(self) -> bool:
+        """The outputs-off relay is On: every Y terminal is Off whatever the image holds."""
+        return self.outputs_off is not None and bool(self.bits["M"][self.outputs_off])
 
     def power_on_values(self) -> None:
         """Registers the PLC sets at power-on (target.toml `[power_on] words`, e.g. the VS RND
@@ -290,14 +298,20 @@ class DeviceView:
 
     # -- access
     def read(self, m: Machine) -> int | float:
+        """The value as seen from outside the program (stimulus, trace, models, debugger): a Y
+        is its terminal, Off while the outputs-off relay is On (Machine.outputs_off)."""
         k, n, v = self.kind, self.number, self.view
         if k.startswith(SIGNAL):
             return m.signals.get((k, n), 0)
         if self.special is not None:
             return self.special.read(m, self)
         if v == "bit":
+            if k == "Y" and m.outputs_off is not None and m.bits["M"][m.outputs_off]:
+                return 0  # the terminal, not the image (Machine.outputs_off)
             return m.bits[k][n]
         if v == "group":
+            if self.gdev == "Y" and m.outputs_disabled():
+                return 0
             bits = m.bits[self.gdev]
             return sum(bits[n + i] << i for i in range(4 * self.digits))
         if k == "T":

@@ -1,7 +1,10 @@
 """Another family's special relays and registers on a target (specials.toml in the target's
 tables folder, e.g. mlctool/targets/vs/specials.toml):
 FX M8000 or Delta DVP M1000 (RUN on) is M9000 on the VS. `mlc import` rewrites them by
-function; `mlc check` warns when a program uses them as specials (W217)."""
+function; `mlc check` warns when a program uses them as specials (W217).
+
+The target's own special devices whose function the simulator does not model
+(unmodelled_specials.toml beside it): `mlc sim` warns when a program writes one (W608)."""
 
 from __future__ import annotations
 
@@ -70,3 +73,30 @@ def families(target_name: str) -> dict[str, Family]:
         out[name] = Family(name, fam["title"], {k: (int(v[0]), int(v[1])) for k, v in fam["special"].items()},
                            mapping, dict(fam.get("mnemonics", {})))
     return out
+
+
+@dataclass(frozen=True)
+class Unmodelled:
+    """Special devices of the target whose written value has a function the simulator does not
+    model (unmodelled_specials.toml in the target's tables folder; `mlc sim` warns, W608)."""
+
+    kind: str
+    lo: int
+    hi: int
+    function: str
+    section: str  # the target manual's row
+    why: str  # why the simulator does not model it
+
+
+@cache
+def unmodelled_specials(target_name: str) -> tuple[Unmodelled, ...]:
+    """The target's unmodelled specials, one entry per device or range (() without the file)."""
+    try:
+        path = Path(target_package(target_name).tables) / "unmodelled_specials.toml"
+    except UnknownTarget:
+        return ()
+    if not path.is_file():
+        return ()
+    rows = tomllib.loads(path.read_text("utf-8")).get("device", ())
+    return tuple(Unmodelled(*_span(devices), row["function"], row["section"], " ".join(row["why"].split()))
+                 for row in rows for devices in row["devices"])

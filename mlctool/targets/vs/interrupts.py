@@ -270,8 +270,9 @@ class Interrupts:
         if not self.active or self.exact is None:
             return
         ys = m.bits["Y"]
+        off = m.outputs_disabled()  # M9034 On: the terminals stay Off (target.toml outputs_off)
         for i in range(first, min(first + n, len(ys))):
-            self.outputs.append((m.now_us, i, ys[i]))
+            self.outputs.append((m.now_us, i, 0 if off else ys[i]))
 
 
 # -- the instructions
