@@ -1,4 +1,4 @@
-"""Simulator speed: mlc (compiled engine and reference interpreter) against awlsim, pyrung's
+"""Simulator speed: mlc (compiled engine, native engine, reference interpreter) against awlsim, pyrung's
 PLC.step and pyrung's CompiledPLC, with two C lower bounds (issues 5 and 19; docs/bench.md).
 
 Method (issue 19 §1):
@@ -13,6 +13,9 @@ Method (issue 19 §1):
   the ratio of medians. On a shared machine the ratios of one run are the figure.
 - "Instructions" are the mlc program's instructions executed per scan, for every system (the
   equivalent work; awlsim executes ~3x as many AWL statements for mixed).
+- mlc's native engine (--engine native: the compiled engine's code built into a C extension by
+  Cython; sim/native.py) is a row of its own where Cython and a C compiler are present, built
+  before the rounds (its build time printed: once per program, then kept in the user cache).
 - When a C compiler (cc/gcc) is present, bool1000 is also generated as straight-line C and as a
   C switch-dispatch interpreter over (opcode, device) pairs, compiled with -O2 into a temp dir,
   verified the same way, and timed by clock() in their own process in the same rounds.
@@ -50,7 +53,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 from mlctool.asm import program_from_paths  # noqa: E402
 from mlctool.sim.compile import compile_program  # noqa: E402
-from mlctool.sim.engine import Scanner  # noqa: E402
+from mlctool.sim.engine import Scanner, scanner  # noqa: E402
 from mlctool.sim.scan import load_program  # noqa: E402
 from mlctool.sim.state import Machine  # noqa: E402
 from mlctool.targetapi import load_target  # noqa: E402
@@ -336,12 +339,15 @@ class Mlc:
     def __init__(self, image, engine: str, start: dict[int, int], names: list[str]):
         from mlctool.sim.state import parse_device_name
 
-        self.label = {"compiled": "mlc (compiled engine)", "interp": "mlc (reference interpreter)"}[engine]
+        self.label = {"compiled": "mlc (compiled engine)", "interp": "mlc (reference interpreter)",
+                      "native": "mlc (native engine)"}[engine]
         prog = load_program(image, NC5)
         self.m = Machine(NC5, len(prog.steps))
         for k, v in start.items():
             self.m.bits["M"][k] = v
-        self.scanner = Scanner(prog, self.m, engine)
+        self.scanner = scanner(prog, self.m, engine)
+        if self.scanner.engine != engine:
+            raise NativeMissing(getattr(self.scanner, "native_error", None) or f"{engine} engine not used")
         self.views = [(n, parse_device_name(n, NC5)) for n in names]
         self.n = 0
 
@@ -352,6 +358,24 @@ class Mlc:
 
     def state(self) -> dict:
         return {n: v.read(self.m) for n, v in self.views}
+
+
+class NativeMissing(Exception):
+    """The native engine does not run here (no Cython or C compiler): its row is left out."""
+
+
+def native_system(image, start: dict[int, int], names: list[str]) -> list:
+    """mlc's native engine (sim/native.py) as a system, built now (the build's wall time is
+    printed: it is paid once per program and kept in the user cache), or [] saying why not."""
+    t0, c0 = time.perf_counter(), time.process_time()
+    try:
+        system = Mlc(image, "native", start, names)
+    except NativeMissing as e:
+        print(f"  not measured: mlc's native engine ({e})")
+        return []
+    print(f"  mlc's native engine: built or loaded in {time.perf_counter() - t0:.1f} s wall, "
+          f"{time.process_time() - c0:.1f} s CPU in this process (Cython; cc runs as a child process)")
+    return [system]
 
 
 def awlsim_modules():
@@ -621,11 +645,13 @@ def timed_table(name: str, instrs: int, systems: list) -> dict[str, float]:
 
 
 def goals(med: dict[str, float], ref: str, wanted) -> None:
-    """Issue 19's goals for the compiled engine, as ratios of this run's medians."""
-    parts = [f"{med[ref] / med[peer]:.1f}x {peer} (goal >= {g}x)"
-             for peer, g in wanted if peer in med]
-    if parts:
-        print("  goals: the compiled engine is " + "; ".join(parts))
+    """Issue 19's goals for mlc's engines (compiled, and native where it ran), as ratios of
+    this run's medians."""
+    for engine in (ref, "mlc (native engine)"):
+        parts = [f"{med[engine] / med[peer]:.1f}x {peer} (goal >= {g}x)"
+                 for peer, g in wanted if peer in med and engine in med]
+        if parts:
+            print(f"  goals: {engine} is " + "; ".join(parts))
 
 
 def bench_bool1000() -> None:
@@ -636,7 +662,8 @@ def bench_bool1000() -> None:
     names = [f"M{k}" for k in range(1000)]
 
     def make():
-        systems = [Mlc(image, "compiled", start, names), Mlc(image, "interp", start, names)]
+        systems = [Mlc(image, "compiled", start, names), Mlc(image, "interp", start, names),
+                   *native_system(image, start, names)]
         if awlsim_modules() is not None:
             systems.append(Awlsim(bool1000_awl(), start, awlsim_bool1000_state))
         logic = pyrung_bool1000()
@@ -670,7 +697,8 @@ def bench_mixed() -> None:
             m.bits["M"][k] = v
     instrs = executed_per_scan(image, setup)
     names = mixed_names()
-    systems = [Mlc(image, "compiled", start, names), Mlc(image, "interp", start, names)]
+    systems = [Mlc(image, "compiled", start, names), Mlc(image, "interp", start, names),
+               *native_system(image, start, names)]
     if awlsim_modules() is not None:
         systems.append(Awlsim(mixed_awl(), start, awlsim_mixed_state))
     logic = pyrung_mixed()

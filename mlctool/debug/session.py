@@ -26,6 +26,7 @@ import copy
 import math
 import re
 import time
+from array import array
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -169,8 +170,9 @@ class DebugSession:
         state["writer"] = dict(dict.items(w))
         flat = {k: state.pop(k) for k in _FLAT if k in state}
         # unit words (VS UnG) are views of m.bfm: copied with it, so they stay its views
-        state["_unit_words"] = {k: v for k, v in flat["words"].items() if not isinstance(v, list)}
-        flat["words"] = {k: v for k, v in flat["words"].items() if isinstance(v, list)}
+        # (the native engine's machine keeps its own words in arrays: copied flat as the lists)
+        state["_unit_words"] = {k: v for k, v in flat["words"].items() if not isinstance(v, (list, array))}
+        flat["words"] = {k: v for k, v in flat["words"].items() if isinstance(v, (list, array))}
         keep = {"machine": state, "forces": self.sim.forces, "models": self.sim.models}
         snap = copy.deepcopy(keep, dict(self._memo_seed))
         snap["flat"] = _copy_flat(flat)

@@ -216,3 +216,25 @@ def test_machine_arrays_survive_a_power_cycle():
     m.power_cycle()
     assert type(m.words["D"]).__name__ == "array" and type(m.cval).__name__ == "array"
     assert m.words["D"][3] == 0
+
+
+def test_the_debugger_travels_in_time_on_the_native_engine(tmp_path):
+    """mlc debug --engine native: checkpoints copy the machine's arrays and a restore rebinds
+    the extension; going back and forth ends where the compiled engine's session does."""
+    from mlctool.debug.load import load_session
+    from mlctool.debug.session import BOUNDARY
+
+    il, stim = tmp_path / "p.il", tmp_path / "p.stim"
+    il.write_text(RUNGS.strip() + "\n")
+    stim.write_text("#0 X1=1\n#3 X4=1\n#6 X2=1 V0=2\n#9 X1=0\n")
+    states = []
+    for engine in ("native", "compiled"):
+        s = load_session([str(il)], str(stim), NC5, engine=engine, checkpoint_every=4)
+        assert s.sim.scan.engine == engine
+        s.goto((14, BOUNDARY))
+        s.goto((5, BOUNDARY))
+        s.back_scan()
+        s.goto((14, BOUNDARY))
+        m = s.sim.m
+        states.append(({k: list(v) for k, v in m.words.items()}, m.bits, list(m.cval), dict(m.writer)))
+    assert states[0] == states[1]
