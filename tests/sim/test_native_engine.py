@@ -238,3 +238,33 @@ def test_the_debugger_travels_in_time_on_the_native_engine(tmp_path):
         m = s.sim.m
         states.append(({k: list(v) for k, v in m.words.items()}, m.bits, list(m.cval), dict(m.writer)))
     assert states[0] == states[1]
+
+
+def test_mlc_sim_engine_option_reaches_the_run(tmp_path, monkeypatch, mlc):
+    """`mlc sim --engine X` runs engine X (a single run took MLC_SIM_ENGINE only); where the
+    native engine cannot run, a note says so and the compiled engine gives the same result."""
+    import mlctool.sim.run as run_module
+
+    monkeypatch.delenv("MLC_SIM_ENGINE", raising=False)
+    il, stim = tmp_path / "p.il", tmp_path / "p.stim"
+    il.write_text(RUNGS.strip() + "\n")
+    stim.write_text("#0 X1=1 X4=1\n#2 expect X1=1\nrun #5\n")
+    used = []
+    real = run_module.scanner
+
+    def recording(prog, m, engine=None):
+        sc = real(prog, m, engine)
+        used.append(sc.engine)
+        return sc
+
+    monkeypatch.setattr(run_module, "scanner", recording)
+    outs = []
+    for engine in ("native", "interp", "compiled"):
+        r = mlc("sim", "--json", "--engine", engine, str(il), "--stimulus", str(stim))
+        assert r.code == 0, r.err
+        outs.append(r.out)
+    assert used == ["native", "interp", "compiled"] and outs[0] == outs[1] == outs[2]
+    monkeypatch.setattr(native, "unavailable", lambda: "no C compiler (cc) found")
+    r = mlc("sim", "--json", "--engine", "native", str(il), "--stimulus", str(stim))
+    assert r.code == 0 and r.out == outs[0] and used[-1] == "native"  # (the module is loaded)
+    assert "note: the native engine did not run (no C compiler (cc) found); the compiled engine did" in r.err
