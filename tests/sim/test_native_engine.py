@@ -15,8 +15,10 @@ from test_compiled_engine import _image, engines_agree, stimulus, vs_dialect
 
 from mlctool.sim import native
 from mlctool.sim.engine import NativeScanner, Scanner, scanner
+from mlctool.sim.run import Simulation, build_models, plan_scans
 from mlctool.sim.scan import Fault, load_program
 from mlctool.sim.state import Machine
+from mlctool.sim.stimulus import parse_stimulus_text
 from simkit import NC5, image_of
 from vskit import VS
 
@@ -268,3 +270,28 @@ def test_mlc_sim_engine_option_reaches_the_run(tmp_path, monkeypatch, mlc):
     r = mlc("sim", "--json", "--engine", "native", str(il), "--stimulus", str(stim))
     assert r.code == 0 and r.out == outs[0] and used[-1] == "native"  # (the module is loaded)
     assert "note: the native engine did not run (no C compiler (cc) found); the compiled engine did" in r.err
+
+
+def test_vs_block_copies_into_the_machine_arrays():
+    """Reference routines that copy a block of registers into the machine's words: VS BMOV
+    from module memory (UnG: kept in the buffer memory, not in an array) into D, and LINK
+    reading a peer station's registers (CPUL shares its code). The native engine's words are
+    arrays, whose slices take no list: both were an internal error of mlc sim (TypeError).
+    Now the run is the compiled engine's and the values arrive."""
+    il = (".table Q1 LINK K0 K1 D0 D0 K2\nLD X20\nLINK Q1 D100 K1\nLD M9000\nMOV K5 U1G0\nMOV K6 U1G1\n"
+          "BMOV U1G0 D10 K2\nBMOV D10 U1G5 K2\nBMOV U1G5 D12 K2\nEND")
+    stim = "model vsplc link=CP1 station=1\n0ms X20=1 CP1#1.D0=11 CP1#1.D1=12\n1s expect D0=11 D1=12 D10=5 D13=6\n"
+    image = _image(il, VS)
+    assert image is not None
+    found = []
+    for engine in ("native", "compiled"):
+        st_, diags = parse_stimulus_text("t.stim", stim, VS)
+        models, model_diags = build_models(st_, VS)
+        assert not diags and not model_diags
+        sim = Simulation(image, VS, st_, models, 10_000, [], True, engine=engine)
+        r = sim.run(plan_scans(st_, 10_000, None, None))
+        assert sim.scan.engine == engine
+        found.append((repr(r.trace), repr(r.devices), r.fault, r.alarms, r.failed, list(sim.m.words["D"][:14]),
+                      dict(sim.m.writer)))
+    assert found[0] == found[1]
+    assert found[0][2] is None and not found[0][3] and not found[0][4] and found[0][5][:2] == [11, 12]

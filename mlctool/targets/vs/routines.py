@@ -184,8 +184,11 @@ def bmov(m: Machine, s) -> None:
         # DECISION (as FMOV and MEAN, 6-3/6-6 "只有有效範圍會被傳送"): a block running past the
         # device's end moves only the part inside both ranges
         n = max(0, min(n, len(words_s) - a, len(words_d) - b))
-        words_d[b:b + n] = words_s[a:a + n]
-        for k in range(n):
+        # word by word from a copy of the source (the blocks may overlap): the machine's words
+        # are lists, arrays (the native engine's, Machine.use_arrays) or unit words (UnG),
+        # and an array's slice takes no other sequence
+        for k, v in enumerate(words_s[a:a + n]):
+            words_d[b + k] = v
             m.writer[(dst.kind, b + k)] = m.pc
         return
     write_block(m, dst, read_block(m, src, n, 16), 16)

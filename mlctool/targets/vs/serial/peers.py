@@ -101,8 +101,11 @@ def own_block(m: Machine, kind: str, number: int, length: int) -> list[int]:
 
 
 def set_own_block(m: Machine, kind: str, number: int, values: list[int]) -> None:
-    (m.bits if kind in BIT_KINDS else m.words)[kind][number:number + len(values)] = values
-    for k in range(len(values)):
+    # point by point: the native engine's machine keeps its words in array('q')
+    # (Machine.use_arrays), whose slices take no list (the table's range is checked at build)
+    store = (m.bits if kind in BIT_KINDS else m.words)[kind]
+    for k, v in enumerate(values):
+        store[number + k] = v
         m.writer[(kind, number + k)] = m.pc
 
 
