@@ -45,6 +45,11 @@ KIND = "sim-native"
 MAX_LINES = 60_000  # generated lines (~20k instructions): above, the build takes minutes
 _GLOBAL = "_c_"  # prefix of the module variables holding the containers
 _DEF = re.compile(r"def (\w+)\((.*)\):$")
+# A coil that keeps the rung result (compile.py, OUT: `bM[4] = a = <rung>`): Cython 3.3 turns a
+# chained assignment to a typed container's item and a name, of an and/or of C values of two
+# types (`e3 or k1 and k1`: an unsigned char and bints), into C code that takes a C value for
+# an object pointer (a segmentation fault when it runs); assigned one target at a time, it is right
+_KEPT_RESULT = re.compile(r"(\s*)(\w+\[[^\]]*\]) = a = (.+)$")
 FALLBACKS: list[str] = []  # why NativeScanners of this process ran the compiled engine (once each)
 _LOADED: dict[str, object] = {}  # module name -> module (an extension loads once per process)
 _C_TYPES = {"q": "long long", "d": "double", "B": "unsigned char", "H": "unsigned short", "I": "unsigned int",
@@ -156,8 +161,14 @@ def pyx_text(source: str, types: dict[str, str | None]) -> tuple[str, list[int]]
             out.append("    try:")
             origin.append(n)
         for k in range(n + 1, end):
-            out.append("    " + lines[k] if guarded else lines[k])
-            origin.append(k)
+            pad = "    " if guarded else ""
+            split = _KEPT_RESULT.match(lines[k])
+            if split:  # `bY[0] = a = <rung>` as `a = <rung>` then `bY[0] = a` (_KEPT_RESULT)
+                out += [f"{pad}{split[1]}a = {split[3]}", f"{pad}{split[1]}{split[2]} = a"]
+                origin += [k, k]
+            else:
+                out.append(pad + lines[k])
+                origin.append(k)
         if guarded:
             out += ["    except BaseException:", "        if ws > LX[0]: LX[0] = ws", "        raise"]
             origin += [end - 1] * 3

@@ -72,6 +72,13 @@ DSUB D3 D5 D1
 DWAND D0 K99999 D2
 DWOR D1 D3 D5
 DWXOR D2 D0 D3
+LDI X4
+LD<> D6 K-2810
+ANB
+OR<= D0 K387
+ORF X2
+OUT Y3
+OUT M24
 LD X4
 MOV D1V0 D5
 RST T0
@@ -145,6 +152,8 @@ def program_image(target_name: str):
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(stimulus(), st.sampled_from(["nc5", "vs"]))
 def test_native_engine_matches_the_compiled_engine(stim, target_name):
+    """(The rung of LDI X4 ... OUT Y3, OUT M24 keeps its result: `bY[3] = a = e and not c or
+    <compare> or k and <compare>`, which Cython 3.3 built into a segmentation fault: native._KEPT_RESULT.)"""
     engines_agree("", stim, target_name, engines=("native", "compiled"), image=program_image(target_name))
 
 
@@ -295,3 +304,14 @@ def test_vs_block_copies_into_the_machine_arrays():
                       dict(sim.m.writer)))
     assert found[0] == found[1]
     assert found[0][2] is None and not found[0][3] and not found[0][4] and found[0][5][:2] == [11, 12]
+
+
+def test_a_kept_rung_result_is_assigned_one_target_at_a_time():
+    """native._KEPT_RESULT: `bY[3] = a = <rung>` goes into the Cython module as two statements of
+    the same source line (Cython 3.3 miscompiles the chained form when the rung mixes C types)."""
+    source = "def F0(m, ws, ex, jb, bY=G_bY):\n    bY[3] = a = e and not c or k and (w > 3)\n    return -1\n"
+    text, origin = native.pyx_text(source, {"bY": "unsigned char[::1]"})
+    lines = text.splitlines()
+    k = lines.index("        a = e and not c or k and (w > 3)")
+    assert lines[k + 1] == "        bY[3] = a" and origin[k] == origin[k + 1] == 1
+    assert " = a = " not in text
