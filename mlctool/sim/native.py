@@ -176,7 +176,7 @@ def build(source: str, types: dict[str, str | None]) -> tuple[object, list[int],
     suffix = sysconfig.get_config_var("EXT_SUFFIX") or ".so"
     key = cache.key(KIND, digest)
     blob = cache.load(KIND, key, lambda v: isinstance(v, bytes)) if cache.enabled() else None
-    with tempfile.TemporaryDirectory(prefix="mlc-native-") as tmp:
+    with tempfile.TemporaryDirectory(prefix="mlc-native-", ignore_cleanup_errors=True) as tmp:  # (a loaded DLL stays on Windows)
         so = os.path.join(tmp, mod_name + suffix)
         if blob is None:
             blob = _compile(text, tmp, mod_name, so)
@@ -190,7 +190,7 @@ def build(source: str, types: dict[str, str | None]) -> tuple[object, list[int],
         mod = importlib.util.module_from_spec(spec)
         try:
             spec.loader.exec_module(mod)
-        except ImportError as e:
+        except (ImportError, OSError) as e:
             raise NativeUnavailable(f"the built extension does not load: {e}") from None
     _LOADED[mod_name] = mod
     return mod, origin, filename
@@ -217,15 +217,13 @@ def _compile(text: str, tmp: str, mod_name: str, so: str) -> bytes:
     with open(pyx, "w", encoding="utf-8") as f:
         f.write(text)
     Options.error_on_unknown_names = False  # the generated code's globals are bound at run time
-    cwd = os.getcwd()
     chatter = io.StringIO()  # Cython's warnings (the globals it cannot see) and hints
-    try:
-        os.chdir(tmp)  # traceback entries name the .pyx as given: its bare name
-        with contextlib.redirect_stderr(chatter), contextlib.redirect_stdout(chatter):
-            result = cython_compile(mod_name + ".pyx", CompilationOptions(language_level=3, output_file=c_file,
-                                                                          quiet=True))
-    finally:
-        os.chdir(cwd)
+    with contextlib.redirect_stderr(chatter), contextlib.redirect_stdout(chatter):
+        # (traceback entries name the .pyx by its bare name, wherever it was built)
+        try:
+            result = cython_compile(pyx, CompilationOptions(language_level=3, output_file=c_file, quiet=True))
+        except Exception as e:  # noqa: BLE001 - any Cython failure: the compiled engine runs
+            raise NativeUnavailable(f"Cython failed: {type(e).__name__}: {e}") from None
     if result.num_errors:
         raise NativeUnavailable("Cython could not translate the generated code")
     cmd = [compiler(), "-O2", "-fno-strict-aliasing", "-shared", "-fPIC", "-w",
