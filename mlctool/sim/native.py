@@ -7,8 +7,10 @@ values and timer bookkeeping in 64-bit arrays (Machine.use_arrays), and the cont
 function names become typed module variables (`cdef long long[::1] wD`), so a device read or
 write is a bounds-checked C access instead of a list item; the functions' other names stay
 Python objects. Where the generated code relies on something C types would change, the name
-stays a Python object: the single-precision table FS (its infinity rows are objects whose
-product is computed, engine._InfRow), and any container of another kind.
+stays a Python object: a container the code slices or uses whole, any container of another
+kind. The single-precision table FS, whose infinity rows are objects computing their product
+(engine._InfRow), is typed only where every use of it is the float-pair read, which is then
+written out with the infinity rows' rule (_float_pairs).
 
 Locals get C types where Cython can infer them from typed operands (infer_types): the values
 involved are raw 16-bit words, 32-bit pairs and their sums and products, all far inside 64
@@ -49,7 +51,6 @@ FALLBACKS: list[str] = []  # why NativeScanners of this process ran the compiled
 _LOADED: dict[str, object] = {}  # module name -> module (an extension loads once per process)
 _C_TYPES = {"q": "long long", "d": "double", "B": "unsigned char", "H": "unsigned short", "I": "unsigned int",
             "Q": "unsigned long long", "f": "float"}
-OBJECT_NAMES = frozenset({"FS"})  # computed products (engine._InfRow): stay Python objects
 HEADER = ("# cython: language_level=3, infer_types=True, boundscheck=True, wraparound=True, "
           "initializedcheck=True, cdivision=False")
 
@@ -122,12 +123,15 @@ def pyx_text(source: str, types: dict[str, str | None]) -> tuple[str, list[int]]
     (0-based; -1 for lines of its own). The containers become module variables bound by
     _bind(g); each function records the stamp it reached in LX when an exception leaves it
     (Scanner._stamp_reached reads the frames' locals, which compiled frames do not have)."""
-    out = [HEADER]
+    if types.get("FS"):
+        source = _float_pairs(source)
+    out = [HEADER, "from libc.math cimport NAN", "cdef long long WD  # the watchdog's step limit"]
     for name, ctype in types.items():
         if ctype is not None:
             out.append(f"cdef {ctype} {_GLOBAL}{name}")
     out += ["", "def _bind(dict g, dict names):",
-            "    global " + ", ".join(_GLOBAL + n for n in types) if types else "    pass"]
+            "    global WD" + "".join(", " + _GLOBAL + n for n in types),
+            "    WD = names['WD']"]
     for name in types:
         out.append(f"    {_GLOBAL}{name} = g[{'G_' + name!r}]")
     out.append("    globals().update(names)")
@@ -162,6 +166,27 @@ def pyx_text(source: str, types: dict[str, str | None]) -> tuple[str, list[int]]
             out += ["    except BaseException:", "        if ws > LX[0]: LX[0] = ws", "        raise"]
             origin += [end - 1] * 3
     return "\n".join(out) + "\n", origin
+
+
+# compile_ops.fvalue's single-precision read of a D pair, FB[hi] + FS[hi] * lo: FS is an
+# object whose infinity rows (high word 7F80H/FF80H) compute their product (engine._InfRow:
+# 0.0 for a zero low word, else NaN). With FS typed, those rows hold 0.0 and the test is
+# written out: the same values, in C.
+_FLOAT_PAIR = re.compile(r"\(FB\[(\w+)\] \+ FS\[\1\] \* ([\w\[\] +]+)\)")
+INF_ROWS = (0x7F80, 0xFF80)
+
+
+def _float_pairs(source: str) -> str:
+    def pair(m: re.Match) -> str:
+        hi, lo = m.group(1), m.group(2)
+        return (f"(FB[{hi}] + FS[{hi}] * {lo} if {hi} != {INF_ROWS[0]} and {hi} != {INF_ROWS[1]} "
+                f"else (FB[{hi}] if {lo} == 0 else NAN))")
+    return _FLOAT_PAIR.sub(pair, source)
+
+
+def float_pairs_only(source: str) -> bool:
+    """FS appears only in the float-pair reads _float_pairs writes out (else it stays an object)."""
+    return "FS[" not in _FLOAT_PAIR.sub("", source)
 
 
 def build(source: str, types: dict[str, str | None]) -> tuple[object, list[int], str]:
