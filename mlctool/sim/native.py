@@ -48,6 +48,7 @@ MAX_LINES = 60_000  # generated lines (~20k instructions): above, the build take
 _GLOBAL = "_c_"  # prefix of the module variables holding the containers
 _DEF = re.compile(r"def (\w+)\((.*)\):$")
 FALLBACKS: list[str] = []  # why NativeScanners of this process ran the compiled engine (once each)
+on_build = None  # called before a build (the CLI says that one is under way: it takes seconds)
 _LOADED: dict[str, object] = {}  # module name -> module (an extension loads once per process)
 _C_TYPES = {"q": "long long", "d": "double", "B": "unsigned char", "H": "unsigned short", "I": "unsigned int",
             "Q": "unsigned long long", "f": "float"}
@@ -204,6 +205,8 @@ def build(source: str, types: dict[str, str | None]) -> tuple[object, list[int],
     with tempfile.TemporaryDirectory(prefix="mlc-native-", ignore_cleanup_errors=True) as tmp:  # (a loaded DLL stays on Windows)
         so = os.path.join(tmp, mod_name + suffix)
         if blob is None:
+            if on_build is not None:
+                on_build()
             blob = _compile(text, tmp, mod_name, so)
             cache.store(KIND, key, blob)
         else:

@@ -209,10 +209,13 @@ def test_without_a_build_the_compiled_engine_runs_and_says_why(monkeypatch):
     monkeypatch.setattr(native, "unavailable", lambda: "no C compiler (cc) found")
     monkeypatch.setattr(native, "_LOADED", {})
     monkeypatch.setenv("MLC_CACHE", "off")
+    builds = []
+    monkeypatch.setattr(native, "on_build", lambda: builds.append(1))  # (the CLI's note)
     image = image_of("LD X0\nOUT Y7\nEND")
     prog = load_program(image, NC5)
     m = Machine(NC5, len(prog.steps))
     sc = scanner(prog, m, "native")
+    assert builds == [1]
     assert isinstance(sc, NativeScanner) and sc.engine == "compiled" and sc.native is None
     assert sc.native_error == "no C compiler (cc) found"
     m.bits["X"][0] = 1
