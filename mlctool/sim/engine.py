@@ -403,9 +403,10 @@ class NativeScanner(Scanner):
         super().__init__(prog, m, "compiled")
         if self.code is None:
             return
-        lines = self.code.source.count("\n")
-        if lines > native.MAX_LINES:
-            self.native_error = f"the program's code ({lines} lines) is over the native engine's {native.MAX_LINES}"
+        lines, limit = self.code.source.count("\n"), native.max_lines()
+        if lines > limit:
+            self.native_error = (f"the program's generated code ({lines:,} lines) is over the native engine's "
+                                 f"{limit:,} (its build would take minutes; {native.MAX_LINES_ENV} raises the limit)")
             native.fell_back(self.native_error)
             return
         names, itemwise = native.containers(self.code.source)

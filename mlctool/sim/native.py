@@ -20,7 +20,7 @@ negative wrap-around (the code tests a negative index before it uses it, as in P
 Cost: building a program takes seconds (Cython, then cc; ~7 s for a small one, ~17 s for
 bench/sim_speed.py's mixed) and is done once per program: the extension is kept in the user
 cache (mlctool/cache.py, sealed like the compiled code) under the hash of what was built.
-Programs whose generated code is longer than MAX_LINES run on the compiled engine instead.
+Programs whose generated code is longer than max_lines() run on the compiled engine instead.
 Without Cython (`pip install mlctool[native]`) or a C compiler the engine is unavailable and
 the Scanner runs the compiled engine, saying why (Scanner.native_error).
 """
@@ -44,7 +44,19 @@ from array import array
 from mlctool import cache
 
 KIND = "sim-native"
-MAX_LINES = 60_000  # generated lines (~20k instructions): above, the build takes minutes
+# generated lines above which a program runs on the compiled engine: the build grows with the
+# code (~16 s for bench/sim_speed.py's mixed, 963 lines; 7 minutes for bench/gen.py's 64k-step
+# program, 32k lines), so ~8,000 lines is a build of a minute or two; MLC_NATIVE_MAX_LINES
+# raises it for whoever will wait once (the build is cached)
+MAX_LINES = 8_000
+MAX_LINES_ENV = "MLC_NATIVE_MAX_LINES"
+
+
+def max_lines() -> int:
+    try:
+        return int(os.environ.get(MAX_LINES_ENV, "")) or MAX_LINES
+    except ValueError:
+        return MAX_LINES
 _GLOBAL = "_c_"  # prefix of the module variables holding the containers
 _DEF = re.compile(r"def (\w+)\((.*)\):$")
 FALLBACKS: list[str] = []  # why NativeScanners of this process ran the compiled engine (once each)

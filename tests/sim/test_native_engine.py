@@ -289,3 +289,13 @@ def test_mlc_sim_engine_option_reaches_the_run(tmp_path, monkeypatch, mlc):
     r = mlc("sim", "--json", "--engine", "native", str(il), "--stimulus", str(stim))
     assert r.code == 0 and r.out == outs[0] and used[-1] == "native"  # (the module is loaded)
     assert "note: the native engine did not run (no C compiler (cc) found); the compiled engine did" in r.err
+
+
+def test_a_program_over_the_line_limit_runs_on_the_compiled_engine(monkeypatch):
+    monkeypatch.setenv(native.MAX_LINES_ENV, "10")
+    builds = []
+    monkeypatch.setattr(native, "on_build", lambda: builds.append(1))
+    prog = load_program(program_image("nc5"), NC5)
+    sc = scanner(prog, Machine(NC5, len(prog.steps)), "native")
+    assert sc.engine == "compiled" and not builds
+    assert "over the native engine's 10 " in sc.native_error and native.MAX_LINES_ENV in sc.native_error
