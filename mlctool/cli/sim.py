@@ -245,6 +245,9 @@ def _native_notes(ahead: bool) -> None:
     or did not run a program (after: too long, a failed build); the compiled engine ran."""
     from mlctool.sim import native
 
+    if ahead:
+        native.on_build = lambda: click.echo("note: building the native engine for this program (seconds; "
+                                             "the user cache keeps it)", err=True)
     reasons = [native.unavailable()] if ahead else native.FALLBACKS
     for reason in reasons:
         if reason and (ahead or reason != native.unavailable()):

@@ -403,49 +403,46 @@ class NativeScanner(Scanner):
         super().__init__(prog, m, "compiled")
         if self.code is None:
             return
-        self._prepare()
-        lines = self.code.source.count("\n")
-        if lines > native.MAX_LINES:
-            self.native_error = f"the program's code ({lines} lines) is over the native engine's {native.MAX_LINES}"
+        lines, limit = self.code.source.count("\n"), native.max_lines()
+        if lines > limit:
+            self.native_error = (f"the program's generated code ({lines:,} lines) is over the native engine's "
+                                 f"{limit:,} (its build would take minutes; {native.MAX_LINES_ENV} raises the limit)")
             native.fell_back(self.native_error)
             return
         names, itemwise = native.containers(self.code.source)
-        types = {name: native.c_type(self.g.get("G_" + name)) if name in itemwise and name not in native.OBJECT_NAMES
-                 else None for name in names}
+        if not native.float_pairs_only(self.code.source):
+            itemwise -= {"FS"}
+        # the lookup tables as typed arrays (FS only where the extension writes out its rows)
+        tables = {k: v for k, v in _native_tables().items() if k in self.g and (k != "G_FS" or "FS" in itemwise)}
+        types = {name: native.c_type(tables.get("G_" + name, self.g.get("G_" + name))) if name in itemwise else None
+                 for name in names}
         try:
             self.native, self._origin, self._native_file = native.build(self.code.source, types)
         except native.NativeUnavailable as e:
             self.native_error = str(e)
             native.fell_back(self.native_error)
             return
-        self._types = types
+        self._tables = tables
         self._own = native.functions(self.code.source)
         self.engine = "native"
         self._bind_native()
         self.fns = [getattr(self.native, name) for name in self.code.funcs] + [self._past_end]
 
-    def _prepare(self) -> None:
-        """The containers the extension types, as arrays: the machine's (use_arrays, again
-        after a power cycle or a restored checkpoint), the writer stamps and the tables."""
-        self.m.use_arrays()
-        g, w = self.g, self._writer
-        if type(w.marks) is list:
-            w.marks = array.array("q", w.marks)
-        g["G_R"] = w.marks
-        for name, table in _native_tables().items():
-            if name in g:
-                g[name] = table
-
     def _rebind(self) -> None:
-        if self.native is not None:
-            self.m.use_arrays()
+        """Bind the machine's containers as arrays (use_arrays: again after a power cycle or a
+        restored checkpoint) and the writer stamps as one (both engines run on them)."""
+        self.m.use_arrays()
         super()._rebind()
+        w = self._writer
+        if type(w.marks) is list:  # a new Writers: its stamps as an array, bound again
+            w.marks = array.array("q", w.marks)
+            super()._rebind()
         if self.native is not None:
-            self._prepare()
             self._bind_native()
 
     def _bind_native(self) -> None:
         g = self.g
+        g.update(self._tables)  # (the Python functions are not run once the extension is)
         own = self._own  # the extension's functions, not the Python ones of the same names
         self.native._bind(g, {k: v for k, v in g.items() if not k.startswith(("G_", "__")) and k not in own})
         self.native._mlc_owner = self
@@ -472,5 +469,8 @@ def _native_tables() -> dict:
     """The compiled code's lookup tables as typed arrays (the Kn groups, the float bases)."""
     if not _NATIVE_TABLES:
         _NATIVE_TABLES.update({f"G_K{c}": array.array("q", _KN[c]) for c in range(4)})
-        _NATIVE_TABLES["G_FB"] = array.array("d", _f32_tables()["G_FB"])
+        tables = _f32_tables()
+        _NATIVE_TABLES["G_FB"] = array.array("d", tables["G_FB"])
+        # the infinity rows' products are written out by native._float_pairs: 0.0 here
+        _NATIVE_TABLES["G_FS"] = array.array("d", (0.0 if type(x) is _InfRow else x for x in tables["G_FS"]))
     return _NATIVE_TABLES

@@ -7,8 +7,10 @@ values and timer bookkeeping in 64-bit arrays (Machine.use_arrays), and the cont
 function names become typed module variables (`cdef long long[::1] wD`), so a device read or
 write is a bounds-checked C access instead of a list item; the functions' other names stay
 Python objects. Where the generated code relies on something C types would change, the name
-stays a Python object: the single-precision table FS (its infinity rows are objects whose
-product is computed, engine._InfRow), and any container of another kind.
+stays a Python object: a container the code slices or uses whole, any container of another
+kind. The single-precision table FS, whose infinity rows are objects computing their product
+(engine._InfRow), is typed only where every use of it is the float-pair read, which is then
+written out with the infinity rows' rule (_float_pairs).
 
 Locals get C types where Cython can infer them from typed operands (infer_types): the values
 involved are raw 16-bit words, 32-bit pairs and their sums and products, all far inside 64
@@ -18,7 +20,7 @@ negative wrap-around (the code tests a negative index before it uses it, as in P
 Cost: building a program takes seconds (Cython, then cc; ~7 s for a small one, ~17 s for
 bench/sim_speed.py's mixed) and is done once per program: the extension is kept in the user
 cache (mlctool/cache.py, sealed like the compiled code) under the hash of what was built.
-Programs whose generated code is longer than MAX_LINES run on the compiled engine instead.
+Programs whose generated code is longer than max_lines() run on the compiled engine instead.
 Without Cython (`pip install mlctool[native]`) or a C compiler the engine is unavailable and
 the Scanner runs the compiled engine, saying why (Scanner.native_error).
 """
@@ -42,7 +44,19 @@ from array import array
 from mlctool import cache
 
 KIND = "sim-native"
-MAX_LINES = 60_000  # generated lines (~20k instructions): above, the build takes minutes
+# generated lines above which a program runs on the compiled engine: the build grows with the
+# code (~16 s for bench/sim_speed.py's mixed, 963 lines; 7 minutes for bench/gen.py's 64k-step
+# program, 32k lines), so ~8,000 lines is a build of a minute or two; MLC_NATIVE_MAX_LINES
+# raises it for whoever will wait once (the build is cached)
+MAX_LINES = 8_000
+MAX_LINES_ENV = "MLC_NATIVE_MAX_LINES"
+
+
+def max_lines() -> int:
+    try:
+        return int(os.environ.get(MAX_LINES_ENV, "")) or MAX_LINES
+    except ValueError:
+        return MAX_LINES
 _GLOBAL = "_c_"  # prefix of the module variables holding the containers
 _DEF = re.compile(r"def (\w+)\((.*)\):$")
 # A coil that keeps the rung result (compile.py, OUT: `bM[4] = a = <rung>`): Cython 3.3 turns a
@@ -51,10 +65,10 @@ _DEF = re.compile(r"def (\w+)\((.*)\):$")
 # an object pointer (a segmentation fault when it runs); assigned one target at a time, it is right
 _KEPT_RESULT = re.compile(r"(\s*)(\w+\[[^\]]*\]) = a = (.+)$")
 FALLBACKS: list[str] = []  # why NativeScanners of this process ran the compiled engine (once each)
+on_build = None  # called before a build (the CLI says that one is under way: it takes seconds)
 _LOADED: dict[str, object] = {}  # module name -> module (an extension loads once per process)
 _C_TYPES = {"q": "long long", "d": "double", "B": "unsigned char", "H": "unsigned short", "I": "unsigned int",
             "Q": "unsigned long long", "f": "float"}
-OBJECT_NAMES = frozenset({"FS"})  # computed products (engine._InfRow): stay Python objects
 HEADER = ("# cython: language_level=3, infer_types=True, boundscheck=True, wraparound=True, "
           "initializedcheck=True, cdivision=False")
 
@@ -127,12 +141,15 @@ def pyx_text(source: str, types: dict[str, str | None]) -> tuple[str, list[int]]
     (0-based; -1 for lines of its own). The containers become module variables bound by
     _bind(g); each function records the stamp it reached in LX when an exception leaves it
     (Scanner._stamp_reached reads the frames' locals, which compiled frames do not have)."""
-    out = [HEADER]
+    if types.get("FS"):
+        source = _float_pairs(source)
+    out = [HEADER, "from libc.math cimport NAN", "cdef long long WD  # the watchdog's step limit"]
     for name, ctype in types.items():
         if ctype is not None:
             out.append(f"cdef {ctype} {_GLOBAL}{name}")
     out += ["", "def _bind(dict g, dict names):",
-            "    global " + ", ".join(_GLOBAL + n for n in types) if types else "    pass"]
+            "    global WD" + "".join(", " + _GLOBAL + n for n in types),
+            "    WD = names['WD']"]
     for name in types:
         out.append(f"    {_GLOBAL}{name} = g[{'G_' + name!r}]")
     out.append("    globals().update(names)")
@@ -175,6 +192,27 @@ def pyx_text(source: str, types: dict[str, str | None]) -> tuple[str, list[int]]
     return "\n".join(out) + "\n", origin
 
 
+# compile_ops.fvalue's single-precision read of a D pair, FB[hi] + FS[hi] * lo: FS is an
+# object whose infinity rows (high word 7F80H/FF80H) compute their product (engine._InfRow:
+# 0.0 for a zero low word, else NaN). With FS typed, those rows hold 0.0 and the test is
+# written out: the same values, in C.
+_FLOAT_PAIR = re.compile(r"\(FB\[(\w+)\] \+ FS\[\1\] \* ([\w\[\] +]+)\)")
+INF_ROWS = (0x7F80, 0xFF80)
+
+
+def _float_pairs(source: str) -> str:
+    def pair(m: re.Match) -> str:
+        hi, lo = m.group(1), m.group(2)
+        return (f"(FB[{hi}] + FS[{hi}] * {lo} if {hi} != {INF_ROWS[0]} and {hi} != {INF_ROWS[1]} "
+                f"else (FB[{hi}] if {lo} == 0 else NAN))")
+    return _FLOAT_PAIR.sub(pair, source)
+
+
+def float_pairs_only(source: str) -> bool:
+    """FS appears only in the float-pair reads _float_pairs writes out (else it stays an object)."""
+    return "FS[" not in _FLOAT_PAIR.sub("", source)
+
+
 def build(source: str, types: dict[str, str | None]) -> tuple[object, list[int], str]:
     """The extension module of `source` (from the cache or built now), the line origins of its
     .pyx and the file name its traceback entries carry."""
@@ -187,9 +225,11 @@ def build(source: str, types: dict[str, str | None]) -> tuple[object, list[int],
     suffix = sysconfig.get_config_var("EXT_SUFFIX") or ".so"
     key = cache.key(KIND, digest)
     blob = cache.load(KIND, key, lambda v: isinstance(v, bytes)) if cache.enabled() else None
-    with tempfile.TemporaryDirectory(prefix="mlc-native-") as tmp:
+    with tempfile.TemporaryDirectory(prefix="mlc-native-", ignore_cleanup_errors=True) as tmp:  # (a loaded DLL stays on Windows)
         so = os.path.join(tmp, mod_name + suffix)
         if blob is None:
+            if on_build is not None:
+                on_build()
             blob = _compile(text, tmp, mod_name, so)
             cache.store(KIND, key, blob)
         else:
@@ -201,7 +241,7 @@ def build(source: str, types: dict[str, str | None]) -> tuple[object, list[int],
         mod = importlib.util.module_from_spec(spec)
         try:
             spec.loader.exec_module(mod)
-        except ImportError as e:
+        except (ImportError, OSError) as e:
             raise NativeUnavailable(f"the built extension does not load: {e}") from None
     _LOADED[mod_name] = mod
     return mod, origin, filename
@@ -228,15 +268,13 @@ def _compile(text: str, tmp: str, mod_name: str, so: str) -> bytes:
     with open(pyx, "w", encoding="utf-8") as f:
         f.write(text)
     Options.error_on_unknown_names = False  # the generated code's globals are bound at run time
-    cwd = os.getcwd()
     chatter = io.StringIO()  # Cython's warnings (the globals it cannot see) and hints
-    try:
-        os.chdir(tmp)  # traceback entries name the .pyx as given: its bare name
-        with contextlib.redirect_stderr(chatter), contextlib.redirect_stdout(chatter):
-            result = cython_compile(mod_name + ".pyx", CompilationOptions(language_level=3, output_file=c_file,
-                                                                          quiet=True))
-    finally:
-        os.chdir(cwd)
+    with contextlib.redirect_stderr(chatter), contextlib.redirect_stdout(chatter):
+        # (traceback entries name the .pyx by its bare name, wherever it was built)
+        try:
+            result = cython_compile(pyx, CompilationOptions(language_level=3, output_file=c_file, quiet=True))
+        except Exception as e:  # noqa: BLE001 - any Cython failure: the compiled engine runs
+            raise NativeUnavailable(f"Cython failed: {type(e).__name__}: {e}") from None
     if result.num_errors:
         raise NativeUnavailable("Cython could not translate the generated code")
     cmd = [compiler(), "-O2", "-fno-strict-aliasing", "-shared", "-fPIC", "-w",

@@ -25,6 +25,9 @@ from vskit import VS
 pytestmark = pytest.mark.skipif(native.unavailable() is not None, reason=f"native engine: {native.unavailable()}")
 
 RUNGS = """
+LD M16
+FADD D0 F1.5 D12
+FMUL D0 D12 D14
 LD X0
 ANI X1
 OR M0
@@ -157,6 +160,16 @@ def test_native_engine_matches_the_compiled_engine(stim, target_name):
     engines_agree("", stim, target_name, engines=("native", "compiled"), image=program_image(target_name))
 
 
+@pytest.mark.parametrize("target_name", ["nc5", "vs"])
+def test_float_pairs_in_the_infinity_rows(target_name):
+    """A D pair whose high word is 7F80H/FF80H reads as +-inf with a zero low word and NaN
+    otherwise (engine._InfRow); the extension writes that rule out (native._float_pairs)."""
+    # (the first rung reads D0:D1 as the stimulus left it: later rungs write D1)
+    stim = ("#0 M16=1 D1=32640 D0=0\n#1 D1=32640 D0=1\n#2 D1=-128 D0=0\n#3 D1=-128 D0=-3\n"
+            "#4 D1=16320 D0=0\nrun #6\n")
+    engines_agree("", stim, target_name, engines=("native", "compiled"), image=program_image(target_name))
+
+
 def test_faults_and_watchdog_name_the_same_step():
     """X5's rung reads D0Z0 with Z0 = -1 (an address fault); M15 jumps back to itself until
     the watchdog stops the scan: both engines stop at the same step with the same memory."""
@@ -207,15 +220,23 @@ def test_without_a_build_the_compiled_engine_runs_and_says_why(monkeypatch):
     monkeypatch.setattr(native, "unavailable", lambda: "no C compiler (cc) found")
     monkeypatch.setattr(native, "_LOADED", {})
     monkeypatch.setenv("MLC_CACHE", "off")
+    builds = []
+    monkeypatch.setattr(native, "on_build", lambda: builds.append(1))  # (the CLI's note)
     image = image_of("LD X0\nOUT Y7\nEND")
     prog = load_program(image, NC5)
     m = Machine(NC5, len(prog.steps))
     sc = scanner(prog, m, "native")
+    assert builds == [1]
     assert isinstance(sc, NativeScanner) and sc.engine == "compiled" and sc.native is None
     assert sc.native_error == "no C compiler (cc) found"
     m.bits["X"][0] = 1
     sc()
     assert m.bits["Y"][7] == 1
+    # the stamps of the writer records are bound again as an array: the records are right
+    plain = Machine(NC5, len(prog.steps))
+    plain.bits["X"][0] = 1
+    Scanner(load_program(image, NC5), plain, "compiled")()
+    assert dict(m.writer) == dict(plain.writer) and dict(m.writer)
 
 
 def test_machine_arrays_survive_a_power_cycle():
@@ -279,6 +300,16 @@ def test_mlc_sim_engine_option_reaches_the_run(tmp_path, monkeypatch, mlc):
     r = mlc("sim", "--json", "--engine", "native", str(il), "--stimulus", str(stim))
     assert r.code == 0 and r.out == outs[0] and used[-1] == "native"  # (the module is loaded)
     assert "note: the native engine did not run (no C compiler (cc) found); the compiled engine did" in r.err
+
+
+def test_a_program_over_the_line_limit_runs_on_the_compiled_engine(monkeypatch):
+    monkeypatch.setenv(native.MAX_LINES_ENV, "10")
+    builds = []
+    monkeypatch.setattr(native, "on_build", lambda: builds.append(1))
+    prog = load_program(program_image("nc5"), NC5)
+    sc = scanner(prog, Machine(NC5, len(prog.steps)), "native")
+    assert sc.engine == "compiled" and not builds
+    assert "over the native engine's 10 " in sc.native_error and native.MAX_LINES_ENV in sc.native_error
 
 
 def test_vs_block_copies_into_the_machine_arrays():
