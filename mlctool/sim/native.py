@@ -149,7 +149,9 @@ def pyx_text(source: str, types: dict[str, str | None]) -> tuple[str, list[int]]
             out.append(f"cdef {ctype} {_GLOBAL}{name}")
     out += ["", "def _bind(dict g, dict names):",
             "    global WD" + "".join(", " + _GLOBAL + n for n in types),
-            "    WD = names['WD']"]
+            # (mlc sim --watchdog has no upper bound: a limit past 2^62 steps is never reached
+            # either, and the C variable takes it)
+            "    WD = min(names['WD'], 1 << 62)"]
     for name in types:
         out.append(f"    {_GLOBAL}{name} = g[{'G_' + name!r}]")
     out.append("    globals().update(names)")

@@ -346,3 +346,20 @@ def test_a_kept_rung_result_is_assigned_one_target_at_a_time():
     k = lines.index("        a = e and not c or k and (w > 3)")
     assert lines[k + 1] == "        bY[3] = a" and origin[k] == origin[k + 1] == 1
     assert " = a = " not in text
+
+
+def test_a_watchdog_past_64_bits_is_taken():
+    """`mlc sim --watchdog` has no upper bound; the extension keeps the limit in a C variable
+    (a limit past 2^63 was an OverflowError, an internal error of mlc sim): the scans run as
+    on the compiled engine."""
+    found = []
+    for engine in ("native", "compiled"):
+        prog = load_program(program_image("nc5"), NC5)
+        m = Machine(NC5, len(prog.steps))
+        sc = scanner(prog, m, engine)
+        assert sc.engine == engine
+        m.bits["X"][1] = m.bits["X"][4] = 1
+        for _ in range(3):
+            sc(10**20)
+        found.append((list(m.words["D"][:8]), bytes(m.bits["Y"][:4])))
+    assert found[0] == found[1]
