@@ -50,13 +50,6 @@ KIND = "sim-native"
 # raises it for whoever will wait once (the build is cached)
 MAX_LINES = 8_000
 MAX_LINES_ENV = "MLC_NATIVE_MAX_LINES"
-
-
-def max_lines() -> int:
-    try:
-        return int(os.environ.get(MAX_LINES_ENV, "")) or MAX_LINES
-    except ValueError:
-        return MAX_LINES
 _GLOBAL = "_c_"  # prefix of the module variables holding the containers
 _DEF = re.compile(r"def (\w+)\((.*)\):$")
 # A coil that keeps the rung result (compile.py, OUT: `bM[4] = a = <rung>`): Cython 3.3 turns a
@@ -71,6 +64,13 @@ _C_TYPES = {"q": "long long", "d": "double", "B": "unsigned char", "H": "unsigne
             "Q": "unsigned long long", "f": "float"}
 HEADER = ("# cython: language_level=3, infer_types=True, boundscheck=True, wraparound=True, "
           "initializedcheck=True, cdivision=False")
+
+
+def max_lines() -> int:
+    try:
+        return int(os.environ.get(MAX_LINES_ENV, "")) or MAX_LINES
+    except ValueError:
+        return MAX_LINES
 
 
 def fell_back(reason: str) -> None:
@@ -109,9 +109,16 @@ def c_type(obj) -> str | None:
     return f"{base}[::1]" if base else None
 
 
+def _heads(source: str):
+    """(name, parameters) of each generated function's `def` line."""
+    for line in source.splitlines():
+        if line.startswith("def ") and (m := _DEF.match(line)):
+            yield m.group(1), [p.strip() for p in m.group(2).split(",")]
+
+
 def functions(source: str) -> frozenset[str]:
     """The names of the generated functions (the extension defines them: _bind keeps them)."""
-    return frozenset(m.group(1) for line in source.splitlines() if line.startswith("def ") and (m := _DEF.match(line)))
+    return frozenset(name for name, _ in _heads(source))
 
 
 def containers(source: str) -> tuple[list[str], frozenset[str]]:
@@ -119,12 +126,7 @@ def containers(source: str) -> tuple[list[str], frozenset[str]]:
     and those of them the code only indexes item by item (`wD[k]`): the ones a typed
     memoryview can stand for. A container also sliced or used whole (`bM[7:3:-1].translate`,
     a Kn group's bits) keeps its Python object."""
-    names: set[str] = set()
-    for line in source.splitlines():
-        if line.startswith("def "):
-            m = _DEF.match(line)
-            if m:
-                names.update(p.split("=")[0].strip() for p in m.group(2).split(",") if "=" in p)
+    names = {p.split("=")[0] for _, params in _heads(source) for p in params if "=" in p}
     whole: set[str] = set()
     itemwise: set[str] = set()
     for node in ast.walk(ast.parse(source)):
