@@ -87,6 +87,9 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
     except LoadError as e:
         show(e.diagnostics, e.lines)
         sys.exit(2)
+    from mlctool.sim.unmodelled import unmodelled_writes
+
+    show(unmodelled_writes(session.image, target), session.lines)  # W608, as mlc sim says it
     if web:
         from mlctool.debug.web import serve
 

@@ -178,6 +178,18 @@ def test_console_pipe_script(tmp_path):
     assert out.count("\n") > 30
 
 
+def test_the_console_warns_of_unmodelled_specials_as_mlc_sim_does(tmp_path):
+    """W608 (VS M9039 constant scan written) at the start of a debug session, as mlc sim says
+    it; a program without such writes starts without it."""
+    (tmp_path / "p.il").write_text("LD X0\nOUT M9039\nOUT Y0\nEND\n")
+    (tmp_path / "q.il").write_text("LD X0\nOUT Y0\nEND\n")
+    for name, warned in (("p.il", True), ("q.il", False)):
+        r = subprocess.run([*MLC_COMMAND, "debug", "--target", "vs", name], input="quit\n",
+                           capture_output=True, text=True, timeout=60, cwd=tmp_path)
+        assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
+        assert ("p.il:2:1: warning[W608]: M9039 (constant scan" in r.stderr) is warned, r.stderr
+
+
 def test_bad_program_exits_2():
     r = subprocess.run([*MLC_COMMAND, "debug", "no/such.il"], capture_output=True, text=True, timeout=60,
                        input="")
