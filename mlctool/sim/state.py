@@ -64,6 +64,14 @@ def to_f32(x: float) -> float:
     return bits_f32(f32_bits(x))
 
 
+def put_words(store, first: int, values) -> None:
+    """values into store[first:first + len(values)], item by item: a device container is a
+    list, the native engine's array('q') (Machine.use_arrays), whose slice takes no other
+    sequence, or unit words (UnG). The values are read first (source and store may overlap)."""
+    for k, v in enumerate(list(values)):
+        store[first + k] = v
+
+
 class Machine:
     """All device memory, timer/counter bookkeeping and the rung-evaluation registers."""
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import datetime as dt
 
 from mlctool.sim import semantics as base
-from mlctool.sim.state import Machine
+from mlctool.sim.state import Machine, put_words
 from mlctool.targets.vs.common import op_error, read_block, set_flags, write_block
 
 _KEY = "rtc"  # Machine.fx_state entry: (calendar at base_us, base_us, registers last written)
@@ -68,8 +68,7 @@ def refresh(m: Machine) -> None:
             _set(m, when)
             now = when
     values = _fields(now)
-    for k, v in enumerate(values):  # (the words may be a list or the native engine's array)
-        words[first + k] = v
+    put_words(words, first, values)
     start, base_us, _ = m.fx_state[_KEY]
     m.fx_state[_KEY] = (start, base_us, values)
 

@@ -11,7 +11,7 @@ import math
 
 from mlctool.sim import semantics as base
 from mlctool.sim.operands import WordRef
-from mlctool.sim.state import Machine, SimFault, bits_f32, f32_bits, s16, s32, to_f32
+from mlctool.sim.state import Machine, SimFault, bits_f32, f32_bits, put_words, s16, s32, to_f32
 from mlctool.targets.vs.common import (  # set_flags: M9020 zero / M9021 borrow / M9022 carry
     count,
     op_error,
@@ -184,11 +184,8 @@ def bmov(m: Machine, s) -> None:
         # DECISION (as FMOV and MEAN, 6-3/6-6 "只有有效範圍會被傳送"): a block running past the
         # device's end moves only the part inside both ranges
         n = max(0, min(n, len(words_s) - a, len(words_d) - b))
-        # word by word from a copy of the source (the blocks may overlap): the machine's words
-        # are lists, arrays (the native engine's, Machine.use_arrays) or unit words (UnG),
-        # and an array's slice takes no other sequence
-        for k, v in enumerate(words_s[a:a + n]):
-            words_d[b + k] = v
+        put_words(words_d, b, words_s[a:a + n])
+        for k in range(n):
             m.writer[(dst.kind, b + k)] = m.pc
         return
     write_block(m, dst, read_block(m, src, n, 16), 16)

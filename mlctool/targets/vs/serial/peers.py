@@ -12,7 +12,16 @@ from __future__ import annotations
 
 import re
 
-from mlctool.sim.state import DeviceView, Machine, NameError_, bits_f32, f32_bits, s16, s32
+from mlctool.sim.state import (
+    DeviceView,
+    Machine,
+    NameError_,
+    bits_f32,
+    f32_bits,
+    put_words,
+    s16,
+    s32,
+)
 from mlctool.syntax.operands import device_number
 from mlctool.targetapi.model import Target
 
@@ -101,11 +110,9 @@ def own_block(m: Machine, kind: str, number: int, length: int) -> list[int]:
 
 
 def set_own_block(m: Machine, kind: str, number: int, values: list[int]) -> None:
-    # point by point: the native engine's machine keeps its words in array('q')
-    # (Machine.use_arrays), whose slices take no list (the table's range is checked at build)
-    store = (m.bits if kind in BIT_KINDS else m.words)[kind]
-    for k, v in enumerate(values):
-        store[number + k] = v
+    # (the table's range is checked at build)
+    put_words((m.bits if kind in BIT_KINDS else m.words)[kind], number, values)
+    for k in range(len(values)):
         m.writer[(kind, number + k)] = m.pc
 
 
