@@ -245,13 +245,15 @@ def _native_notes(ahead: bool) -> None:
     or did not run a program (after: too long, a failed build); the compiled engine ran."""
     from mlctool.sim import native
 
+    missing = native.unavailable()
     if ahead:
         native.on_build = lambda: click.echo("note: building the native engine for this program (seconds; "
                                              "the user cache keeps it)", err=True)
-    reasons = [native.unavailable()] if ahead else native.FALLBACKS
+        reasons = [missing] if missing else []
+    else:  # (the reason said ahead is among the fallbacks: said once)
+        reasons = [r for r in native.FALLBACKS if r != missing]
     for reason in reasons:
-        if reason and (ahead or reason != native.unavailable()):
-            click.echo(f"note: the native engine did not run ({reason}); the compiled engine did", err=True)
+        click.echo(f"note: the native engine did not run ({reason}); the compiled engine did", err=True)
 
 
 def _table_file(spec: str) -> str:
