@@ -7,7 +7,8 @@ wall clock. A stimulus file attaches one with `model KIND key=value ...` (docs/s
 
 from __future__ import annotations
 
-from mlctool.sim.signals import NAMES, SIGNAL
+from mlctool.sim import signals
+from mlctool.sim.signals import SIGNAL
 from mlctool.sim.state import DeviceView, Machine, NameError_, parse_device_name
 from mlctool.sim.stimulus import StimError, parse_time
 from mlctool.targetapi.model import Target
@@ -19,6 +20,13 @@ class ModelIO:
 
     def __init__(self, machine: Machine):
         self._m = machine
+
+    def memory(self, kind: str):
+        """The live container of device `kind` (bits: 0/1 items; words: raw 16-bit items), for a
+        model that reads and writes many devices every step (the NC5's virtual NC). Asked for
+        each step: a power cycle renews the containers."""
+        m = self._m
+        return m.bits[kind] if kind in m.bits else m.words[kind]
 
     def get(self, view: DeviceView) -> int | float:
         return view.read(self._m)
@@ -36,7 +44,7 @@ class ModelIO:
         """A model's signals (sim/signals.py) as of this step: `XC1.pos` and the like."""
         kind = SIGNAL + model
         for signal, value in values.items():
-            self._m.signals[(kind, NAMES.index(signal))] = int(value)
+            self._m.signals[(kind, signals.index(signal))] = int(value)
 
     def set_pulse_mode(self, axis: int, mode: str) -> None:
         """The pulse output mode ("UD", "PR", "AB") of pulse axis `axis` for this run, over the
@@ -61,6 +69,16 @@ class DeviceModel:
         self.params = params
         self.target = target
         self.used: set[str] = set()
+
+    @classmethod
+    def build(cls, params: dict[str, str], target: Target, folder: str) -> DeviceModel:
+        """The model of a stimulus line; `folder` is the stimulus file's, against which a
+        model that reads files of its own (inputs()) finds them."""
+        return cls(params, target)
+
+    def inputs(self) -> list[str]:
+        """Files the model read (an NC part program): inputs no output may overwrite."""
+        return []
 
     # -- parameter helpers
     def device(self, key: str, default: str | None = None) -> DeviceView:
@@ -105,3 +123,11 @@ class ParamError(ValueError):
         self.key = key
         self.message = message
         self.code = code
+
+
+class ModelInputError(ValueError):
+    """A file the model reads is wrong: its diagnostics (file, line, column, code)."""
+
+    def __init__(self, diags: list):
+        super().__init__(f"{len(diags)} diagnostics")
+        self.diags = diags

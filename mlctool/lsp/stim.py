@@ -71,7 +71,7 @@ class StimCompletion:
 def completions(line_text: str, col: int, target: Target) -> list[StimCompletion]:
     """Keywords where the line's grammar takes one, model kinds after `model`, the target's
     devices where a device name goes (the letters with their ranges)."""
-    from mlctool.devices.registry import MODELS
+    from mlctool.devices.registry import models_of
 
     code = line_text[:col - 1]
     if len(_code(code).split()) < len(code.split()):  # in a comment
@@ -87,7 +87,7 @@ def completions(line_text: str, col: int, target: Target) -> list[StimCompletion
         return [StimCompletion(k, "keyword", _form(k)) for k in LINE_STARTS]
     head = words[0].lower()
     if head == "model":
-        return [StimCompletion(k, "model", f"device model {k}") for k in sorted(MODELS)] if len(words) == 1 else []
+        return [StimCompletion(k, "model", f"device model {k}") for k in sorted(models_of(target))] if len(words) == 1 else []
     if head in LINE_STARTS:
         return []
     devices = [StimCompletion(d.name, "device", f"{d.kind} {d.name}{d.lo}-{d.name_of(d.hi)[len(d.name):]} "

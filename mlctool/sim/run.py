@@ -8,11 +8,12 @@ expectations at time t are checked after that same scan completes.
 from __future__ import annotations
 
 import math
+import os
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
-from mlctool.devices.base import DeviceModel, ModelIO, ParamError
+from mlctool.devices.base import DeviceModel, ModelInputError, ModelIO, ParamError
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image
 from mlctool.sim import seriallink, signals
@@ -134,19 +135,27 @@ def build_models(st: Stimulus, target: Target, watch: Sequence[DeviceView] = ()
                  ) -> tuple[list[DeviceModel], list[Diagnostic]]:
     models, diags, built = [], [], []
     if st.models:  # (the models' modules: only when a stimulus names one, ~0.1 s of imports)
-        from mlctool.devices.registry import MODELS
+        from mlctool.devices.registry import models_of
+
+        kinds = models_of(target)
+        folder = os.path.dirname(st.path)
     for spec in st.models:
-        cls = MODELS.get(spec.kind)
+        cls = kinds.get(spec.kind)
         if cls is None:
+            from mlctool.suggest import did_you_mean
+
             diags.append(diag(st.path, Span.at(spec.line, spec.col, len(spec.kind)), "E601",
-                              f"unknown device model {spec.kind!r}; models: {', '.join(sorted(MODELS))}"))
+                              f"unknown device model {spec.kind!r}" + (did_you_mean(spec.kind, kinds, "'")
+                                                                        or f"; models: {', '.join(sorted(kinds))}")))
             continue
         try:
-            models.append(cls({k: v for k, (v, _) in spec.params.items()}, target))
+            models.append(cls.build({k: v for k, (v, _) in spec.params.items()}, target, folder))
             built.append(spec)
         except ParamError as e:
             col = spec.params.get(e.key, ("", spec.col))[1]
             diags.append(diag(st.path, Span.at(spec.line, col, len(e.key)), e.code, e.message))
+        except ModelInputError as e:
+            diags += e.diags
     return models, diags + _signal_diags(st, list(zip(built, models)), watch)
 
 
@@ -185,9 +194,12 @@ def _signal_diags(st: Stimulus, models: list[tuple[object, DeviceModel]],
                               f"{view.name}: no model named {signals.model_of(view.kind)} "
                               f"(models with signals: {known})"))
         elif name not in signals.KINDS.get(model.kind, {}):
+            from mlctool.suggest import did_you_mean
+
+            own = signals.KINDS.get(model.kind, {})
             diags.append(diag(path, Span.at(line, col), "E602",
-                              f"{view.name}: model {model.kind} has no signal {name!r}; signals: "
-                              f"{', '.join(signals.KINDS.get(model.kind, {}))}"))
+                              f"{view.name}: model {model.kind} has no signal {name!r}"
+                              + (did_you_mean(name, own, "'") or f"; signals: {', '.join(own)}")))
     return diags
 
 

@@ -6,7 +6,10 @@ publishes its signals into Machine.signals, and a DeviceView of kind SIGNAL + NA
 them. They are the device's state as the device knows it (not PLC memory): the program
 cannot see them, the stimulus cannot set them. The signal names of each model kind are
 listed here, so the scan side never imports the device models; state.py's
-parse_signal_name reads a signal's name.
+parse_signal_name reads a signal's name. A target's own models (targetapi ModelKind, the
+NC5's virtual NC) add their kinds with add_kind when the target's Simulation is first asked
+for a name: their signals are numbered after the built-in ones, in the order of the target's
+table, so the numbers are the same in every process that loads the same target.
 """
 
 from __future__ import annotations
@@ -43,10 +46,36 @@ KINDS: dict[str, dict[str, tuple[str, str]]] = {
     },
 }
 DEFAULT_PREFIX = {"xc100": "XC", "stepper": "MOT"}  # an unnamed model is XC1, XC2 ... in stimulus order
-NAMES: tuple[str, ...] = tuple(sorted({s for table in KINDS.values() for s in table}))
+NAMES: list[str] = sorted({s for table in KINDS.values() for s in table})
 VIEWS: dict[str, str] = {s: v for table in KINDS.values() for s, (v, _) in table.items()}
-SIGNAL_NAME = re.compile(r"(?P<model>[A-Z][A-Z0-9_]*)\.(?P<signal>[A-Z_]+)")
+_INDEX: dict[str, int] = {s: i for i, s in enumerate(NAMES)}
+_BY_UPPER: dict[str, str] = {s.upper(): s for s in NAMES}  # the names are read case-insensitively
+# MODEL.signal, where a signal may have one inner dot (a part of the device: NC1.X.pos)
+SIGNAL_NAME = re.compile(r"(?P<model>[A-Z][A-Z0-9_]*)\.(?P<signal>[A-Z_][A-Z0-9_]*(?:\.[A-Z_][A-Z0-9_]*)?)")
 MODEL_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+
+
+def add_kind(kind: str, table: dict[str, tuple[str, str]]) -> None:
+    """A target's model kind and its signals (targetapi ModelKind); once per kind."""
+    if kind in KINDS:
+        return
+    KINDS[kind] = dict(table)
+    for signal, (view, _) in table.items():
+        if signal.upper() in _BY_UPPER:
+            continue  # a name the built-in models use too: one number, one view
+        _INDEX[signal] = len(NAMES)
+        NAMES.append(signal)
+        VIEWS[signal] = view
+        _BY_UPPER[signal.upper()] = signal
+
+
+def canonical(signal: str) -> str | None:
+    """The signal's name as its table spells it (`x.POS` -> `X.pos`), None if no model has it."""
+    return _BY_UPPER.get(signal.upper())
+
+
+def index(signal: str) -> int:
+    return _INDEX[signal]
 
 
 def looks_like(text: str) -> bool:

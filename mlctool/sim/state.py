@@ -302,7 +302,9 @@ class DeviceView:
 
     def sort_key(self):
         kind = self.gdev if self.view == "group" else self.kind
-        return (_KIND_ORDER.find(kind) % (len(_KIND_ORDER) + 1), self.number, self.view != "bit", self.view, self.digits)
+        # the kind last: two models' signals of one number (XC1.pos, XC2.pos) in a fixed order
+        return (_KIND_ORDER.find(kind) % (len(_KIND_ORDER) + 1), self.number, self.view != "bit", self.view,
+                self.digits, kind)
 
     # -- access
     def read(self, m: Machine) -> int | float:
@@ -384,10 +386,20 @@ def _number(digits: str, dev, text: str) -> int:
 def parse_signal_name(text: str) -> DeviceView:
     """`XC1.pos` -> DeviceView (raises NameError_ for an unknown signal)."""
     m = signals.SIGNAL_NAME.fullmatch(text.strip().upper())
-    signal = m["signal"].lower()
-    if signal not in signals.VIEWS:
-        raise NameError_(f"{text!r}: no model signal {signal!r}; signals: {', '.join(signals.NAMES)}")
-    return DeviceView(signals.SIGNAL + m["model"], signals.NAMES.index(signal), signals.VIEWS[signal])
+    signal = signals.canonical(m["signal"])
+    if signal is None:
+        from mlctool.suggest import did_you_mean  # only once a name is wrong
+
+        wrong = text.strip().split(".", 1)[1]
+        raise NameError_(f"{text!r}: no model signal {wrong!r}"
+                         + (did_you_mean(wrong, signals.NAMES, "'") or f"; signals: {', '.join(signals.NAMES)}"))
+    return DeviceView(signals.SIGNAL + m["model"], signals.index(signal), signals.VIEWS[signal])
+
+
+def add_target_models(target: Target) -> None:
+    """The target's own device models' signals (targetapi ModelKind) become names."""
+    for kind in simulation_of(target).models:
+        signals.add_kind(kind.kind, kind.signals)
 
 
 def parse_device_name(text: str, target: Target) -> DeviceView:
@@ -400,6 +412,7 @@ def parse_device_name(text: str, target: Target) -> DeviceView:
         if view is not None:
             return view
     if signals.looks_like(text):
+        add_target_models(target)
         return parse_signal_name(text)
     m = _NAME.fullmatch(text.strip().upper())
     if not m:

@@ -13,14 +13,14 @@ engine (mlctool/sim/).
 from mlctool.targetapi.model import Target, UnknownModel, available_targets, load_target
 from mlctool.targetapi.registry import TargetPackage, simulation_of
 
-__all__ = ["Simulation", "SpecialDevice", "Target", "TargetPackage", "UnknownModel",
+__all__ = ["ModelKind", "Simulation", "SpecialDevice", "Target", "TargetPackage", "UnknownModel",
            "available_targets", "load_target", "simulation_of"]
 
 
 def __getattr__(name: str):
-    """Simulation and SpecialDevice are imported when first asked for: `mlc check` never
+    """Simulation, SpecialDevice and ModelKind are imported when first asked for: `mlc check` never
     needs them, and their dataclasses cost every start a few milliseconds (issue 19)."""
-    if name in ("Simulation", "SpecialDevice"):
+    if name in ("ModelKind", "Simulation", "SpecialDevice"):
         from mlctool.targetapi import simulation
 
         return getattr(simulation, name)

@@ -37,6 +37,23 @@ class SpecialDevice:
 
 
 @dataclass(frozen=True)
+class ModelKind:
+    """A device model the target brings (a stimulus `model KIND ...` line), beside the generic
+    ones of mlctool/devices/: the NC5's virtual NC.
+
+    kind: the stimulus' KIND word.
+    model: "module:Class" of its DeviceModel (mlctool/devices/base.py), imported when a
+      stimulus names the kind.
+    signals: signal -> (view, meaning), as sim/signals.py KINDS: the names it publishes
+      (`NC1.X.pos`), known as soon as the target is.
+    """
+
+    kind: str
+    model: str
+    signals: Mapping[str, tuple[str, str]]
+
+
+@dataclass(frozen=True)
 class Simulation:
     """actions: op -> routine(m, s) for the target's own ops (instructions.toml `op`), taking
       precedence over the engine's generic routine of the same op. The compiled engine inlines
@@ -56,6 +73,7 @@ class Simulation:
       (`before_scan(simulation, k, events)`), reads its `outputs`, and `reset()`s it on a
       power cycle.
     special_devices: see SpecialDevice.
+    models: see ModelKind.
     """
 
     actions: Mapping[str, Callable] = field(default_factory=lambda: MappingProxyType({}))
@@ -66,6 +84,7 @@ class Simulation:
     load_table: Callable | None = None
     interrupts: Callable | None = None
     special_devices: tuple[SpecialDevice, ...] = ()
+    models: tuple[ModelKind, ...] = ()
 
 
 NO_SIMULATION = Simulation()

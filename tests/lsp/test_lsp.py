@@ -556,7 +556,7 @@ async def test_stimulus_completion_and_hover(client: LanguageClient, project: Pa
     assert "S" not in await labels(last, 3) and "A" in await labels(last, 3)  # NC5's devices, not the VS's
     assert await labels(last, 0) == {"scan", "run", "model", "port"}
     await _show(client, uri, text.replace("4s \n", "model \n"))
-    assert await labels(last, 6) == {"conveyor", "stepper", "vsplc", "xc100"}
+    assert await labels(last, 6) == {"conveyor", "nc5", "stepper", "vsplc", "xc100"}  # nc5: the target's own
     await _show(client, uri, text)
     line = _line_of(text, "1s      expect")
     h = await client.text_document_hover_async(lsp.HoverParams(lsp.TextDocumentIdentifier(uri), lsp.Position(line, 9)))

@@ -1,13 +1,14 @@
 """Delta NC5 MLC: everything about this controller.
 
-Belongs here: its manual tables (target.toml, devices.toml, instructions.toml). Its
-instructions are all covered by the engine's generic routines (mlctool/sim/semantics.py), so
-it declares no Simulation of its own. Does not belong here: the engine, plant models
-(mlctool/devices/: the XC100 axis controller it talks to).
+Belongs here: its manual tables (target.toml, devices.toml, instructions.toml) and its NC
+side, the virtual CNC a stimulus starts with `model nc5 ...` (nc/, given to the simulator by
+simulation.py). Its instructions are all covered by the engine's generic routines
+(mlctool/sim/semantics.py). Does not belong here: the engine, plant models (mlctool/devices/:
+the XC100 axis controller it talks to).
 """
 
 from pathlib import Path
 
 from mlctool.targetapi.registry import TargetPackage
 
-TARGET = TargetPackage("nc5", Path(__file__).parent)
+TARGET = TargetPackage("nc5", Path(__file__).parent, "mlctool.targets.nc5.simulation:SIMULATION")

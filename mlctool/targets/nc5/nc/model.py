@@ -1,0 +1,695 @@
+"""The virtual NC: one channel of the NC5's CNC side as an `mlc sim` device model.
+
+    model nc5 [channel=1] [axes=X,Y,Z] [program=part.nc] [name=NC1] [start=0,0,0]
+              [feedback=4ms] [rapid=10000] [feed_max=10000] [jog_max=2000] [home_speed=3000]
+              [spindle_max=6000] [spindle_ramp=1s] [at_speed=100] [zero_speed=100]
+              [orient_at=0] [orient_time=300ms] [tools=16] [first_tool=1] [standby_pot=1]
+              [magazine=1] [reset_spindle=1] [mpg=D100] [soft1_x=LO:HI] [soft2_x=LO:HI]
+              [hard_x=LO:HI] ...
+
+Each step (before every scan, on the simulator's clock) it reads the MLC -> NC relays and
+registers the previous scan left (addresses.py: M2c..., D2c...) and writes the NC -> MLC ones
+(M3c..., D3c..., D49c..) for the coming scan: modes (5.3.1, 6.1), the part program (5.3.2, 6.2),
+the M/S/T handshake (5.3.10, 6.8), axes (5.3.3-5.3.6, 6.3-6.7, 6.9), the first spindle (5.3.13,
+6.10, 6.11), tool magazine 1 (5.3.14, 6.13), part counters and machining times (5.3.15). What
+the manual does not give (speeds, ramps, travel) is a parameter; docs/nc5.md has the table and
+every decision. Its own state is published as signals (published.py): NC1.mode, NC1.X.pos ...
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+from mlctool.devices.base import DeviceModel, ModelInputError, ModelIO, ParamError
+from mlctool.diagnostics import Span, diag
+from mlctool.fileio import read_input
+from mlctool.sim.state import DeviceView, parse_signal_name
+from mlctool.sim.stimulus import StimError, parse_time
+from mlctool.targetapi.model import Target
+from mlctool.targets.nc5.nc import addresses as A
+from mlctool.targets.nc5.nc.program import MAX_BYTES, Block, PartProgram, parse
+
+AUTO, EDIT, MDI, MPG, JOG, RAPID, INC, HOME = range(8)  # D2x000 values (5.2.2, 6.1)
+IDLE, RUNNING, HOLD, BLOCK_STOP, MST_WAIT, PROGRAM_STOP, END, ALARM = range(8)  # published.STATES
+SOFT_LIMIT, HARD_LIMIT, NO_MAGAZINE = 1, 2, 3  # published.ALARMS
+
+# (key, default, lo, hi, unit): numeric parameters; docs/nc5.md "Parameters" is this table
+NUMBERS = (
+    ("rapid", 10000, 1, 999999, "mm/min"),  # N1.030 / N2.020 at 100 %
+    ("feed_max", 10000, 1, 999999, "mm/min"),  # N1.033
+    ("jog_max", 2000, 1, 999999, "mm/min"),  # N2.030 at D2x006 = 100
+    ("home_speed", 3000, 1, 999999, "mm/min"),  # N2.053
+    ("spindle_max", 6000, 1, 999999, "rpm"),  # N0.1008
+    ("at_speed", 100, 0, 999999, "rpm"),  # N0.1018 (6.10's example value)
+    ("zero_speed", 100, 0, 999999, "rpm"),  # N0.1017 (6.10's example value)
+    ("orient_at", 0, 0, 35999, "0.01 deg"),  # N0.1013
+    ("tools", 16, 1, 999, "pots"),  # N0.1402
+    ("first_tool", 1, 1, 9999, "tool"),  # N0.1403
+    ("standby_pot", 1, 1, 999, "pot"),  # N0.1404
+    ("magazine", 1, 0, 1, ""),  # N0.1400: magazine 1 on
+    ("reset_spindle", 1, 0, 1, ""),  # N0.1400: spindle tool after a reset: 0, or the highest + 1
+)
+TIMES = (("feedback", "4ms"), ("spindle_ramp", "1s"), ("orient_time", "300ms"))  # (key, default)
+MAX_TIME_US = 60_000_000
+
+
+def _s16(v: int) -> int:
+    return v - 0x10000 if v & 0x8000 else v
+
+
+def _s32(lo: int, hi: int) -> int:
+    v = lo | hi << 16
+    return v - 0x100000000 if v & 0x80000000 else v
+
+
+class Axis:
+    __slots__ = ("letter", "offset", "pos", "speed", "homed", "home_done", "homing", "inc_target",
+                 "soft1", "soft2", "hard", "last_plus", "last_minus", "last_home")
+
+    def __init__(self, letter: str, pos: int):
+        self.letter = letter
+        self.offset = A.AXIS_ORDER.index(letter)  # per-axis rows: X +0 ... W +8 (5.2.1)
+        self.pos = pos  # machine position, 0.001 mm
+        self.speed = 0  # mm/min over the last step, signed
+        self.homed = False  # M3x320: ever homed since power-up
+        self.home_done = False  # M3x336: homed, not moved by hand or program since
+        self.homing = False
+        self.inc_target: int | None = None
+        self.soft1: tuple[int, int] | None = None
+        self.soft2: tuple[int, int] | None = None
+        self.hard: tuple[int, int] | None = None
+        self.last_plus = self.last_minus = self.last_home = 0
+
+
+class NcModel(DeviceModel):
+    kind = "nc5"
+
+    @classmethod
+    def build(cls, params: dict[str, str], target: Target, folder: str) -> NcModel:
+        model = cls(params, target)
+        if "program" in params:
+            model.load_program(os.path.join(folder, params["program"]))
+        return model
+
+    def __init__(self, params: dict[str, str], target: Target):
+        super().__init__(params, target)
+        self.channel = self._int("channel", "1", 1, 8)
+        axes = self._param("axes", "X,Y,Z").upper().replace(" ", "")
+        letters = axes.split(",")
+        if any(a not in A.AXIS_ORDER or len(a) != 1 for a in letters) or len(set(letters)) != len(letters):
+            raise ParamError("axes", f"axes takes distinct letters of {','.join(A.AXIS_ORDER)} "
+                                     f"(the 5.2.1 axis rows), not {axes!r}")
+        self.letters = "".join(letters)
+        self.num = {key: self._int(key, str(default), lo, hi) for key, default, lo, hi, _ in NUMBERS}
+        self.times = {key: self._time(key, default) for key, default in TIMES}
+        starts = self._param("start", ",".join("0" for _ in letters)).split(",")
+        if len(starts) != len(letters):
+            raise ParamError("start", f"start takes one position (mm) per axis ({axes}), not {len(starts)}")
+        self.axes = [Axis(a, self._mm("start", v)) for a, v in zip(letters, starts)]
+        for ax in self.axes:
+            for kind in ("soft1", "soft2", "hard"):
+                key = f"{kind}_{ax.letter.lower()}"
+                if key in params:
+                    setattr(ax, kind, self._range(key))
+        self.mpg = self.device("mpg") if "mpg" in params else None
+        if self.mpg is not None and self.mpg.view != "w":
+            raise ParamError("mpg", "mpg takes a data register such as D100 (the handwheel's pulse count)")
+        self.used.add("program")  # read by build, against the stimulus' folder
+        text = self._param("name", f"NC{self.channel}")
+        if not text[:1].isalpha() or not text.replace("_", "").isalnum():
+            raise ParamError("name", f"name takes a letter then letters, digits or _ (e.g. NC1), not {text!r}")
+        self.name = text.upper()
+        if self.num["first_tool"] + self.num["tools"] > 32767:
+            raise ParamError("tools", "first_tool + tools must stay below 32768 (the tool registers are 16-bit)")
+        if self.num["standby_pot"] > self.num["tools"]:
+            raise ParamError("standby_pot", f"standby_pot takes 1-{self.num['tools']} (the pots of tools=)")
+        self.check_unused()
+        self.program = PartProgram("", [])
+        self.path = ""
+        self._addresses()
+        self._power_on()
+
+    # -- parameters
+    def _int(self, key: str, default: str, lo: int, hi: int) -> int:
+        text = self._param(key, default)
+        if not text.isdigit() or not lo <= int(text) <= hi:
+            raise ParamError(key, f"{key} takes {lo}-{hi}, not {text!r}")
+        return int(text)
+
+    def _time(self, key: str, default: str) -> int:
+        text = self._param(key, default)
+        try:
+            us = parse_time(text)
+        except StimError as e:
+            raise ParamError(key, e.message) from None
+        if not 0 <= us <= MAX_TIME_US:
+            raise ParamError(key, f"{key} takes 0s-60s, not {text}")
+        return us
+
+    def _mm(self, key: str, text: str) -> int:
+        try:
+            v = float(text)
+        except ValueError:
+            raise ParamError(key, f"{key}: {text!r} is not a number of mm") from None
+        if not math.isfinite(v) or abs(v) > 99999.999:
+            raise ParamError(key, f"{key} takes -99999.999 to 99999.999 mm, not {text}")
+        return round(v * 1000)
+
+    def _range(self, key: str) -> tuple[int, int]:
+        lo, sep, hi = self._param(key, None).partition(":")
+        if not sep:
+            raise ParamError(key, f"{key} takes LO:HI in mm (e.g. -500:70)")
+        a, b = self._mm(key, lo), self._mm(key, hi)
+        if a > b:
+            raise ParamError(key, f"{key}: LO {lo} is above HI {hi}")
+        return a, b
+
+    def load_program(self, path: str) -> None:
+        """The part program (an input of the run: inputs()); its mistakes are diagnostics."""
+        self.path = path
+        try:
+            data = read_input(path, MAX_BYTES + 1)
+        except OSError as e:
+            raise ModelInputError([diag(path, Span.at(1), "E100", f"cannot read the part program: "
+                                                                 f"{e.strerror or e}")]) from None
+        if len(data) > MAX_BYTES:
+            raise ModelInputError([diag(path, Span.at(1), "E264", f"a part program of the model is at most "
+                                                                 f"{MAX_BYTES} bytes")])
+        try:
+            text = data.decode("utf-8-sig")
+        except UnicodeDecodeError as e:
+            raise ModelInputError([diag(path, Span.at(1), "E102", f"the part program is not UTF-8 "
+                                                                 f"(byte {e.start})")]) from None
+        self.program, diags = parse(path, text, self.letters)
+        if diags:
+            raise ModelInputError(diags)
+
+    def inputs(self) -> list[str]:
+        return [self.path] if self.path else []
+
+    def _addresses(self) -> None:
+        """The device numbers of this channel, once (addresses.number)."""
+        ch = self.channel
+        for key in dir(A):
+            entry = getattr(A, key)
+            if key.isupper() and isinstance(entry, tuple) and len(entry) == 3:
+                setattr(self, "a_" + key.lower(), A.number(entry, ch))
+
+    def _power_on(self) -> None:
+        self.last_t: int | None = None
+        self.mode = AUTO  # D2x000 = 0 at power-up: AUTO
+        self.mode_request = AUTO
+        self.mode_due: int | None = None
+        self.state = IDLE
+        self.hold_by_mode = False
+        self.alarm = 0
+        self.ptr = 0
+        self.phase = 0  # of the block at ptr: 0 start, 1 moving or dwelling, 2 M/S/T, 3 done
+        self.block_line = 0
+        self.absolute = True
+        self.motion = 0
+        self.feed = 0  # 0.001 mm/min, modal F
+        self.move: tuple | None = None  # (start, end, length, rapid) of the block's motion
+        self.travelled = 0.0
+        self.dwell_left = 0
+        self.strobes_up = False
+        self.ends = (0, 0, 0)  # M3x021, M3x022, M3x023
+        self.s_code = 0
+        self.path_speed = 0
+        self.spindle_rpm = 0.0
+        self.spindle_target = 0
+        self.angle_udeg = 0  # 10^-6 deg
+        self.oriented = False
+        self.orient_left = -1
+        self.last = {}  # previous levels of the edge-triggered relays
+        self.mpg_count: int | None = None
+        self.cycle_us = self.total_us = 0
+        self.estop = False
+        self.reset_seen = False
+        self.parts_done_add = False
+        self.command = 0
+        self._magazine_reset()
+
+    # -- the magazine (5.3.14, 6.13)
+    def _magazine_reset(self) -> None:
+        n, first = self.num["tools"], self.num["first_tool"]
+        self.pots = [first + i for i in range(n)]  # pot k+1 holds first + k (6.13 reset)
+        # DECISION (notes #28): N0.1400 is two parameters here: magazine= (on/off) and
+        # reset_spindle= (spindle tool after a reset: 0, or the highest tool + 1, 6.13's example)
+        self.spindle_tool = first + n if self.num["reset_spindle"] else 0
+        # DECISION (notes #29): the standby pot after a reset is N0.1404 (standby_pot=), its
+        # tool whatever the pot holds; no T code has been read since (D3x037 = 0)
+        self.standby = self.num["standby_pot"]
+        self.standby_t = 0
+        self.command_t = 0
+
+    def _pot_steps(self) -> int:
+        """D3x039: command pot - standby pot the short way round, in (-n/2, n/2] (6.13: "最高差值
+        為±8" of 16 pots). DECISION (notes #30): the sign of 5.2.1 (forward: D3x039 - 1)."""
+        if self.command_t not in self.pots:
+            return 0
+        n = len(self.pots)
+        d = (self.pots.index(self.command_t) + 1 - self.standby) % n
+        return d - n if d > n // 2 else d
+
+    # -- simulation
+    def devices(self) -> list[DeviceView]:
+        names = ["mode", "state", "block", "alarm", "feed"]
+        names += [f"{a.letter}.{s}" for a in self.axes for s in ("pos", "speed")]
+        names += ["spindle.rpm", "spindle.cmd", "spindle.angle", "spindle.gear"]
+        return [parse_signal_name(f"{self.name}.{s}") for s in names] + \
+            ([self.mpg] if self.mpg is not None else [])
+
+    def step(self, io: ModelIO, t_us: int, period_us: int) -> None:
+        mb, dw = io.memory("M"), io.memory("D")
+        dt = 0 if self.last_t is None else t_us - self.last_t
+        changed_at = t_us if self.last_t is None else self.last_t  # when the last scan wrote
+        self.last_t = t_us
+        self._mode(dw, t_us, changed_at)
+        self._emergency_and_reset(mb)
+        before = [a.pos for a in self.axes]
+        servo = bool(mb[self.a_servo_on]) and not self.estop
+        moving_ok = [servo and not mb[self.a_axis_servo_off + a.offset] for a in self.axes]
+        if not self.estop and not mb[self.a_nc_reset]:
+            self._program(mb, dw, dt, moving_ok)
+            self._manual(mb, dw, dt, moving_ok)
+        self._spindle(mb, dw, dt)
+        self._magazine(mb)
+        self._outputs(mb, dw, dt, before, moving_ok)
+        self._publish(io, dw)
+
+    def _mode(self, dw, t_us: int, changed_at: int) -> None:
+        """5.3.1 / 6.1: D2x000 selects the mode; the feedback M3x000-M3x007 follows "約 4 ms"
+        after the value changed (feedback=). A value outside 0-7 selects nothing."""
+        want = _s16(dw[self.a_mode])
+        if want != self.mode_request:
+            self.mode_request = want
+            self.mode_due = changed_at + self.times["feedback"] if 0 <= want <= 7 and want != self.mode else None
+        if self.mode_due is not None and t_us >= self.mode_due:
+            self.mode, self.mode_due = self.mode_request, None
+            if self.state in (RUNNING, MST_WAIT) and self.mode not in (AUTO, MDI):
+                # 6.2 (e): a mode change ends "程序執行中"; the program waits at its block
+                self.state, self.hold_by_mode = HOLD, True
+            for ax in self.axes:  # a manual move stops with its mode
+                ax.homing, ax.inc_target = False, None
+
+    def _emergency_and_reset(self, mb) -> None:
+        """M2x013 emergency stop (M3x018) and M2x004 NC reset (M3x019 On while it is held, from
+        the step after; DECISION: the completion is level, back Off with M2x004)."""
+        self.estop = bool(mb[self.a_emergency_stop])
+        resetting = self.estop or mb[self.a_nc_reset]
+        if resetting:
+            self._reset()
+        mb[self.a_reset_done] = 1 if mb[self.a_nc_reset] and self.reset_seen else 0
+        self.reset_seen = bool(mb[self.a_nc_reset])
+
+    def _reset(self) -> None:
+        self.state, self.hold_by_mode, self.alarm = IDLE, False, 0
+        self.ptr, self.phase, self.move, self.dwell_left = 0, 0, None, 0
+        self.strobes_up = False
+        self.ends = (0, 0, 0)
+        self.path_speed = 0
+        for ax in self.axes:
+            ax.homing, ax.inc_target = False, None
+
+    # -- the part program (5.3.2, 6.2, 5.3.10, 6.8)
+    def _edge(self, mb, address: int) -> bool:
+        now = mb[address]
+        was = self.last.get(address, 0)
+        self.last[address] = now
+        return bool(now and not was)
+
+    def _program(self, mb, dw, dt: int, moving_ok: list[bool]) -> None:
+        start = self._edge(mb, self.a_cycle_start)
+        if mb[self.a_feed_hold] and self.state in (RUNNING, MST_WAIT) and self.phase == 1:
+            self.state, self.hold_by_mode = HOLD, False  # 6.2: stops at once, keeps the coordinates
+        elif start and self.mode in (AUTO, MDI) and not mb[self.a_feed_hold] and self.state != ALARM:
+            if self.state in (IDLE, END):
+                self.ptr, self.phase, self.ends, self.cycle_us = 0, 0, (0, 0, 0), 0
+                self.state = RUNNING
+            elif self.state in (HOLD, BLOCK_STOP, PROGRAM_STOP):
+                self.state, self.hold_by_mode = (MST_WAIT if self.phase == 2 else RUNNING), False
+        if self.state in (RUNNING, MST_WAIT):
+            self._run(mb, dw, dt, moving_ok)
+        else:
+            self.path_speed = 0
+
+    def _run(self, mb, dw, budget: int, moving_ok: list[bool]) -> None:
+        blocks = self.program.blocks
+        for _ in range(len(blocks) + 2):  # zero-time blocks: at most the program once per step
+            if self.ptr >= len(blocks):
+                self.state, self.ends = END, (1, self.ends[1], self.ends[2])  # 6.2 (d): no more program
+                self.ptr, self.phase = 0, 0
+                return
+            block = blocks[self.ptr]
+            if self.phase == 0:
+                if block.skippable and mb[self.a_block_skip]:
+                    self.ptr += 1
+                    continue
+                self.block_line = block.line
+                if not self._begin(block):
+                    return
+                self.phase = 1
+            if self.phase == 1:
+                budget = self._advance(mb, dw, budget, moving_ok)
+                if budget < 0:
+                    return
+                self.phase = 2
+            if self.phase == 2:
+                if not self._handshake(mb, dw, block):
+                    if self.state != ALARM:
+                        self.state = MST_WAIT
+                    return
+                self.state = RUNNING
+                self.phase = 3
+            self.phase, self.ptr = 0, self.ptr + 1
+            if self._control(mb, block):
+                return
+            if mb[self.a_single_block]:
+                self.state = BLOCK_STOP  # 6.2: stops after the block, M3x024
+                return
+        self.path_speed = 0
+
+    def _begin(self, block: Block) -> bool:
+        """The block's modal words and its motion; False when a soft limit stops the program."""
+        if block.absolute is not None:
+            self.absolute = block.absolute
+        if block.motion is not None:
+            self.motion = block.motion
+        if block.feed is not None:
+            self.feed = block.feed
+        self.move, self.travelled, self.dwell_left = None, 0.0, block.dwell_us or 0
+        if block.axes:
+            start = [a.pos for a in self.axes]
+            end = list(start)
+            for i, ax in enumerate(self.axes):
+                if ax.letter in block.axes:
+                    v = block.axes[ax.letter]
+                    end[i] = v if self.absolute else start[i] + v
+            for i, ax in enumerate(self.axes):
+                limit = self._soft_limit(ax)
+                if limit is not None and end[i] != start[i] and not limit[0] <= end[i] <= limit[1]:
+                    self.state, self.alarm = ALARM, SOFT_LIMIT  # checked before the move (6.9)
+                    return False
+            length = math.sqrt(sum((e - s) ** 2 for s, e in zip(start, end)))
+            if length > 0:
+                self.move = (start, end, length, self.motion == 0)
+        return True
+
+    def _soft_limit(self, ax: Axis) -> tuple[int, int] | None:
+        """6.9: the first soft limit, or the second while its release (M2x368+) is On; only once
+        the axis is homed (incremental motors)."""
+        if not ax.homed:
+            return None
+        return ax.soft2 if self.last.get(("soft", ax.offset)) else ax.soft1
+
+    def _advance(self, mb, dw, budget: int, moving_ok: list[bool]) -> int:
+        """Move or dwell for `budget` us; the time left over when the block's motion ends, -1
+        while it goes on."""
+        if self.dwell_left > 0:
+            used = min(budget, self.dwell_left)
+            self.dwell_left -= used
+            return budget - used if self.dwell_left == 0 else -1
+        if self.move is None:
+            return budget
+        start, end, length, rapid = self.move
+        speed = self._path_speed(mb, dw, rapid)  # 0.001 mm/min
+        movers = [i for i, (s, e) in enumerate(zip(start, end)) if s != e]
+        if speed <= 0 or not all(moving_ok[i] for i in movers) or self._hard_stopped(mb):
+            self.path_speed = 0
+            return -1
+        self.path_speed = speed // 1000
+        rate = speed / 60e6  # 0.001 mm per us
+        need = (length - self.travelled) / rate
+        used = budget if need > budget else math.ceil(need)
+        self.travelled = min(length, self.travelled + rate * used)
+        f = self.travelled / length
+        for i in movers:
+            if not mb[self.a_axis_lock + self.axes[i].offset]:  # a locked axis stays (6.4)
+                self.axes[i].pos = round(start[i] + (end[i] - start[i]) * f)
+                self.axes[i].home_done = False  # 6.7 (b): machining moves the axis
+        if self._hit_hard_limit(mb):
+            self.state = ALARM
+            return -1
+        return budget - used if self.travelled >= length else -1
+
+    def _path_speed(self, mb, dw, rapid: bool) -> int:
+        """6.2 / 6.6: G01 at F x D2x002 (0-150 %, DECISION notes #8: the register read 0-65535
+        and limited to 150) up to feed_max; dry run (M2x005) takes D2x006 as the F (DECISION
+        notes #9: in mm/min, 5.2.2's example "F50"); G00 at rapid x D2x004 (0-100 %)."""
+        if rapid:
+            return self.num["rapid"] * 1000 * min(max(_s16(dw[self.a_rapid_override]), 0), 100) // 100
+        feed = dw[self.a_jog_speed] * 1000 if mb[self.a_dry_run] else self.feed
+        speed = feed * min(dw[self.a_feed_override], 150) // 100
+        return min(speed, self.num["feed_max"] * 1000)
+
+    def _handshake(self, mb, dw, block: Block) -> bool:
+        """5.3.10 / 6.8: the block's M, S and T codes raise their flags together with their
+        registers, once M2x016 is Off (DECISION: the finish signal must drop between two codes,
+        else a held finish would pass the next code unseen); the NC waits for M2x016 On, then
+        drops the flags and goes on."""
+        m = block.m if block.m is not None and block.m not in (0, 1, 2, 30) else None
+        t = block.t
+        if t is not None and self.strobes_up is False:
+            if not self.num["magazine"]:
+                self.state, self.alarm = ALARM, NO_MAGAZINE  # 6.8: an alarm, D3x052 not written
+                return False
+            first = self.num["first_tool"]
+            if not first <= t < first + self.num["tools"]:
+                t = None  # 6.8: outside N0.1402's tools the T code is not shown, no flag
+        if m is None and block.s is None and t is None:
+            return True
+        if not self.strobes_up:
+            if mb[self.a_mst_finish]:
+                return False
+            if m is not None:
+                dw[self.a_m_code] = m
+                mb[self.a_m_strobe] = 1
+            if block.s is not None:
+                self.s_code = block.s
+                dw[self.a_s_code], dw[self.a_s_code + 1] = block.s & 0xFFFF, block.s >> 16
+                mb[self.a_s_strobe] = 1
+            if t is not None:
+                dw[self.a_t_code] = t
+                self.standby_t = self.command_t = t  # 6.13: D3x037 the latest T, D3x039 its way
+                mb[self.a_t_strobe] = 1
+            self.strobes_up = True
+            return False
+        if not mb[self.a_mst_finish]:
+            return False
+        mb[self.a_m_strobe] = mb[self.a_s_strobe] = mb[self.a_t_strobe] = 0
+        self.strobes_up = False
+        return True
+
+    def _control(self, mb, block: Block) -> bool:
+        """M00, M01 (with M2x009), M02, M30 after the block; True when the program stops.
+        DECISION (notes #33): an M00 or M01 stop drops M3x016 and leaves M3x017 Off (that is the
+        feed hold's); M02 and M30 both go back to the first block (M30's 回頭; after M02 there
+        is nothing else to run)."""
+        m = block.m
+        if m == 0 or (m == 1 and mb[self.a_optional_stop]):
+            self.state = PROGRAM_STOP
+            return True
+        if m in (2, 30):
+            self.state, self.ptr = END, 0
+            self.ends = (1, 1 if m == 2 else self.ends[1], 1 if m == 30 else self.ends[2])
+            self.parts_done_add = True
+            return True
+        return False
+
+    # -- limits (6.9)
+    def _hard_stopped(self, mb) -> bool:
+        return self.alarm == HARD_LIMIT and not mb[self.a_hard_limit_release]
+
+    def _hit_hard_limit(self, mb) -> bool:
+        """An axis past its hardware limit switch (hard_x=) stops everything with an alarm,
+        unless M2x007 releases the limits (6.9: "將暫時無視硬體極限訊號")."""
+        if mb[self.a_hard_limit_release]:
+            return False
+        for ax in self.axes:
+            if ax.hard is not None and not ax.hard[0] <= ax.pos <= ax.hard[1]:
+                ax.pos = min(max(ax.pos, ax.hard[0]), ax.hard[1])
+                self.alarm = HARD_LIMIT
+                return True
+        return False
+
+    # -- manual modes (5.3.4-5.3.6, 6.3-6.7)
+    def _manual(self, mb, dw, dt: int, moving_ok: list[bool]) -> None:
+        mode = self.mode
+        for i, ax in enumerate(self.axes):
+            o = ax.offset
+            self.last[("soft", o)] = mb[self.a_soft_limit_release + o]
+            plus, minus = mb[self.a_jog_plus + o], mb[self.a_jog_minus + o]
+            plus_edge, minus_edge = plus and not ax.last_plus, minus and not ax.last_minus
+            ax.last_plus, ax.last_minus = plus, minus
+            home = mb[self.a_home_start + o]
+            home_edge, ax.last_home = home and not ax.last_home, home
+            ok = moving_ok[i]
+            if not ok or mb[self.a_axis_lock + o] or self._hard_stopped(mb) or dt == 0:
+                if not ok:
+                    ax.homing, ax.inc_target = False, None
+                continue
+            if mode in (JOG, RAPID) and plus != minus:
+                speed = self._jog_speed(dw) if mode == JOG else \
+                    self.num["rapid"] * 1000 * min(max(_s16(dw[self.a_rapid_override]), 0), 100) // 100
+                self._move_by(mb, ax, (1 if plus else -1) * speed * dt // 60_000_000)
+            elif mode == INC:
+                if ax.inc_target is None and (plus_edge or minus_edge) and plus != minus:
+                    amount = _s32(dw[self.a_inc_amount], dw[self.a_inc_amount + 1])  # x 0.001 mm (N1.001)
+                    ax.inc_target = ax.pos + (amount if plus else -amount)
+                if ax.inc_target is not None:
+                    step = self._jog_speed(dw) * dt // 60_000_000
+                    left = ax.inc_target - ax.pos
+                    self._move_by(mb, ax, max(-step, min(step, left)))
+                    if ax.pos == ax.inc_target or self.alarm == HARD_LIMIT:
+                        ax.inc_target = None
+            elif mode == HOME:
+                if home_edge:
+                    ax.homing = True
+                if ax.homing:
+                    step = self.num["home_speed"] * 1000 * dt // 60_000_000
+                    ax.pos += max(-step, min(step, -ax.pos))
+                    if ax.pos == 0:  # the origin: machine coordinate 0 (6.7)
+                        ax.homing, ax.homed, ax.home_done = False, True, True
+        if mode == MPG and self.mpg is not None:
+            self._handwheel(mb, dw)
+
+    def _jog_speed(self, dw) -> int:
+        """6.4: jog at N2.030 (jog_max) x D2x006 %. DECISION (notes #9): in JOG/INC D2x006 is a
+        percentage, limited to 100 ("系統內部僅支援 0 ~ 100")."""
+        return self.num["jog_max"] * 1000 * min(dw[self.a_jog_speed], 100) // 100
+
+    def _move_by(self, mb, ax: Axis, delta: int) -> None:
+        if delta == 0:
+            return
+        target = ax.pos + delta
+        limit = self._soft_limit(ax)
+        if limit is not None:  # a manual move stops at the soft limit
+            target = min(max(target, min(ax.pos, limit[0])), max(ax.pos, limit[1]))
+        ax.pos = target
+        ax.home_done = False  # 6.7 (a): moved by hand
+        if ax.hard is not None and not ax.hard[0] <= ax.pos <= ax.hard[1] and not mb[self.a_hard_limit_release]:
+            ax.pos = min(max(ax.pos, ax.hard[0]), ax.hard[1])
+            self.alarm = HARD_LIMIT
+            ax.inc_target = None
+
+    def _handwheel(self, mb, dw) -> None:
+        """6.3: each pulse moves the axis D2x008 (0 = X, 1 = Y ... the 5.2.1 axis order) by
+        0.001 mm x D2x009. The pulses are the count in the mpg= register (the stimulus turns
+        the wheel: `100ms D100=25`), 16-bit, wrapping."""
+        count = dw[self.mpg.number]
+        if self.mpg_count is None:
+            self.mpg_count = count
+        pulses = _s16((count - self.mpg_count) & 0xFFFF)
+        self.mpg_count = count
+        offset = dw[self.a_mpg_axis]
+        for ax in self.axes:
+            if ax.offset == offset and pulses:
+                self._move_by(mb, ax, pulses * min(dw[self.a_mpg_scale], 1000))
+
+    # -- the first spindle (5.3.13, 6.10, 6.11)
+    def _spindle(self, mb, dw, dt: int) -> None:
+        fwd, rev = mb[self.a_spindle_forward], mb[self.a_spindle_reverse]
+        orient = mb[self.a_spindle_orient]
+        command = _s32(dw[self.a_spindle_speed], dw[self.a_spindle_speed + 1]) if mb[self.a_spindle_source] \
+            else self.s_code
+        command = max(command, 0)
+        self.command = command
+        target = min(command * min(dw[self.a_spindle_override], 120) // 100, self.num["spindle_max"])
+        direction = 0 if orient or fwd == rev or self.estop else (1 if fwd else -1)
+        self.spindle_target = direction * target
+        ramp = self.times["spindle_ramp"]
+        before = self.spindle_rpm
+        if ramp == 0:
+            self.spindle_rpm = float(self.spindle_target)
+        elif dt:
+            step = self.num["spindle_max"] * dt / ramp
+            gap = self.spindle_target - self.spindle_rpm
+            self.spindle_rpm += max(-step, min(step, gap))
+        self.angle_udeg = (self.angle_udeg + round((before + self.spindle_rpm) * 3 * dt)) % 360_000_000
+        if self.spindle_rpm != 0:
+            self.oriented, self.orient_left = False, -1
+        if orient and not self.oriented and abs(self.spindle_rpm) <= self.num["zero_speed"]:
+            if self.orient_left < 0:
+                self.orient_left = self.times["orient_time"]
+                self.spindle_rpm = 0.0
+            self.orient_left -= dt
+            if self.orient_left <= 0:
+                self.angle_udeg, self.oriented = self.num["orient_at"] * 10_000, True
+        if not orient:
+            self.oriented, self.orient_left = False, -1
+
+    # -- tool magazine 1 (5.3.14, 6.13)
+    def _magazine(self, mb) -> None:
+        n = len(self.pots)
+        if self._edge(mb, self.a_magazine_reset):
+            self._magazine_reset()
+        if self._edge(mb, self.a_magazine_forward):
+            self.standby = self.standby % n + 1  # 6.13: max -> 1
+        if self._edge(mb, self.a_magazine_reverse):
+            self.standby = (self.standby - 2) % n + 1  # DECISION (notes #27): reverse, 1 -> max
+        if self._edge(mb, self.a_tool_exchange):
+            k = self.standby - 1
+            self.spindle_tool, self.pots[k] = self.pots[k], self.spindle_tool
+
+    # -- outputs
+    def _outputs(self, mb, dw, dt: int, before: list[int], moving_ok: list[bool]) -> None:
+        for k in range(8):
+            mb[self.a_mode_feedback + k] = 1 if k == self.mode else 0
+        state = self.state
+        running = state in (RUNNING, MST_WAIT) or (state == HOLD and not self.hold_by_mode)
+        mb[self.a_running] = 1 if running else 0
+        mb[self.a_paused] = 1 if state == HOLD else 0
+        mb[self.a_block_stopped] = 1 if state == BLOCK_STOP else 0
+        mb[self.a_estop_state] = 1 if self.estop else 0
+        mb[self.a_last_line], mb[self.a_m02_end], mb[self.a_m30_end] = self.ends
+        if not self.strobes_up:
+            mb[self.a_m_strobe] = mb[self.a_s_strobe] = mb[self.a_t_strobe] = 0
+        for i, ax in enumerate(self.axes):
+            o = ax.offset
+            delta = ax.pos - before[i]
+            ax.speed = delta * 60_000 // dt if dt else 0
+            mb[self.a_servo_state + o] = 1 if moving_ok[i] else 0
+            mb[self.a_homed + o] = 1 if ax.homed else 0
+            mb[self.a_home_done + o] = 1 if ax.home_done else 0
+            mb[self.a_at_origin + o] = 1 if ax.homed and ax.pos == 0 else 0
+            mb[self.a_moving + o] = 1 if delta else 0
+            mb[self.a_moving_plus + o] = 1 if delta > 0 else 0
+            mb[self.a_moving_minus + o] = 1 if delta < 0 else 0
+        rpm = round(self.spindle_rpm)
+        mb[self.a_spindle_at_speed] = 1 if abs(rpm - self.spindle_target) <= self.num["at_speed"] else 0
+        mb[self.a_spindle_zero_speed] = 1 if abs(rpm) <= self.num["zero_speed"] else 0
+        mb[self.a_spindle_oriented] = 1 if self.oriented else 0
+        # DECISION (notes #32): D3x026 is the ramped speed the NC commands at this moment (the
+        # "即時命令速度"), without its sign; D3x024 the command in force (S, or D2x024 with M2x710)
+        self._put32(dw, self.a_spindle_command, self.command)
+        self._put32(dw, self.a_spindle_actual, abs(rpm))
+        self._put32(dw, self.a_spindle_angle, self.angle_udeg // 10_000)  # 0.01 deg (N0.1013's unit)
+        dw[self.a_spindle_tool] = self.spindle_tool
+        dw[self.a_standby_t] = self.standby_t
+        dw[self.a_standby_pot] = self.standby
+        dw[self.a_pot_steps] = self._pot_steps() & 0xFFFF
+        if running:
+            self.cycle_us += dt
+            self.total_us += dt
+        if self.parts_done_add:  # 5.3.15: one part at each M02 / M30
+            self.parts_done_add = False
+            self._put32(dw, self.a_parts_done, _s32(dw[self.a_parts_done], dw[self.a_parts_done + 1]) + 1)
+        self._put32(dw, self.a_total_time, self.total_us // 1_000_000)
+        self._put32(dw, self.a_cycle_time, self.cycle_us // 1_000_000)
+
+    @staticmethod
+    def _put32(dw, n: int, v: int) -> None:
+        dw[n], dw[n + 1] = v & 0xFFFF, (v >> 16) & 0xFFFF
+
+    def _publish(self, io: ModelIO, dw) -> None:
+        values = {"mode": self.mode, "state": self.state, "block": self.block_line, "alarm": self.alarm,
+                  "feed": self.path_speed if self.state in (RUNNING, MST_WAIT) else 0,
+                  "spindle.rpm": round(self.spindle_rpm), "spindle.cmd": self.spindle_target,
+                  "spindle.angle": self.angle_udeg // 10_000, "spindle.gear": _s16(dw[self.a_spindle_gear])}
+        for ax in self.axes:
+            values[f"{ax.letter}.pos"] = ax.pos
+            values[f"{ax.letter}.speed"] = ax.speed
+        io.publish(self.name, values)
+
