@@ -70,7 +70,7 @@ def _no_color(monkeypatch):
 
 SIM_ENGINES = ("compiled", "interp")
 SIM_MODULES = ("test_sim", "test_vs_sim", "test_vs_samples", "test_fbs_sim", "test_fbs_mpg",
-               "test_fbs_pulse_window", "test_xc100_cosim")
+               "test_fbs_pulse_window", "test_xc100_cosim", "test_nc5_model")
 
 
 def pytest_generate_tests(metafunc):

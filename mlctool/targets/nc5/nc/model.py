@@ -228,6 +228,7 @@ class NcModel(DeviceModel):
         self.estop = False
         self.reset_seen = False
         self.parts_done_add = False
+        self.was_running = False
         self.command = 0
         self._magazine_reset()
 
@@ -271,6 +272,7 @@ class NcModel(DeviceModel):
         before = [a.pos for a in self.axes]
         servo = bool(mb[self.a_servo_on]) and not self.estop
         moving_ok = [servo and not mb[self.a_axis_servo_off + a.offset] for a in self.axes]
+        self.was_running = self.state in (RUNNING, MST_WAIT)
         if not self.estop and not mb[self.a_nc_reset]:
             self._program(mb, dw, dt, moving_ok)
             self._manual(mb, dw, dt, moving_ok)
@@ -670,7 +672,7 @@ class NcModel(DeviceModel):
         dw[self.a_standby_t] = self.standby_t
         dw[self.a_standby_pot] = self.standby
         dw[self.a_pot_steps] = self._pot_steps() & 0xFFFF
-        if running:
+        if running or self.was_running:  # the interval this step ran the program for
             self.cycle_us += dt
             self.total_us += dt
         if self.parts_done_add:  # 5.3.15: one part at each M02 / M30
