@@ -64,7 +64,7 @@ def _s32(lo: int, hi: int) -> int:
 
 
 class Axis:
-    __slots__ = ("letter", "offset", "pos", "speed", "homed", "home_done", "homing", "inc_target",
+    __slots__ = ("letter", "offset", "pos", "speed", "rest", "homed", "home_done", "homing", "inc_target",
                  "soft1", "soft2", "hard", "last_plus", "last_minus", "last_home")
 
     def __init__(self, letter: str, pos: int):
@@ -72,6 +72,7 @@ class Axis:
         self.offset = A.AXIS_ORDER.index(letter)  # per-axis rows: X +0 ... W +8 (5.2.1)
         self.pos = pos  # machine position, 0.001 mm
         self.speed = 0  # mm/min over the last step, signed
+        self.rest = 0  # what a manual move's steps left under 0.001 mm, x 60 000 000 (distance())
         self.homed = False  # M3x320: ever homed since power-up
         self.home_done = False  # M3x336: homed, not moved by hand or program since
         self.homing = False
@@ -535,13 +536,13 @@ class NcModel(DeviceModel):
             if mode in (JOG, RAPID) and plus != minus:
                 speed = self._jog_speed(dw) if mode == JOG else \
                     self.num["rapid"] * 1000 * min(max(_s16(dw[self.a_rapid_override]), 0), 100) // 100
-                self._move_by(mb, ax, (1 if plus else -1) * speed * dt // 60_000_000)
+                self._move_by(mb, ax, (1 if plus else -1) * self._distance(ax, speed, dt))
             elif mode == INC:
                 if ax.inc_target is None and (plus_edge or minus_edge) and plus != minus:
                     amount = _s32(dw[self.a_inc_amount], dw[self.a_inc_amount + 1])  # x 0.001 mm (N1.001)
                     ax.inc_target = ax.pos + (amount if plus else -amount)
                 if ax.inc_target is not None:
-                    step = self._jog_speed(dw) * dt // 60_000_000
+                    step = self._distance(ax, self._jog_speed(dw), dt)
                     left = ax.inc_target - ax.pos
                     self._move_by(mb, ax, max(-step, min(step, left)))
                     if ax.pos == ax.inc_target or self.alarm == HARD_LIMIT:
@@ -550,12 +551,20 @@ class NcModel(DeviceModel):
                 if home_edge:
                     ax.homing = True
                 if ax.homing:
-                    step = self.num["home_speed"] * 1000 * dt // 60_000_000
+                    step = self._distance(ax, self.num["home_speed"] * 1000, dt)
                     ax.pos += max(-step, min(step, -ax.pos))
                     if ax.pos == 0:  # the origin: machine coordinate 0 (6.7)
                         ax.homing, ax.homed, ax.home_done = False, True, True
         if mode == MPG and self.mpg is not None:
             self._handwheel(mb, dw)
+
+    @staticmethod
+    def _distance(ax: Axis, speed: int, dt: int) -> int:
+        """0.001 mm covered in `dt` us at `speed` 0.001 mm/min, what is under 0.001 mm carried
+        to the next step (so a step's truncation does not slow the axis)."""
+        total = speed * dt + ax.rest
+        ax.rest = total % 60_000_000
+        return total // 60_000_000
 
     def _jog_speed(self, dw) -> int:
         """6.4: jog at N2.030 (jog_max) x D2x006 %. DECISION (notes #9): in JOG/INC D2x006 is a
