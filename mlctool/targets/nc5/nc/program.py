@@ -113,7 +113,11 @@ def _block(no: int, raw: str, axes: str) -> Block | None:
         if pos < len(code) and code[pos] == ".":
             raise _Bad(col, pos - start + 1, "E260", f"{code[start:pos + 1]!r}: a number has one decimal point")
         if letter == "G":
-            gs.append((_integer(number, col, width, "G"), col))
+            g = _integer(number, col, width, "G")
+            if g not in SUPPORTED_G:
+                raise _Bad(col, width, "E261", f"G{g:02d} is not in the model's subset (G00 G01 G04 G17 G21 "
+                                               "G54-G59 G90 G91 G94; docs/nc5.md)")
+            gs.append((g, col))
             continue
         if letter in seen and letter != "T":
             raise _Bad(col, width, "E263", f"two {letter} words in one block (the model takes one; "
@@ -190,9 +194,6 @@ def _word(block: Block, letter: str, number: str, col: int, width: int, axes: st
 def _g_codes(block: Block, gs: list[tuple[int, int]]) -> None:
     groups: dict[str, int] = {}
     for g, col in gs:
-        if g not in SUPPORTED_G:
-            raise _Bad(col, 1, "E261", f"G{g:02d} is not in the model's subset (G00 G01 G04 G17 G21 "
-                                       "G54-G59 G90 G91 G94; docs/nc5.md)")
         group = "motion" if g in (0, 1, 4) else "distance" if g in (90, 91) else f"G{g}"
         if group in groups:
             raise _Bad(col, 1, "E263", f"G{g:02d} and another G code of its group in one block "
