@@ -46,6 +46,21 @@ class ModelIO:
         for signal, value in values.items():
             self._m.signals[(kind, signals.index(signal))] = int(value)
 
+    def publisher(self, model: str, names: list[str]):
+        """publish() for a model that publishes the same signals every step: put(values) stores
+        `values` (in the order of `names`) where they differ from the `last` values it is given."""
+        kind = SIGNAL + model
+        keys = [(kind, signals.index(s)) for s in names]
+
+        def put(values: list[int], last: list[int]) -> None:
+            store = self._m.signals
+            if len(last) != len(values):
+                last = [None] * len(values)
+            for key, v, old in zip(keys, values, last):
+                if v != old:
+                    store[key] = v
+        return put
+
     def set_pulse_mode(self, axis: int, mode: str) -> None:
         """The pulse output mode ("UD", "PR", "AB") of pulse axis `axis` for this run, over the
         project's setting; a target with pulse axes reads Machine.ext["pulse_modes"]."""

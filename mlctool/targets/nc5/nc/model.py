@@ -129,6 +129,7 @@ class NcModel(DeviceModel):
         self.program = PartProgram("", [])
         self.path = ""
         self._addresses()
+        self._output_addresses()
         self._power_on()
 
     # -- parameters
@@ -231,6 +232,11 @@ class NcModel(DeviceModel):
         self.parts_done_add = False
         self.was_running = False
         self.command = 0
+        self.magazine_relays = b""
+        self.out_bits: list[int] = []
+        self.out_words: list[int] = []
+        self.published: list[int] = []
+        self.publisher = None
         self._magazine_reset()
 
     # -- the magazine (5.3.14, 6.13)
@@ -265,6 +271,7 @@ class NcModel(DeviceModel):
 
     def step(self, io: ModelIO, t_us: int, period_us: int) -> None:
         mb, dw = io.memory("M"), io.memory("D")
+        self._mb = mb
         dt = 0 if self.last_t is None else t_us - self.last_t
         changed_at = t_us if self.last_t is None else self.last_t  # when the last scan wrote
         self.last_t = t_us
@@ -276,7 +283,8 @@ class NcModel(DeviceModel):
         self.was_running = self.state in (RUNNING, MST_WAIT)
         if not self.estop and not mb[self.a_nc_reset]:
             self._program(mb, dw, dt, moving_ok)
-            self._manual(mb, dw, dt, moving_ok)
+            if self.mode >= MPG:  # the manual modes (a mode change ends their moves)
+                self._manual(mb, dw, dt, moving_ok)
         self._spindle(mb, dw, dt)
         self._magazine(mb)
         self._outputs(mb, dw, dt, before, moving_ok)
@@ -310,6 +318,8 @@ class NcModel(DeviceModel):
     def _reset(self) -> None:
         self.state, self.hold_by_mode, self.alarm = IDLE, False, 0
         self.ptr, self.phase, self.move, self.dwell_left = 0, 0, None, 0
+        if self.strobes_up:
+            self._mb[self.a_m_strobe] = self._mb[self.a_s_strobe] = self._mb[self.a_t_strobe] = 0
         self.strobes_up = False
         self.ends = (0, 0, 0)
         self.path_speed = 0
@@ -405,7 +415,7 @@ class NcModel(DeviceModel):
         the axis is homed (incremental motors)."""
         if not ax.homed:
             return None
-        return ax.soft2 if self.last.get(("soft", ax.offset)) else ax.soft1
+        return ax.soft2 if self._mb[self.a_soft_limit_release + ax.offset] else ax.soft1
 
     def _advance(self, mb, dw, budget: int, moving_ok: list[bool]) -> int:
         """Move or dwell for `budget` us; the time left over when the block's motion ends, -1
@@ -522,7 +532,6 @@ class NcModel(DeviceModel):
         mode = self.mode
         for i, ax in enumerate(self.axes):
             o = ax.offset
-            self.last[("soft", o)] = mb[self.a_soft_limit_release + o]
             plus, minus = mb[self.a_jog_plus + o], mb[self.a_jog_minus + o]
             plus_edge, minus_edge = plus and not ax.last_plus, minus and not ax.last_minus
             ax.last_plus, ax.last_minus = plus, minus
@@ -633,6 +642,10 @@ class NcModel(DeviceModel):
 
     # -- tool magazine 1 (5.3.14, 6.13)
     def _magazine(self, mb) -> None:
+        relays = mb[self.a_magazine_forward:self.a_magazine_forward + 4]  # M2x064-M2x067
+        if relays == self.magazine_relays:
+            return
+        self.magazine_relays = relays
         n = len(self.pots)
         if self._edge(mb, self.a_magazine_reset):
             self._magazine_reset()
@@ -645,62 +658,81 @@ class NcModel(DeviceModel):
             self.spindle_tool, self.pots[k] = self.pots[k], self.spindle_tool
 
     # -- outputs
-    def _outputs(self, mb, dw, dt: int, before: list[int], moving_ok: list[bool]) -> None:
-        for k in range(8):
-            mb[self.a_mode_feedback + k] = 1 if k == self.mode else 0
-        state = self.state
-        running = state in (RUNNING, MST_WAIT) or (state == HOLD and not self.hold_by_mode)
-        mb[self.a_running] = 1 if running else 0
-        mb[self.a_paused] = 1 if state == HOLD else 0
-        mb[self.a_block_stopped] = 1 if state == BLOCK_STOP else 0
-        mb[self.a_estop_state] = 1 if self.estop else 0
-        mb[self.a_last_line], mb[self.a_m02_end], mb[self.a_m30_end] = self.ends
-        if not self.strobes_up:
-            mb[self.a_m_strobe] = mb[self.a_s_strobe] = mb[self.a_t_strobe] = 0
-        for i, ax in enumerate(self.axes):
+    def _output_addresses(self) -> None:
+        """The NC -> MLC relays and registers in the order _outputs computes them."""
+        bits = [self.a_mode_feedback + k for k in range(8)]
+        bits += [self.a_running, self.a_paused, self.a_block_stopped, self.a_estop_state,
+                 self.a_last_line, self.a_m02_end, self.a_m30_end]
+        for ax in self.axes:
             o = ax.offset
+            bits += [self.a_servo_state + o, self.a_homed + o, self.a_home_done + o, self.a_at_origin + o,
+                     self.a_moving + o, self.a_moving_plus + o, self.a_moving_minus + o]
+        bits += [self.a_spindle_at_speed, self.a_spindle_zero_speed, self.a_spindle_oriented]
+        self.bit_addresses = bits
+        words = []
+        for n in (self.a_spindle_command, self.a_spindle_actual, self.a_spindle_angle):
+            words += [n, n + 1]
+        words += [self.a_spindle_tool, self.a_standby_t, self.a_standby_pot, self.a_pot_steps]
+        for n in (self.a_total_time, self.a_cycle_time):
+            words += [n, n + 1]
+        self.word_addresses = words
+        self.signal_names = ["mode", "state", "block", "alarm", "feed", "spindle.rpm", "spindle.cmd",
+                             "spindle.angle", "spindle.gear"]
+        self.signal_names += [f"{a.letter}.{s}" for a in self.axes for s in ("pos", "speed")]
+
+    def _outputs(self, mb, dw, dt: int, before: list[int], moving_ok: list[bool]) -> None:
+        """Every NC -> MLC relay and register, written where its value changed (the MLC does
+        not write them: the checker says so)."""
+        state, mode = self.state, self.mode
+        running = state in (RUNNING, MST_WAIT) or (state == HOLD and not self.hold_by_mode)
+        bits = [1 if k == mode else 0 for k in range(8)]
+        bits += [running, state == HOLD, state == BLOCK_STOP, self.estop, *self.ends]
+        for i, ax in enumerate(self.axes):
             delta = ax.pos - before[i]
             ax.speed = delta * 60_000 // dt if dt else 0
-            mb[self.a_servo_state + o] = 1 if moving_ok[i] else 0
-            mb[self.a_homed + o] = 1 if ax.homed else 0
-            mb[self.a_home_done + o] = 1 if ax.home_done else 0
-            mb[self.a_at_origin + o] = 1 if ax.homed and ax.pos == 0 else 0
-            mb[self.a_moving + o] = 1 if delta else 0
-            mb[self.a_moving_plus + o] = 1 if delta > 0 else 0
-            mb[self.a_moving_minus + o] = 1 if delta < 0 else 0
+            bits += [moving_ok[i], ax.homed, ax.home_done, ax.homed and ax.pos == 0, delta != 0, delta > 0,
+                     delta < 0]
         rpm = round(self.spindle_rpm)
-        mb[self.a_spindle_at_speed] = 1 if abs(rpm - self.spindle_target) <= self.num["at_speed"] else 0
-        mb[self.a_spindle_zero_speed] = 1 if abs(rpm) <= self.num["zero_speed"] else 0
-        mb[self.a_spindle_oriented] = 1 if self.oriented else 0
-        # DECISION (notes #32): D3x026 is the ramped speed the NC commands at this moment (the
-        # "即時命令速度"), without its sign; D3x024 the command in force (S, or D2x024 with M2x710)
-        self._put32(dw, self.a_spindle_command, self.command)
-        self._put32(dw, self.a_spindle_actual, abs(rpm))
-        self._put32(dw, self.a_spindle_angle, self.angle_udeg // 10_000)  # 0.01 deg (N0.1013's unit)
-        dw[self.a_spindle_tool] = self.spindle_tool
-        dw[self.a_standby_t] = self.standby_t
-        dw[self.a_standby_pot] = self.standby
-        dw[self.a_pot_steps] = self._pot_steps() & 0xFFFF
+        bits += [abs(rpm - self.spindle_target) <= self.num["at_speed"], abs(rpm) <= self.num["zero_speed"],
+                 self.oriented]
+        if bits != self.out_bits:
+            for n, v, old in zip(self.bit_addresses, bits, self.out_bits or [None] * len(bits)):
+                if v != old:
+                    mb[n] = 1 if v else 0
+            self.out_bits = bits
         if running or self.was_running:  # the interval this step ran the program for
             self.cycle_us += dt
             self.total_us += dt
         if self.parts_done_add:  # 5.3.15: one part at each M02 / M30
             self.parts_done_add = False
             self._put32(dw, self.a_parts_done, _s32(dw[self.a_parts_done], dw[self.a_parts_done + 1]) + 1)
-        self._put32(dw, self.a_total_time, self.total_us // 1_000_000)
-        self._put32(dw, self.a_cycle_time, self.cycle_us // 1_000_000)
+        # DECISION (notes #32): D3x026 is the ramped speed the NC commands at this moment (the
+        # "即時命令速度"), without its sign; D3x024 the command in force (S, or D2x024 with M2x710)
+        words = []
+        for v in (self.command, abs(rpm), self.angle_udeg // 10_000):  # angle: 0.01 deg (N0.1013's unit)
+            words += [v & 0xFFFF, (v >> 16) & 0xFFFF]
+        words += [self.spindle_tool, self.standby_t, self.standby, self._pot_steps() & 0xFFFF]
+        for v in (self.total_us // 1_000_000, self.cycle_us // 1_000_000):
+            words += [v & 0xFFFF, (v >> 16) & 0xFFFF]
+        if words != self.out_words:
+            for n, v, old in zip(self.word_addresses, words, self.out_words or [None] * len(words)):
+                if v != old:
+                    dw[n] = v
+            self.out_words = words
 
     @staticmethod
     def _put32(dw, n: int, v: int) -> None:
         dw[n], dw[n + 1] = v & 0xFFFF, (v >> 16) & 0xFFFF
 
     def _publish(self, io: ModelIO, dw) -> None:
-        values = {"mode": self.mode, "state": self.state, "block": self.block_line, "alarm": self.alarm,
-                  "feed": self.path_speed if self.state in (RUNNING, MST_WAIT) else 0,
-                  "spindle.rpm": round(self.spindle_rpm), "spindle.cmd": self.spindle_target,
-                  "spindle.angle": self.angle_udeg // 10_000, "spindle.gear": _s16(dw[self.a_spindle_gear])}
+        values = [self.mode, self.state, self.block_line, self.alarm,
+                  self.path_speed if self.state in (RUNNING, MST_WAIT) else 0, round(self.spindle_rpm),
+                  self.spindle_target, self.angle_udeg // 10_000, _s16(dw[self.a_spindle_gear])]
         for ax in self.axes:
-            values[f"{ax.letter}.pos"] = ax.pos
-            values[f"{ax.letter}.speed"] = ax.speed
-        io.publish(self.name, values)
+            values += [ax.pos, ax.speed]
+        if values != self.published:
+            if self.publisher is None:
+                self.publisher = io.publisher(self.name, self.signal_names)
+            self.publisher(values, self.published)
+            self.published = values
 
