@@ -82,6 +82,25 @@ class SignalAt:
         return f"{self.device} - {s.name} {s.english}, {s.direction}{width}{half}, {where}, {s.section}"
 
 
+    def rows(self) -> list[tuple[str, str]]:
+        """The whole row, field by field (`mlc explain M21000`, the editor's hover)."""
+        s = self.signal
+        by = {"R": f"R: {_WRITER.get(s.direction, 'the system')} writes it, the MLC reads it", "R/W": "R/W: the MLC writes it"}
+        out = [("manual name", s.name), ("English", s.english), ("direction", s.direction),
+               ("access", by[s.access]), ("type", s.type + (f" (this is its high word: {s.kind}{self.number - 1})"
+                                                             if self.high else "")),
+               ("channel", f"{self.channel} (pattern {s.device})" if self.channel else f"the system ({s.device})"),
+               ("section", f"{s.section} (row of {s.table}, manual line {s.line})")]
+        if s.variable:
+            out.append(("NC variable", s.variable))
+        if s.decision:
+            out.append(("decision", s.decision))
+        return out
+
+
+_WRITER = {"NC->MLC": "the NC", "HMI->MLC": "the HMI"}
+
+
 @dataclass(frozen=True, slots=True)
 class SignalRange:
     kind: str
