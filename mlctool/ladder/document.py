@@ -9,7 +9,7 @@ from mlctool.ladder.layout import Grid, layout_rung
 from mlctool.ladder.network import Item, Row, Rung, build_items
 from mlctool.program import Instr
 from mlctool.targetapi.model import Target
-from mlctool.targetapi.signals import signals_of
+from mlctool.targetapi.signals import device_signal, signals_of
 
 COMMENT_MARKS = (";", "//")
 
@@ -77,15 +77,15 @@ def build_sheet(path: str, instrs: list[Instr], lines: dict[str, list[str]], tar
     items = build_items(instrs)
     notes: dict[int, str] = {}
     names: dict[int, str] = {}
-    table = signals_of(target) if target is not None else None
+    signals = target is not None and signals_of(target) is not None
     for k, ins in enumerate(instrs):
         src = lines.get(ins.file, [])
         c = line_comment(src[ins.line - 1]) if 0 < ins.line <= len(src) else None
         if c:
             notes[k] = c
-        if table is not None:
+        if signals:
             found = [at for op in ins.operands if not (op.is_const or op.index or op.is_group)
-                     and (at := table.at(op.device, op.number)) is not None]
+                     and (at := device_signal(target, op.device, op.number)) is not None]
             if found:
                 names[k] = found[0].signal.name
                 if not c:

@@ -16,7 +16,7 @@ from mlctool.diagnostics import Diagnostic
 from mlctool.lsp.project import LABEL, Analysis, Place
 from mlctool.syntax.operands import SYMBOL, OperandSyntaxError, parse_operand
 from mlctool.targetapi.model import InstrSpec, Target
-from mlctool.targetapi.signals import signals_of
+from mlctool.targetapi.signals import device_signal, signals_of
 
 _DID_YOU_MEAN = re.compile(r"did you mean ['\"`]?([^'\"`?\s]+)['\"`]?\?")
 _NOQA = re.compile(r"\bmlc:\s*noqa\b", re.IGNORECASE)
@@ -137,8 +137,7 @@ def _operand_doc(a: Analysis, path: str, text: str) -> str | None:
         line += f", {area.name}" + (", latched" if area.latched else ", not latched") \
             + ({"nc": ", written by the NC", "reserved": ", reserved"}.get(area.write, ""))
     out.append(line + f" (manual {dev.section})")
-    table = signals_of(target)
-    signal = table.at(op.device, op.number) if table is not None and not op.is_group and not op.index else None
+    signal = device_signal(target, op.device, op.number) if not op.is_group and not op.index else None
     if signal is not None:  # the manual's row of a special M/D (NC5 ch. 5)
         out.append(f"**{signal.describe()}**")
         out.append("\n".join(f"- {key}: {value}" for key, value in signal.rows()))

@@ -13,6 +13,7 @@ read in about a millisecond where tomllib takes some 60 ms of every `mlc check`.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
@@ -75,11 +76,21 @@ class SignalAt:
     def describe(self) -> str:
         """The one line every front end shows: `M21000 - 程式啟動 cycle start, MLC->NC,
         channel 1, 5.3.2`."""
+        return f"{self.device} - {self.text}"
+
+    @property
+    def text(self) -> str:
+        """describe() without the device: where the device is already shown (`--watch`)."""
         s = self.signal
         where = f"channel {self.channel}" if self.channel else "system"
         half = f", high word of {s.kind}{self.number - 1}" if self.high else ""
         width = f", {s.type}" if s.type not in ("bit", "word") else ""
-        return f"{self.device} - {s.name} {s.english}, {s.direction}{width}{half}, {where}, {s.section}"
+        return f"{s.name} {s.english}, {s.direction}{width}{half}, {where}, {s.section}"
+
+    @property
+    def identifier(self) -> str:
+        """The device and its English name as one identifier (M21000_cycle_start): a VCD alias."""
+        return f"{self.device}_" + "_".join(re.findall(r"[A-Za-z0-9]+", self.signal.english))
 
 
     def rows(self) -> list[tuple[str, str]]:
@@ -204,12 +215,15 @@ def signals_of(target) -> SignalTable | None:
     return _table(target.name)
 
 
-def describe_device(target, kind: str, number: int) -> str | None:
-    """What a device is, in one line, for every front end that shows devices (hover, ladder,
-    VCD, --watch, the debugger): the signal row of a target's special M/D, None for a device
-    that is no signal."""
+def device_signal(target, kind: str, number: int) -> SignalAt | None:
+    """The hook every front end that shows devices asks (hover and completion, ladder, VCD,
+    --watch, the debugger's print, variables and monitor): the signal row a device is (a word
+    of), None for a device that is no signal or a target without signals."""
     table = signals_of(target) if target is not None else None
-    if table is None:
-        return None
-    found = table.at(kind, number)
+    return table.at(kind, number) if table is not None else None
+
+
+def describe_device(target, kind: str, number: int) -> str | None:
+    """device_signal's one line: `M21000 - 程式啟動 cycle start, MLC->NC, channel 1, 5.3.2`."""
+    found = device_signal(target, kind, number)
     return found.describe() if found else None
