@@ -53,8 +53,8 @@ DECISIONS: dict[str, dict[str, str]] = {
                "' / ' (L3517) and 5.3.2 prints ( ' ) (L4814)"},
     "M3x357": {"decision": "the C axis (the row describes C's machine coordinate, L4180, and the "
                "axis order X Y Z A B C U V W puts C here); the name prints V, the V axis is M3x359"},
-    **{f"M3x{n}": {"decision": f"the MLC requests the switch with M2x{n} (L4269 ff. say '當 NC 系統"
-                   f"透過 M2x{n} 設 ON': the NC only answers)"} for n in range(432, 448)},
+    **{f"M3x{n}": {"decision": "the MLC requests the switch with the same axis's relay of M2x432-M2x447 "
+                   "(L4269 ff. say '當 NC 系統透過 M2x432 設 ON': the NC only answers)"} for n in range(432, 448)},
     "D2x024": {"type": "32-bit", "decision": "32-bit: 6.10 gives 0 ~ 2147483647 (L6401) and "
                "D2x025 is no row of its own; 5.2.2 (L4397) does not mark it"},
     "D2x030": {"type": "32-bit", "decision": "32-bit, as D2x024 (6.10 names both, L6397-L6401)"},
