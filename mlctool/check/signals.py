@@ -20,10 +20,14 @@ is not given there):
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Instr, Module
 from mlctool.targetapi.model import Target
-from mlctool.targetapi.signals import SignalAt, SignalTable, signals_of
+
+if TYPE_CHECKING:
+    from mlctool.targetapi.signals import SignalAt, SignalTable
 
 _CONTACTS = frozenset(("contact", "contact_not", "contact_rise", "contact_fall"))
 _WRITERS = frozenset(("out", "set", "rst", "pls", "plf", "alt"))
@@ -58,6 +62,10 @@ def check_signals(module: Module, target: Target, lines: list[str], config_data:
             if near is None or last < near[0] or first > near[1]:
                 continue  # (the usual operand: no special device; the table is not even read)
             if table is None:
+                # imported here: a check that touches no special device (and every check of a
+                # target without signals) does not pay its classes (some 5-10 ms of a start)
+                from mlctool.targetapi.signals import signals_of
+
                 table = signals_of(target)
                 channels = table.channel_count(config_data)
             found = _diagnostic(ins, k, kind, first, last, write, words, table, channels, lines)
