@@ -1,6 +1,7 @@
 """Delta NC5 MLC: everything about this controller.
 
-Belongs here: its manual tables (target.toml, devices.toml, instructions.toml). Its
+Belongs here: its manual tables (target.toml, devices.toml, instructions.toml, and
+signals.tsv: the MLC <-> NC special M/D of ch. 5, with signals.py to name them). Its
 instructions are all covered by the engine's generic routines (mlctool/sim/semantics.py), so
 it declares no Simulation of its own. Does not belong here: the engine, plant models
 (mlctool/devices/: the XC100 axis controller it talks to).
