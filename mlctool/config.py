@@ -61,6 +61,10 @@ def _is_capacity(v) -> bool:
     return isinstance(v, int) and not isinstance(v, bool) and v > 0
 
 
+def _is_channels(v) -> bool:
+    return isinstance(v, int) and not isinstance(v, bool) and 1 <= v <= 8
+
+
 def _is_table(v) -> bool:
     return isinstance(v, dict)
 
@@ -90,6 +94,7 @@ KEYS = {
     "symbols": (_is_table, 'a table of NAME = "OPERAND" (`[symbols]`)'),
     "pulse_modes": (_is_pulse_modes, 'a list of 1-4 pulse output modes for Ps0-Ps3, each "U/D", "P/R", '
                     '"A/B" or "" (`pulse_modes = ["A/B", "U/D"]`, fbs target)'),
+    "channels": (_is_channels, "a whole number of NC channels 1-8 (`channels = 2`, nc5 target; default 1)"),
     "severity": (_is_table, 'a table of CODE = "error" | "warning" | "off" (`[severity]`)'),
 }
 

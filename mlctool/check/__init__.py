@@ -20,6 +20,7 @@ from mlctool.check.lint import cross_module_coils, lint_module, referenced_label
 from mlctool.check.misuse import not_a_source_by_content, not_a_source_by_name
 from mlctool.check.operand_rules import check_operand_rules
 from mlctool.check.resolve import ResolverCaches, resolve
+from mlctool.check.signals import check_signals
 from mlctool.check.specials import foreign_specials
 from mlctool.check.structure import check_layout, check_rungs
 from mlctool.config import Config, severity_of
@@ -158,6 +159,7 @@ def _check_texts(sources: list[SourceText], target: Target, config: Config | Non
         diags += check_blocks(m, target, forms)
         diags += check_operand_rules(m, target)
         diags += check_interrupts(m, target)
+        diags += check_signals(m, target, lines[m.path], config.data)
         diags += lint_module(m, target, refs, forms)
     # Each main module is its own program together with the libraries; independent main
     # programs checked in one call do not share coils.

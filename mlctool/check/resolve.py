@@ -676,7 +676,7 @@ class _Resolver:
 
     def check_areas(self, w, o: OperandSpec, dev, first: int, last: int) -> None:
         for a in dev.areas:  # areas do not overlap
-            if a.hi < first or a.lo > last or a.write == "ok":
+            if a.hi < first or a.lo > last or a.write in ("ok", "signals"):  # signals: check/signals.py
                 continue
             if a.write == "absent":
                 self.report(w, "E205", f"{w.text}: {dev.name_of(a.lo)}-{dev.name_of(a.hi)} do not exist ({a.name})")

@@ -39,7 +39,7 @@ COMMAND_SUMMARIES = {
     "check": "Check instruction-list sources against the target's manual.",
     "debug": "Debug a program on the simulator: breakpoints, stepping, time travel (console or DAP).",
     "device": "Device models as real devices on a Modbus link.",
-    "explain": "Print the documentation of a diagnostic code.",
+    "explain": "Print the documentation of a diagnostic code, or the manual's row of a special device.",
     "fmt": "Rewrite IL files in the canonical layout (idempotent; code unchanged).",
     "import": "Convert an editor's export to plain IL for the target (docs/vs.md, Imports).",
     "ladder": "Draw the FILEs as ladder diagrams, one rung per IL rung, in program order.",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import sys
 
 import click
@@ -96,23 +97,61 @@ def _project_sources(config) -> list[str]:
 @main_group.command("explain", epilog=examples(
     "mlc explain W401",
     "mlc explain e304                      # codes are not case sensitive",
+    "mlc explain M21000                    # a special M/D of the target: the manual's row",
 ))
-@click.argument("code", metavar="CODE")
-def explain_cmd(code):
-    """Print the documentation of a diagnostic code.
+@click.argument("code", metavar="CODE|DEVICE")
+@target_option
+def explain_cmd(code, target_name):
+    """Print the documentation of a diagnostic code, or the manual's row of a special device.
 
-    Exit 0: printed; 2: no such code.
+    A device (M21000, D31024) is looked up in the target's signal table (NC5: the MLC <-> NC
+    special M/D of manual ch. 5); the target is --target, else mlc.toml's, else nc5.
+
+    Exit 0: printed; 2: no such code or signal.
     """
     # imported here: `mlc check` of a clean program never reads the codes
     from mlctool.codes import CODES
 
     c = CODES.get(code.upper())
-    if c is None:
-        from mlctool.suggest import did_you_mean
+    if c is not None:
+        click.echo(f"{c.code} ({c.severity}): {c.summary}\n\n{c.doc.strip()}")
+        return
+    if _explain_device(code, target_name):
+        return
+    from mlctool.suggest import did_you_mean
 
-        click.echo(f"mlc: unknown code {code!r} (codes: {', '.join(CODES)}){did_you_mean(code, CODES)}", err=True)
+    click.echo(f"mlc: unknown code {code!r} (codes: {', '.join(CODES)}){did_you_mean(code, CODES)}", err=True)
+    sys.exit(2)
+
+
+def _explain_device(text: str, target_name: str | None) -> bool:
+    """Print the signal row of a device; False when `text` is no device. A device that is no
+    signal is said so, exit 2."""
+    from mlctool.syntax.operands import OperandSyntaxError, parse_operand
+    from mlctool.targetapi.signals import signals_of
+
+    if not re.fullmatch(r"[A-Za-z]+[0-9]+", text.strip()):
+        return False
+    target = get_target(target_name, get_config())
+    try:
+        op = parse_operand(text.strip(), target.operand_syntax)
+    except OperandSyntaxError:
+        return False
+    if op.is_const or op.device not in target.devices:
+        return False
+    table = signals_of(target)
+    found = table.at(op.kind, op.number) if table else None
+    if found is None:
+        r = table.range_of(op.kind, op.number) if table else None
+        where = (f"an undefined number of the {r.direction} range {op.kind}{r.lo}-{op.kind}{r.hi} (W251)" if r
+                 else f"not a special M/D of target {target.name}" if table else f"target {target.name} has no signal table")
+        click.echo(f"mlc: {text.upper()} is no signal: {where}", err=True)
         sys.exit(2)
-    click.echo(f"{c.code} ({c.severity}): {c.summary}\n\n{c.doc.strip()}")
+    click.echo(found.describe() + "\n")
+    width = max(len(k) for k, _ in found.rows())
+    for key, value in found.rows():
+        click.echo(f"  {key:<{width}}  {value}")
+    return True
 
 
 @main_group.command("targets", epilog=examples(

@@ -45,6 +45,7 @@ from mlctool.sim.state import NameError_, parse_device_name
 from mlctool.sim.stimulus import MAX_SCANS, StimError, Stimulus, load_stimulus, parse_time
 from mlctool.sim.unmodelled import unmodelled_writes
 from mlctool.targetapi.registry import simulation_of
+from mlctool.targetapi.signals import device_signal
 
 PROGRESS_MIN_SCANS = 5000
 
@@ -213,7 +214,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
 
     if engine == "native":
         _native_notes(ahead=False)
-    _report(result, st, lines, as_json, watch_views, unmodelled)
+    _report(result, st, lines, as_json, watch_views, unmodelled, target)
     files = {}
     if vcd_path:
         from mlctool.sim.vcd import gtkw_path, to_gtkw, to_vcd
@@ -346,7 +347,7 @@ def _run(sim: Simulation, n_scans: int) -> RunResult:
 
 
 def _report(r: RunResult, st: Stimulus, lines: dict[str, list[str]], as_json: bool, watch,
-            unmodelled: list[Diagnostic]) -> None:
+            unmodelled: list[Diagnostic], target) -> None:
     diags = unmodelled + run_diagnostics(r, st.path)
     all_lines = dict(lines)
     all_lines[st.path] = st.lines
@@ -355,5 +356,6 @@ def _report(r: RunResult, st: Stimulus, lines: dict[str, list[str]], as_json: bo
         sys.stdout.write(to_json(r, unmodelled))
         return
     for v in watch:
-        click.echo(f"{v.name} = {json_value(r.devices.get(v.name))}")
+        found = device_signal(target, v.kind, v.number) if v.view in ("bit", "w", "d") else None
+        click.echo(f"{v.name} = {json_value(r.devices.get(v.name))}" + (f"  ; {found.text}" if found else ""))
     click.echo(summary(r))

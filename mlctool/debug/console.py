@@ -14,6 +14,7 @@ from collections.abc import Callable, Iterable
 
 from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Interrupted, Stop
 from mlctool.sim.stimulus import StimError, parse_time
+from mlctool.targetapi.signals import device_signal
 
 HELP = """commands:
   step [N]                  one instruction (N instructions)
@@ -196,8 +197,9 @@ class Console:
             e = self.s.expr(rest)
             self.out(f"{rest} = {e.value(self.s.m)}")
             return
-        for v in views:
-            self.out(self.s.describe(v))
+        for v in views:  # a signal of the target (NC5 special M/D) says what it is
+            found = device_signal(self.s.target, v.kind, v.number) if v.view in ("bit", "w", "d") else None
+            self.out(self.s.describe(v) + (f"  ; {found.text}" if found else ""))
 
     def cmd_display(self, rest: str) -> None:
         if not rest:

@@ -19,6 +19,7 @@ from typing import BinaryIO
 
 from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Stop
 from mlctool.sim.stimulus import StimError
+from mlctool.targetapi.signals import device_signal
 
 THREAD = 1
 MAX_FRAME = 16 * 1024 * 1024
@@ -420,8 +421,10 @@ class DapServer:
             name, view = item if isinstance(item, tuple) else (item.name, item)
             value = s.describe(view).split(" = ", 1)[-1] if view.kind not in "TC" or view.view != "bit" \
                 else s.describe(view).split(": ", 1)[-1]
+            # a signal of the target (NC5 special M/D): its row in the type, which clients show on hover
+            found = device_signal(s.target, view.kind, view.number) if view.view in ("bit", "w", "d") else None
             out.append({"name": name, "value": value, "variablesReference": 0, "evaluateName": view.name,
-                        "type": view.view})
+                        "type": view.view + (f" - {found.describe()}" if found else "")})
         self.respond(req, {"variables": out})
 
     def on_setVariable(self, req, args) -> None:

@@ -18,7 +18,7 @@ def _sheet(s: DebugSession):
     sheet = getattr(s, "_rung_sheet", None)
     if sheet is None:
         sheet = s._rung_sheet = build_sheet(s.image.modules[0][0] if s.image.modules else "<program>",
-                                            list(s.image.instrs), getattr(s, "lines", {}) or {})
+                                            list(s.image.instrs), getattr(s, "lines", {}) or {}, s.target)
     return sheet
 
 

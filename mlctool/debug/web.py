@@ -115,7 +115,8 @@ class Monitor:
         self.clients_lock = threading.Lock()
         image = session.image
         names = [p for p, _, _ in image.modules] or sorted({i.file for i in image.instrs if i.file})
-        self.sheet = build_sheet(" + ".join(names), list(image.instrs), getattr(session, "lines", {}) or {})
+        self.sheet = build_sheet(" + ".join(names), list(image.instrs), getattr(session, "lines", {}) or {},
+                                 session.target)
         self.title = title or f"Monitor: {self.sheet.path}"
         self.elements = elements_of(session, self.sheet)
         self.shown: dict[str, DeviceView] = {}

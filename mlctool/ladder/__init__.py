@@ -20,5 +20,5 @@ def sheets_from_files(paths: list[str], target: Target, config: Config | None = 
     result = check_files(paths, target, config)
     if result.errors:
         return [], result.diagnostics, result.lines
-    sheets = [build_sheet(m.path, m.instrs, result.lines) for m in result.modules]
+    sheets = [build_sheet(m.path, m.instrs, result.lines, target) for m in result.modules]
     return sheets, result.diagnostics, result.lines

@@ -8,6 +8,8 @@ from dataclasses import dataclass, field
 from mlctool.ladder.layout import Grid, layout_rung
 from mlctool.ladder.network import Item, Row, Rung, build_items
 from mlctool.program import Instr
+from mlctool.targetapi.model import Target
+from mlctool.targetapi.signals import device_signal, signals_of
 
 COMMENT_MARKS = (";", "//")
 
@@ -41,6 +43,9 @@ class Sheet:
     items: list[RungView | RowView]
     notes: dict[int, str] = field(default_factory=dict)  # instruction index -> line comment
     instrs: list[Instr] = field(default_factory=list)
+    # instruction index -> the manual's name of its first signal operand (NC5 special M/D),
+    # drawn under the device where no symbol is written
+    names: dict[int, str] = field(default_factory=dict)
 
     @property
     def width(self) -> int:
@@ -65,16 +70,26 @@ def _first_index(it: Item) -> int:
     return it.start if isinstance(it, Rung) else it.index
 
 
-def build_sheet(path: str, instrs: list[Instr], lines: dict[str, list[str]]) -> Sheet:
-    """`lines`: source lines by file (a linked image holds instructions of several files)."""
+def build_sheet(path: str, instrs: list[Instr], lines: dict[str, list[str]], target: Target | None = None) -> Sheet:
+    """`lines`: source lines by file (a linked image holds instructions of several files).
+    `target`: where its signals (NC5 special M/D) name devices: an instruction whose line has
+    no comment gets the signals' descriptions as its comment."""
     items = build_items(instrs)
     notes: dict[int, str] = {}
+    names: dict[int, str] = {}
+    signals = target is not None and signals_of(target) is not None
     for k, ins in enumerate(instrs):
         src = lines.get(ins.file, [])
-        if 0 < ins.line <= len(src):
-            c = line_comment(src[ins.line - 1])
-            if c:
-                notes[k] = c
+        c = line_comment(src[ins.line - 1]) if 0 < ins.line <= len(src) else None
+        if c:
+            notes[k] = c
+        if signals:
+            found = [at for op in ins.operands if not (op.is_const or op.index or op.is_group)
+                     and (at := device_signal(target, op.device, op.number)) is not None]
+            if found:
+                names[k] = found[0].signal.name
+                if not c:
+                    notes[k] = "; ".join(at.describe() for at in found)
     views: list[RungView | RowView] = []
     prev = ("", 0)  # file and line of the previous item's last instruction
     for it in items:
@@ -86,7 +101,7 @@ def build_sheet(path: str, instrs: list[Instr], lines: dict[str, list[str]]) -> 
         last = instrs[it.stop - 1] if isinstance(it, Rung) else first
         prev = (last.file, last.line)
         views.append(RungView(it, layout_rung(it), above) if isinstance(it, Rung) else RowView(it, above))
-    return Sheet(path, views, notes, instrs)
+    return Sheet(path, views, notes, instrs, names)
 
 
 def operand_texts(ins: Instr) -> list[tuple[str, str]]:

@@ -198,7 +198,7 @@ def report_html(sim: Simulation, result: RunResult, trace: PowerProbe, lines: di
                 watch: list[DeviceView], title: str) -> str:
     image = sim.image
     names = [p for p, _, _ in image.modules] or sorted({i.file for i in image.instrs if i.file})
-    sheet = build_sheet(" + ".join(names), image.instrs, lines)
+    sheet = build_sheet(" + ".join(names), image.instrs, lines, sim.target)
     scans = min(result.scans, MAX_SCANS)
     views = watch or result.views[:MAX_WAVES]
     series = _series(result, views, scans)

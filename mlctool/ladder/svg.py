@@ -23,6 +23,7 @@ COMMENT_H = 16  # one comment line above a rung
 GAP = 10  # space between rungs
 MAX_NOTE = 60  # characters of an output's line comment shown beside it
 MAX_COMMENT = 120  # characters of a rung comment line shown
+MAX_NAME = 8  # characters of a signal's name under its device (a cell holds about 8 CJK characters)
 
 STYLE = """
 .lad text{font-family:"DejaVu Sans Mono",Menlo,Consolas,monospace;font-size:12px;fill:#111}
@@ -113,14 +114,16 @@ def _title(sheet: Sheet, index: int, text: str) -> str:
     return f"<title>{_esc(text + (' ; ' + note if note else ''))}</title>"
 
 
-def _labels(cell_ins, x: float, y: int) -> list[str]:
-    """Device above the symbol, the written symbol (if any) below."""
+def _labels(sheet: Sheet, index: int, cell_ins, x: float, y: int) -> list[str]:
+    """Device above the symbol; below, the written symbol, else the manual's name of a signal
+    (NC5 special M/D)."""
     devs = operand_texts(cell_ins)
     out = []
     if devs:
         out.append(_text(x, y - 18, devs[0][0]))
-        if devs[0][1]:
-            out.append(_text(x, y + 26, devs[0][1], "small"))
+        below = devs[0][1] or sheet.names.get(index, "")
+        if below:
+            out.append(_text(x, y + 26, _clip(below, MAX_NAME), "small"))
     return out
 
 
@@ -136,7 +139,7 @@ def _cell(sheet: Sheet, c: Cell) -> str:
             parts.append(_line(mid - 11, y + 10, mid + 11, y - 10, "sym"))
         elif c.glyph:
             parts.append(_text(mid, y + 4, c.glyph))
-        parts += _labels(c.ins, mid, y)
+        parts += _labels(sheet, c.index, c.ins, mid, y)
     elif c.kind == "compare":
         (s1, sym1), (s2, sym2) = operand_texts(c.ins)[:2]
         rel = ("D" if c.ins.spec.width == 32 else "") + c.glyph
@@ -181,7 +184,7 @@ def _output(sheet: Sheet, geo: Geometry, o: Output, index: int, y: int) -> list[
              f'<path class="sym" d="M{cx + 6},{y - 12} A14,14 0 0,1 {cx + 6},{y + 12}"/>']
         if o.letter:
             g.append(_text(cx, y + 4, o.letter))
-        g += _labels(o.ins, cx, y)
+        g += _labels(sheet, index, o.ins, cx, y)
         end = cx + 16
     else:
         w = geo.out_w - 8

@@ -16,6 +16,7 @@ from mlctool.diagnostics import Diagnostic
 from mlctool.lsp.project import LABEL, Analysis, Place
 from mlctool.syntax.operands import SYMBOL, OperandSyntaxError, parse_operand
 from mlctool.targetapi.model import InstrSpec, Target
+from mlctool.targetapi.signals import device_signal, signals_of
 
 _DID_YOU_MEAN = re.compile(r"did you mean ['\"`]?([^'\"`?\s]+)['\"`]?\?")
 _NOQA = re.compile(r"\bmlc:\s*noqa\b", re.IGNORECASE)
@@ -136,6 +137,10 @@ def _operand_doc(a: Analysis, path: str, text: str) -> str | None:
         line += f", {area.name}" + (", latched" if area.latched else ", not latched") \
             + ({"nc": ", written by the NC", "reserved": ", reserved"}.get(area.write, ""))
     out.append(line + f" (manual {dev.section})")
+    signal = device_signal(target, op.device, op.number) if not op.is_group and not op.index else None
+    if signal is not None:  # the manual's row of a special M/D (NC5 ch. 5)
+        out.append(f"**{signal.describe()}**")
+        out.append("\n".join(f"- {key}: {value}" for key, value in signal.rows()))
     names = [n for n, v in a.index.define_values.get(path, {}).items() if v.upper() == name]
     if names and not sym:
         out.append("Symbol: " + ", ".join(names))
@@ -422,6 +427,29 @@ def completions(a: Analysis, path: str, line: int, col: int, line_text: str) -> 
     for dev in target.devices.values():
         out.append(Completion(dev.name, "device", f"{dev.kind} {dev.name}{dev.lo}-"
                               f"{dev.name_of(dev.hi)[len(dev.name):]} ({dev.section})"))
+    typed = _TYPED_DEVICE.search(code)
+    if typed:
+        out += signal_completions(a, typed[0].upper())
+    return out
+
+
+_TYPED_DEVICE = re.compile(r"(?<![\w.])[A-Za-z][0-9]+$")
+
+
+def signal_completions(a: Analysis, typed: str) -> list[Completion]:
+    """The target's signals (NC5 special M/D) whose device starts as typed (M21 -> M21000 ...),
+    on the project's channels, each with its one-line description."""
+    table = signals_of(a.project.target)
+    if table is None:
+        return []
+    count = table.channel_count(a.project.config.data)
+    out = []
+    for s in table.signals:
+        for channel in range(table.channels[0], count + 1) if "x" in s.device else (0,):
+            device = f"{s.kind}{s.number(channel)}"
+            if device.startswith(typed):
+                at = table.at(s.kind, s.number(channel))
+                out.append(Completion(device, "device", at.describe(), doc=s.decision))
     return out
 
 

@@ -19,6 +19,7 @@ from mlctool.program import Image
 from mlctool.sim.run import RunResult
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
 from mlctool.targetapi.model import Target
+from mlctool.targetapi.signals import device_signal
 
 SCOPE = "mlc"
 
@@ -55,6 +56,11 @@ class VcdStream:
             view = _symbol_view(text, target)
             if view is not None and view.name in self.by_name:
                 self.writer.register_alias(SCOPE + ".symbols", sym, self.variables[self.by_name[view.name]])
+        # the target's signals (NC5 special M/D) under their names too: mlc.signals.M21000_cycle_start
+        for k, v in enumerate(views):
+            found = device_signal(target, v.kind, v.number) if v.view in ("bit", "w", "d") else None
+            if found is not None and not found.high:
+                self.writer.register_alias(SCOPE + ".signals", found.identifier, self.variables[k])
 
     def add(self, t: int, changes: list[tuple[int, int | float]]) -> None:
         for k, value in changes:

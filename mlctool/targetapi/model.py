@@ -24,7 +24,7 @@ class Area:
     lo: int
     hi: int
     name: str
-    write: str = "ok"  # ok | nc | reserved
+    write: str = "ok"  # ok | nc | system | reserved | absent | signals (the target's signal table speaks)
     latched: bool = False
 
 

@@ -148,6 +148,24 @@ def test_explain_unknown_code(mlc):
     assert r.code == 2
 
 
+def test_explain_a_device_prints_its_signal_row(mlc):
+    """`mlc explain M21000`: the NC5 manual's row of a special M (5.2.1 L3509, 5.3.2)."""
+    r = mlc("explain", "m21000")
+    assert r.code == 0
+    lines = r.out.splitlines()
+    assert lines[0] == "M21000 - 程式啟動 cycle start, MLC->NC, channel 1, 5.3.2"
+    for field in ("manual name  程式啟動", "English      cycle start", "direction    MLC->NC",
+                  "access       R/W", "type         bit", "channel      1 (pattern M2x000)",
+                  "section      5.3.2 (row of 5.2.1, manual line 3509)"):
+        assert any(line.strip().startswith(field) for line in lines), field
+    r = mlc("explain", "D31024")
+    assert r.code == 0 and "R: the NC writes it" in r.out and "32-bit" in r.out
+    r = mlc("explain", "M20000")
+    assert r.code == 2 and "undefined number of the MLC->NC range M20000-M28999" in r.err
+    r = mlc("explain", "--target", "vs", "M21000")
+    assert r.code == 2 and "target vs has no signal table" in r.err
+
+
 def test_targets_and_version(mlc):
     r = mlc("targets")
     assert r.code == 0 and "nc5" in r.out and "000_a33d4a328dc57a96.txt" in r.out

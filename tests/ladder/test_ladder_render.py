@@ -146,3 +146,22 @@ def test_cli_usage_errors(mlc, tmp_path):
     r = mlc("ladder", "samples/nc5/man_2_2_anb.il", "-o", str(tmp_path / "no" / "dir.svg"))
     assert r.code != 0 and "E605" in r.err and "Traceback" not in r.err
     assert Path(tmp_path / "no").is_file()
+
+
+def test_nc_signals_are_named_where_the_program_says_nothing(mlc, tmp_path):
+    """NC5 special M/D (targets/nc5/signals.tsv): the manual's name under the device, its
+    one-line description as the comment of a line without one; a written comment wins."""
+    (tmp_path / "n.il").write_text("LD M31016\nOUT M21001\nLD X0\nOUT M21000 ; my start\nEND\n", "utf-8")
+    r = mlc("ladder", "--target", "nc5", "-o", "n.svg", "n.il", cwd=tmp_path)
+    assert r.code == 0, r.err
+    root = ET.fromstring((tmp_path / "n.svg").read_text("utf-8"))
+    texts = [t.text for t in root.iter(f"{SVG}text")]
+    assert "程序執行中" in texts and "程式停止" in texts and "程式啟動" in texts
+    assert "M21001 - 程式停止 feed hold, MLC->NC, channel 1, 5.3.2" in texts
+    assert "my start" in texts and not any(t and t.startswith("M21000 - ") for t in texts)
+    titles = [t.text for t in root.iter(f"{SVG}title")]
+    assert "LD M31016 ; M31016 - 程序執行中 program running, NC->MLC, channel 1, 5.3.2" in titles
+    term = mlc("ladder", "--target", "nc5", "n.il", cwd=tmp_path)
+    assert "; M21001 - 程式停止 feed hold" in term.out
+    html = mlc("ladder", "--target", "nc5", "-o", "n.html", "n.il", cwd=tmp_path)
+    assert html.code == 0 and "程式停止 feed hold" in (tmp_path / "n.html").read_text("utf-8")

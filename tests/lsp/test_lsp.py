@@ -616,3 +616,22 @@ async def test_stimulus_of_a_vs_project_has_the_vs_devices(client: LanguageClien
     bad = await _show(client, stim.as_uri(), "0ms A0=1\n")  # NC5's A relays are no VS device
     assert [d.code for d in bad] == ["E602"]
     client.text_document_did_close(lsp.DidCloseTextDocumentParams(lsp.TextDocumentIdentifier(stim.as_uri())))
+
+
+async def test_hover_and_completion_show_an_nc_signals_row(client: LanguageClient, project: Path):
+    """The NC5's special M/D (targets/nc5/signals.tsv): hover on M21000 shows the manual's row,
+    completion of `M210` offers M21000 with the same line (issue 27)."""
+    uri = _uri(project, "conveyor.il")
+    text = _text(project, "conveyor.il") + "LD      M21000\nLD      M210\n"
+    await _show(client, uri, text)
+    line = _line_of(text, "LD      M21000")
+    h = await client.text_document_hover_async(lsp.HoverParams(lsp.TextDocumentIdentifier(uri), lsp.Position(line, 10)))
+    value = h.contents.value
+    assert "**M21000 - 程式啟動 cycle start, MLC->NC, channel 1, 5.3.2**" in value
+    assert "- access: R/W: the MLC writes it" in value and "- section: 5.3.2 (row of 5.2.1" in value
+    got = await client.text_document_completion_async(lsp.CompletionParams(
+        lsp.TextDocumentIdentifier(uri), lsp.Position(line + 1, 12)))
+    items = {i.label: i for i in got.items}
+    assert items["M21000"].detail == "M21000 - 程式啟動 cycle start, MLC->NC, channel 1, 5.3.2"
+    assert "M21016" in items and "M22000" not in items  # one channel configured (mlc.toml: default 1)
+    await _show(client, uri, _text(project, "conveyor.il"))
