@@ -124,8 +124,9 @@ def test_a_40_contact_rung_wraps_into_pieces_joined_in_order():
 
 
 def test_deep_nests_wrap_keeping_every_connection():
-    for blocks, tail in ((6, 12), (3, 30), (1, 2)):
-        grid = sheet_of(nest(blocks, tail)).items[0].grid
+    wide_15 = "\n".join(["LD X0"] + [f"ANI M{i}" for i in range(1, 15)] + ["OUT Y1", "LD X1", "OUT Y2", "END"])
+    grids = [sheet_of(nest(blocks, tail)).items[0].grid for blocks, tail in ((6, 12), (3, 30), (1, 2))]
+    for grid in grids + [sheet_of(wide_15).items[0].grid]:
         for cols in (4, 5, 7, 12):
             check_wrap(grid, cols)
 
