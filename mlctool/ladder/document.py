@@ -177,4 +177,5 @@ def search_text(sheet: Sheet, it: RungView | RowView) -> str:
         words += [d for d, _ in operand_texts(ins)]
         if k in sheet.notes:
             words.append(sheet.notes[k])
+        words += [c for c in map(sheet.device_comments.get, (d.upper() for d, _ in operand_texts(ins))) if c]
     return " ".join(words)

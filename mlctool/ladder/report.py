@@ -93,13 +93,13 @@ def seconds(us: int) -> str:
     return f"{round(us / 1e6, 6):g} s"
 
 
-def _table(rows: list[Row], first_fail: int | None) -> str:
+def _table(rows: list[Row], first_fail: Row | None) -> str:
     shown = rows if len(rows) <= MAX_ROWS else [r for r in rows if not r.held][:MAX_ROWS]
     out = ['<table id="expectations"><thead><tr><th>line</th><th>time</th><th>scan</th><th>device</th>'
            '<th>expected</th><th>actual</th><th>result</th></tr></thead><tbody>']
-    for k, r in enumerate(shown):
+    for r in shown:
         cls = "pass" if r.held else "fail"
-        rid = ' id="first-failure"' if k == first_fail else ""
+        rid = ' id="first-failure"' if r is first_fail else ""
         why = f'<div class="why">{_e(r.why)}</div>' if r.why else ""
         out.append(f'<tr class="{cls}" data-scan="{r.scan}"{rid}><td>{r.line}</td><td>{seconds(r.time_us)}</td>'
                    f'<td>{r.scan}</td><td>{_e(r.device)}</td><td>{_e(r.expected)}</td><td>{_e(r.actual)}</td>'
@@ -369,7 +369,6 @@ def report_html(sim: Simulation, result: RunResult, scan_lamps: ScanLamps, watch
     marks = [(r.scan, r.device, f"line {r.line}: {r.device} expected {r.expected}, actual {r.actual}")
              for r in failed if r.scan < scans]
     failing = _failing_elements(sheet, failing_devices)
-    first = rows.index(failed[0]) if failed else None
     last = max(scans - 1, 0)
     start = min(failed[0].scan, last) if failed else last
     data = {"period_us": result.period_us, "scans": scans, "deltas": scan_lamps.deltas(), "start": start,
@@ -378,7 +377,7 @@ def report_html(sim: Simulation, result: RunResult, scan_lamps: ScanLamps, watch
            if result.scans > MAX_SCANS else "")
     panel = (f'<div id="panel"><div class="small">{_e(result_line(result) + cut)}</div>'
              + (_first_failure(sheet, failed[0], failing, scans) if failed else "")
-             + (f'<h2>Expectations</h2><div id="checks">{_table(rows, first)}</div>' if rows else "")
+             + (f'<h2>Expectations</h2><div id="checks">{_table(rows, failed[0] if failed else None)}</div>' if rows else "")
              + f'<h2>Scan</h2><button id="prev" type="button">&lt;</button> '
              f'<input id="scan" type="range" min="0" max="{last}" value="{start}" aria-label="scan"> '
              f'<button id="next" type="button">&gt;</button> <label id="scaninfo"></label>'

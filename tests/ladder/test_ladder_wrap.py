@@ -192,6 +192,10 @@ def test_terminal_shows_symbols_and_with_comments_device_comments(mlc, tmp_path)
     assert re.search(r'class="dcomment"[^>]*>start key of<', text) and re.search(r'class="dcomment"[^>]*>stop<', text)
     assert mlc("ladder", str(src), "-o", str(svg)).code == 0
     assert "dcomment" not in svg.read_text("utf-8").split("</style>")[1]
+    page = tmp_path / "c.html"  # the HTML page's search finds a rung by its device comments
+    assert mlc("ladder", str(src), "-o", str(page)).code == 0
+    assert re.search(r'<div class="rung" id="f0-s0" data-text="[^"]*start key of the pump[^"]*main pump',
+                     page.read_text("utf-8"))
 
 
 def test_wrapped_terminal_text_is_deterministic():
