@@ -36,8 +36,11 @@ WRITERS = {".svg": "svg", ".html": "html", ".htm": "html"}
               help="write OUT.svg (rungs stacked) or OUT.html (self-contained page)")
 @click.option("--term", is_flag=True, help="print the ladder on the terminal (default without -o)")
 @click.option("--title", default="", help="title of the HTML page")
+@click.option("--width", type=click.IntRange(60, 1000), default=None, metavar="N",
+              help="terminal ladder N characters wide (default: the terminal's; 100 when not a terminal)")
+@click.option("--comments", is_flag=True, help="show device comments (line and .define comments) under contacts")
 @click.argument("files", nargs=-1, required=True, type=click.Path(), metavar="FILE...")
-def ladder_cmd(target_name, config_path, out_path, term, title, files):
+def ladder_cmd(target_name, config_path, out_path, term, title, width, comments, files):
     """Draw the FILEs as ladder diagrams, one rung per IL rung, in program order.
 
     The sources must pass `mlc check` without errors. Exit 0: drawn; 1: the sources have
@@ -64,12 +67,12 @@ def ladder_cmd(target_name, config_path, out_path, term, title, files):
     if kind == "svg":
         from mlctool.ladder.svg import sheets_svg
 
-        plan.write({out_path: sheets_svg(sheets)})
+        plan.write({out_path: sheets_svg(sheets, comments)})
     elif kind == "html":
         from mlctool.ladder.html import sheets_html
 
-        plan.write({out_path: sheets_html(sheets, title)})
+        plan.write({out_path: sheets_html(sheets, title, comments)})
     if term or kind is None:
         from mlctool.ladder.term import print_sheets
 
-        print_sheets(sheets)
+        print_sheets(sheets, width, comments)

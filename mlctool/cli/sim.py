@@ -89,7 +89,7 @@ def _errors(diags: list[Diagnostic]) -> bool:
 @click.option("--watchdog", type=click.IntRange(1), default=DEFAULT_WATCHDOG, show_default=True,
               help="steps one scan may execute before it is stopped as a runaway")
 @click.option("--report", "report_path", default=None, type=click.Path(dir_okay=False),
-              help="write an HTML page: the ladder lit by scan, and waveforms (docs/ladder.md)")
+              help="write an HTML page: every expectation, the ladder lit by scan, waveforms (docs/ladder.md)")
 @click.option("--engine", type=click.Choice(ENGINES), default=None, envvar=ENGINE_ENV,
               help="compiled (default), native (compiled to C: needs Cython and a C compiler) or "
                    "interp, the reference interpreter (docs/simulator.md)")
@@ -187,15 +187,15 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         n_scans = plan_scans(st, period, until_us, scans)
     except RunTooLong as e:
         raise MlcError(diag(stim_path or "<command line>", Span.at(1), "E601", str(e)), 2) from None
-    power = None
-    if report_path:
-        from mlctool.ladder.report import PowerProbe
-
-        power = PowerProbe(period)
     with collector_paused():
         sim = Simulation(image, target, st, models, period, watch_views,
                          trace=vcd_path is not None or report_path is not None, watchdog=watchdog,
-                         probe=power, engine=engine, preload=preload, pulse_window=window)
+                         engine=engine, preload=preload, pulse_window=window)
+    scan_lamps = None
+    if report_path:
+        from mlctool.ladder.report import ScanLamps
+
+        scan_lamps = ScanLamps(sim, lines)
     vcd_stream = None
     if vcd_path and window is None and report_path is None:
         # streamed to a temporary file beside the VCD as the run goes (memory bounded by the
@@ -239,7 +239,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     if report_path:
         from mlctool.ladder.report import report_html
 
-        files[report_path] = report_html(sim, result, power, lines, watch_views, "")
+        files[report_path] = report_html(sim, result, scan_lamps, watch_views, "")
     plan.write(files)
     sys.exit(0 if result.ok else 1)
 

@@ -8,7 +8,7 @@ from rich.console import Console as RichConsole
 
 from mlctool.debug.session import DebugSession
 from mlctool.ladder.document import RungView, build_sheet, instr_text
-from mlctool.ladder.term import item_text
+from mlctool.ladder.term import item_text, text_layout
 from mlctool.sim.state import NameError_, parse_device_name
 
 _CONTACTS = {"LD": False, "AND": False, "OR": False, "LDI": True, "ANI": True, "ORI": True}
@@ -72,8 +72,7 @@ def rung_text(s: DebugSession) -> str:
     if it is None:
         return "no rung here"
     console = RichConsole(width=200, no_color=True, highlight=False, record=True, file=_Null())
-    cols = max((x.grid.width for x in sheet.items if isinstance(x, RungView)), default=1)
-    console.print(item_text(sheet, it, cols, 200), end="")
+    console.print(item_text(sheet, it, text_layout([sheet], 200)), end="")
     art = "\n".join(line.rstrip() for line in console.export_text().splitlines())
     rows = [s.where(), art.rstrip("\n")]
     if s.n >= 0 and not s.m.bus:  # mid-scan on a dead rail: closed contacts light no coil

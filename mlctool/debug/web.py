@@ -8,10 +8,9 @@ flow, device values, forces, where the machine is) goes to every connected tab. 
 session's own `run(scans=N)` called every tick (50 ms) for the scans that virtual time owes
 wall-clock time at the chosen speed; a breakpoint, watch or fault ends it.
 
-Power flow is what a PLC's monitor mode shows at a stop: a contact is lit when it conducts
-with the devices' values now (a comparison when it holds; LDP/LDF when their device is On:
-the one-execution pulse itself is not visible at a stop), a coil or an STL state box when
-its device is On. Instruction boxes show their operands' values below them.
+Contacts, coils and STL state boxes are lit by the rule the simulation report uses
+(ladder/lighting.py, docs/ladder.md "Lighting"), with the devices' values where the machine
+stopped. Instruction boxes show their operands' values below them.
 
 Hostile input: every message is parsed and checked; anything wrong gets an `error` reply and
 the connection and the server go on. Messages over MAX_MESSAGE bytes close that connection
@@ -32,7 +31,7 @@ from mlctool.debug.console import ALIASES, Console
 from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Interrupted, Stop, _fmt, _time
 from mlctool.ladder.document import RungView, build_sheet
 from mlctool.ladder.html import page, sheets_body
-from mlctool.sim import semantics
+from mlctool.ladder.lighting import lamps, lit
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
 from mlctool.sim.stimulus import StimError
 
@@ -119,6 +118,7 @@ class Monitor:
                                  session.target)
         self.title = title or f"Monitor: {self.sheet.path}"
         self.elements = elements_of(session, self.sheet)
+        self.lamps = lamps(self.sheet)
         self.shown: dict[str, DeviceView] = {}
         for el in self.elements.values():
             for v in ([el.bit] if el.bit else []) + el.values:
@@ -140,20 +140,6 @@ class Monitor:
         self._polled = 0.0
 
     # -- state --------------------------------------------------------------------------
-    def _lit(self, el: Element) -> bool | None:
-        m, s = self.s.m, self.s.steps[el.index]
-        op = s.ins.spec.op
-        try:
-            if el.kind == "contact" and op in ("contact_rise", "contact_fall"):
-                return bool(s.ops[0].bit(m))
-            if el.kind in ("contact", "compare") and op in semantics.CONTACTS:
-                return bool(semantics.CONTACTS[op](m, s))
-            if el.kind in ("coil", "step") and hasattr(s.ops[0], "bit"):
-                return bool(s.ops[0].bit(m))
-        except Exception:  # noqa: BLE001 - an index out of range now: shown unlit, not fatal
-            return None
-        return None
-
     def state(self) -> dict:
         s = self.s
         with self.lock:
@@ -169,7 +155,7 @@ class Monitor:
                 "pc": s.pc if s.n != BOUNDARY else None, "running": self.running,
                 "speed": self.speed, "stop": self.stop_text,
                 "fault": s.fault.message if s.fault is not None else None,
-                "on": sorted(i for i, el in self.elements.items() if self._lit(el)),
+                "on": lit(self.lamps, s.steps, m),  # the report's rule (ladder/lighting.py)
                 "values": values,
                 "forced": {v.name: _fmt(value) for v, value in s.sim.forces.items()},
             }

@@ -3,15 +3,18 @@ with the source comments and the texts shown beside each element."""
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 from mlctool.ladder.layout import Grid, layout_rung
 from mlctool.ladder.network import Item, Row, Rung, build_items
 from mlctool.program import Instr
+from mlctool.syntax.source import display_width
 from mlctool.targetapi.model import Target
 from mlctool.targetapi.signals import device_signal, signals_of
 
 COMMENT_MARKS = (";", "//")
+DEFINE = re.compile(r"\s*\.define\s+(\S+)\s+([^\s;/]+)", re.IGNORECASE)
 
 
 @dataclass
@@ -46,6 +49,8 @@ class Sheet:
     # instruction index -> the manual's name of its first signal operand (NC5 special M/D),
     # drawn under the device where no symbol is written
     names: dict[int, str] = field(default_factory=dict)
+    # device or symbol (upper case) -> the line comment of the `.define` that names it
+    device_comments: dict[str, str] = field(default_factory=dict)
 
     @property
     def width(self) -> int:
@@ -101,7 +106,21 @@ def build_sheet(path: str, instrs: list[Instr], lines: dict[str, list[str]], tar
         last = instrs[it.stop - 1] if isinstance(it, Rung) else first
         prev = (last.file, last.line)
         views.append(RungView(it, layout_rung(it), above) if isinstance(it, Rung) else RowView(it, above))
-    return Sheet(path, views, notes, instrs, names)
+    return Sheet(path, views, notes, instrs, names, device_comments(instrs, lines))
+
+
+def device_comments(instrs: list[Instr], lines: dict[str, list[str]]) -> dict[str, str]:
+    """A `.define NAME DEV ; comment` line's comment, by NAME and by DEV: the device comment
+    vendor tools show under a contact (the first definition of a device wins)."""
+    out: dict[str, str] = {}
+    for path in dict.fromkeys(ins.file for ins in instrs):
+        for text in lines.get(path, []):
+            m = DEFINE.match(text)
+            c = line_comment(text) if m else None
+            if c:
+                out.setdefault(m[1].upper(), c)
+                out.setdefault(m[2].upper(), c)
+    return out
 
 
 def operand_texts(ins: Instr) -> list[tuple[str, str]]:
@@ -110,6 +129,48 @@ def operand_texts(ins: Instr) -> list[tuple[str, str]]:
     for op, text in zip(ins.operands, ins.texts, strict=False):
         dev = str(op)
         out.append((dev, text if text.upper() != dev.upper() else ""))
+    return out
+
+
+def comment_of(sheet: Sheet, index: int) -> str:
+    """The comment drawn under a contact or coil (`--comments`): for a contact its own line
+    comment, else (and for a coil, whose line comment is drawn beside it) the comment of
+    the `.define` of its device."""
+    ins = sheet.instrs[index]
+    own = sheet.notes.get(index, "") if ins.spec.cls != "output" else ""
+    if own or not ins.operands:
+        return own
+    dev, sym = operand_texts(ins)[0]
+    return sheet.device_comments.get(sym.upper()) or sheet.device_comments.get(dev.upper(), "")
+
+
+def fold(text: str, width: int, lines: int) -> list[str]:
+    """`text` in at most `lines` lines of `width` display columns (Chinese characters count
+    two), broken at spaces where it can; what does not fit ends in `…`."""
+    out: list[str] = []
+    cur = ""
+    for word in text.split():
+        while word:
+            joined = f"{cur} {word}" if cur else word
+            if display_width(joined) <= width:
+                cur, word = joined, ""
+            elif cur:
+                out.append(cur)
+                cur = ""
+            else:  # a word longer than a line: cut it
+                cut = 0
+                while cut < len(word) and display_width(word[:cut + 1]) <= width:
+                    cut += 1
+                out.append(word[:cut])
+                word = word[cut:]
+    if cur:
+        out.append(cur)
+    if len(out) > lines:
+        out = out[:lines]
+        tail = out[-1]
+        while tail and display_width(tail + "…") > width:
+            tail = tail[:-1]
+        out[-1] = tail + "…"
     return out
 
 
@@ -131,4 +192,5 @@ def search_text(sheet: Sheet, it: RungView | RowView) -> str:
         words += [d for d, _ in operand_texts(ins)]
         if k in sheet.notes:
             words.append(sheet.notes[k])
+        words += [c for c in map(sheet.device_comments.get, (d.upper() for d, _ in operand_texts(ins))) if c]
     return " ".join(words)

@@ -49,9 +49,9 @@ def _e(s: str) -> str:
     return html.escape(s, quote=True)
 
 
-def sheets_body(sheets: list[Sheet]) -> str:
-    """Navigation and the rungs of every sheet."""
-    geo = geometry(sheets)
+def sheets_body(sheets: list[Sheet], comments: bool = False) -> str:
+    """Navigation and the rungs of every sheet (`comments`: device comments under contacts)."""
+    geo = geometry(sheets, comments)
     nav = []
     out = []
     for no, sh in enumerate(sheets):
@@ -61,7 +61,7 @@ def sheets_body(sheets: list[Sheet]) -> str:
         for it in sh.items:
             cls = "rung" if isinstance(it, RungView) else "row"
             aid = anchor(no, it)
-            h = item_height(it)
+            h = item_height(it, geo)
             out.append(f'<div class="{cls}" id="{aid}" data-text="{_e(search_text(sh, it))}">'
                        f'<a class="here" href="#{aid}" title="link to this rung">#</a>'
                        f'<svg xmlns="http://www.w3.org/2000/svg" class="lad" width="{geo.width}" '
@@ -83,7 +83,7 @@ def page(title: str, body: str, extra_style: str = "", script: str = "", header_
     )
 
 
-def sheets_html(sheets: list[Sheet], title: str = "") -> str:
+def sheets_html(sheets: list[Sheet], title: str = "", comments: bool = False) -> str:
     title = title or "Ladder: " + ", ".join(sh.path for sh in sheets)
-    return page(title, sheets_body(sheets))
+    return page(title, sheets_body(sheets, comments))
 

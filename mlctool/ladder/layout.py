@@ -2,9 +2,11 @@
 
 Coordinates: x counts contact columns from the left rail, y counts rows. A point (x, y) is
 the left edge of column x at the height of row y's wire; an element of width w in row y
-runs from (x, y) to (x + w, y). Outputs sit in one column right of all contact columns,
-chosen by the renderer (`Grid.width` is the last column a line reaches), so the coils of
-every rung of a program line up as in a ladder editor.
+runs from (x, y) to (x + w, y). A rung's outputs sit in its own output column, right of
+the last column a line of the rung reaches (`Grid.width`). A rung wider than the page is cut
+into pieces by `wrap`, as GX Works folds a wide rung: each line crossing a cut ends in a
+numbered continuation marker and goes on from the marker of the same number at the start
+of the next piece.
 
 Renderers only draw what is here; they never look at the network again.
 """
@@ -40,6 +42,7 @@ class Cell:
     y: int
     w: int
     kind: str  # contact | compare | inv | nop | tap | step (STL's state box) | edge (MEP/MEF)
+    #            | wrap_out / wrap_in (the continuation marker `glyph` of a wrapped rung)
     ins: Instr | None
     index: int  # instruction index (-1: tap)
     glyph: str = ""  # contact glyph, relation of a comparison, or the tap's step address
@@ -213,3 +216,144 @@ def layout_rung(rung: Rung) -> Grid:
     g.height = _place_node(rung.root, 0, 0, g)
     g.dots = [d for d in g.dots if d[0] > 0]  # the rail itself needs no branch dot
     return g
+
+
+# --------------------------------------------------------------- wrapping a wide rung
+
+MIN_COLS = 4  # a piece holds at least this many columns (a cut never splits a cell)
+
+
+def wrap(g: Grid, cols: int) -> list[Grid]:
+    """The grid as pieces at most `cols` columns wide (markers included), each with its
+    outputs in its own output column: an output goes in the piece where its line ends.
+
+    A cut at column c goes where no cell spans c; among the columns of the right half of
+    what the piece may hold it takes the one that the fewest lines cross, then one with no
+    branch bus on it, then the rightmost. (Only where comparison boxes, two columns wide,
+    overlap every column it could be cut at is a piece wider than `cols`.) The pieces after the first start with a column of
+    incoming markers; a piece with crossing lines ends with a column of outgoing ones."""
+    cols = max(cols, MIN_COLS)
+    if g.width <= cols:
+        return [g]
+    cover: dict[int, set[int]] = {}  # row -> unit columns [i, i+1] a line runs through
+    for c in g.cells:
+        cover.setdefault(c.y, set()).update(range(c.x, c.x + c.w))
+    for w in g.wires:
+        if w.y0 == w.y1:
+            cover.setdefault(w.y0, set()).update(range(min(w.x0, w.x1), max(w.x0, w.x1)))
+    buses = [w for w in g.wires if w.x0 == w.x1]
+
+    def splits_cell(c: int) -> bool:
+        return any(cell.x < c < cell.x + cell.w for cell in g.cells)
+
+    def crossing(c: int) -> list[int]:
+        rows = []
+        for y in range(g.height):
+            row = cover.get(y, ())
+            if c - 1 in row and (c in row or any(b.x0 == c and min(b.y0, b.y1) <= y <= max(b.y0, b.y1)
+                                                 for b in buses)):
+                rows.append(y)
+        return rows
+
+    cuts: list[tuple[int, list[int]]] = []
+    start = 0
+    while g.width - start + (start > 0) > cols:
+        room = cols - (start > 0) - 1  # columns of this piece left of its outgoing markers
+        low, high = start + max(1, (room + 1) // 2), start + room
+        options = [c for c in range(low, high + 1) if not splits_cell(c)] or \
+            [c for c in range(start + 1, high + 1) if not splits_cell(c)]
+        while not options:  # cells of width 2 on every column of the range: go a column further
+            high += 1
+            options = [c for c in range(start + 1, high + 1) if not splits_cell(c)]
+        best = min(options, key=lambda c: (len(crossing(c)), any(b.x0 == c for b in buses), -c))
+        cuts.append((best, crossing(best)))
+        start = best
+    return _pieces(g, cuts)
+
+
+def _pieces(g: Grid, cuts: list[tuple[int, list[int]]]) -> list[Grid]:
+    bounds = [0] + [c for c, _ in cuts] + [g.width]
+    marks: list[list[str]] = []  # per cut, the marker number of each crossing line
+    for _, rows in cuts:
+        first = sum(len(m) for m in marks) + 1
+        marks.append([str(first + n) for n in range(len(rows))])
+    pieces = []
+    for k in range(len(bounds) - 1):
+        p = _piece(g, bounds[k], bounds[k + 1], k, len(bounds) - 2)
+        if k:  # the lines the cut before this piece crossed go on here
+            p.cells += [Cell(0, y, 1, "wrap_in", None, -1, m) for y, m in zip(cuts[k - 1][1], marks[k - 1],
+                                                                              strict=True)]
+        if k < len(cuts):
+            x = bounds[k + 1] - bounds[k] + (1 if k else 0)
+            p.cells += [Cell(x, y, 1, "wrap_out", None, -1, m) for y, m in zip(cuts[k][1], marks[k], strict=True)]
+        _measure(p)
+        pieces.append(_squeeze(p))
+    return pieces
+
+
+def _piece(g: Grid, a: int, b: int, k: int, last: int) -> Grid:
+    """What of the grid lies between the cuts at columns a and b, moved to the piece's own
+    columns (after the column of incoming markers, except in the first piece)."""
+    off = 1 if k else 0
+
+    def right_of_cut(x: int) -> bool:  # branch buses, rail bars, dots: in the piece right of a cut
+        return a <= x < b or (k == last and x == b)
+
+    def on_bus(x: int, y: int) -> bool:
+        return any(w.x0 == x and w.x1 == x and min(w.y0, w.y1) <= y <= max(w.y0, w.y1) for w in g.wires)
+
+    def line_end_here(x: int, y: int) -> bool:
+        # the end of a line (an output, an end) at a cut goes with the piece left of it,
+        # unless a branch bus on the cut feeds it: then with the bus, right of it
+        return right_of_cut(x) if x in (a, b) and on_bus(x, y) else a < x <= b or (k == 0 and x == a)
+
+    p = Grid()
+    for c in g.cells:
+        if a <= c.x and c.x + c.w <= b:
+            p.cells.append(Cell(c.x - a + off, c.y, c.w, c.kind, c.ins, c.index, c.glyph))
+    for w in g.wires:
+        if w.y0 == w.y1:
+            x0, x1 = max(min(w.x0, w.x1), a), min(max(w.x0, w.x1), b)
+            if x0 < x1:
+                p.wires.append(Wire(x0 - a + off, w.y0, x1 - a + off, w.y1))
+        elif right_of_cut(w.x0):
+            p.wires.append(Wire(w.x0 - a + off, w.y0, w.x1 - a + off, w.y1))
+    p.outputs = [Output(o.x - a + off, o.y, o.kind, o.ins, o.index, o.letter) for o in g.outputs
+                 if line_end_here(o.x, o.y)]
+    for f in g.frames:
+        x0, x1 = max(f.x0, a), min(f.x1, b)
+        if x0 < x1:
+            p.frames.append(Frame(x0 - a + off, f.y0, x1 - a + off, f.y1))
+    p.rails = [(x - a + off, y) for x, y in g.rails if right_of_cut(x)]
+    p.ends = [(x - a + off, y) for x, y in g.ends if line_end_here(x, y)]
+    p.dots = [(x - a + off, y) for x, y in g.dots if right_of_cut(x)]
+    return p
+
+
+def _measure(p: Grid) -> None:
+    ends = [c.x + c.w for c in p.cells] + [max(w.x0, w.x1) for w in p.wires]
+    ends += [o.x for o in p.outputs] + [x for x, _ in p.ends]
+    p.width = max(ends, default=0)
+
+
+def _squeeze(p: Grid) -> Grid:
+    """The piece with the rows it does not use taken out (a long first line wrapped leaves
+    the short lines of its branch point in the first piece)."""
+    used: set[int] = set()
+    used.update(c.y for c in p.cells)
+    used.update(o.y for o in p.outputs)
+    used.update(y for _, y in p.rails + p.ends + p.dots)
+    for w in p.wires:
+        used.update(range(min(w.y0, w.y1), max(w.y0, w.y1) + 1))
+    for f in p.frames:
+        used.update(range(f.y0, f.y1 + 1))
+    row = {y: k for k, y in enumerate(sorted(used))}
+    q = Grid(width=p.width, height=len(row))
+    q.cells = [Cell(c.x, row[c.y], c.w, c.kind, c.ins, c.index, c.glyph) for c in p.cells]
+    q.wires = [Wire(w.x0, row[w.y0], w.x1, row[w.y1]) for w in p.wires]
+    q.outputs = [Output(o.x, row[o.y], o.kind, o.ins, o.index, o.letter) for o in p.outputs]
+    q.frames = [Frame(f.x0, row[f.y0], f.x1, row[f.y1]) for f in p.frames]
+    q.rails = [(x, row[y]) for x, y in p.rails]
+    q.ends = [(x, row[y]) for x, y in p.ends]
+    q.dots = [(x, row[y]) for x, y in p.dots]
+    return q

@@ -7,11 +7,20 @@ SVG <text> (searchable in a browser); sizes are whole pixels so the output is by
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from xml.sax.saxutils import escape
 
-from mlctool.ladder.document import RowView, RungView, Sheet, instr_text, operand_texts
-from mlctool.ladder.layout import Cell, Grid, Output
+from mlctool.ladder.document import (
+    RowView,
+    RungView,
+    Sheet,
+    comment_of,
+    fold,
+    instr_text,
+    operand_texts,
+)
+from mlctool.ladder.layout import MIN_COLS, Cell, Grid, Output, wrap
 from mlctool.syntax.source import display_width
 
 CW = 84  # contact column width
@@ -19,11 +28,16 @@ RH = 64  # row height
 WIRE_Y = 34  # wire height inside a row
 LM = 60  # left margin: step addresses and labels; the rail is at x = LM
 CHAR = 7.3  # width of one character of the 12 px monospace font
+SMALL_CHAR = 6.1  # ... of the 10 px one
 COMMENT_H = 16  # one comment line above a rung
 GAP = 10  # space between rungs
-MAX_NOTE = 60  # characters of an output's line comment shown beside it
-MAX_COMMENT = 120  # characters of a rung comment line shown
-MAX_NAME = 8  # characters of a signal's name under its device (a cell holds about 8 CJK characters)
+PIECE_GAP = 6  # space between the pieces of a wrapped rung
+PAGE_W = 1200  # a drawing is at most this wide: it fits a 1280 px browser window with the page's margins
+MIN_OUT_W, MAX_OUT_W = 64, 320  # an output box's width
+MIN_NOTE = 8  # characters of an output's line comment worth drawing beside it (else: tooltip only)
+DEVICE_COMMENT_LINES = 2  # lines of a device comment under a contact (--comments)
+DEVICE_COMMENT_CHARS = 13  # characters per line (10 px font, one column)
+SMALL_LINE = 12  # line pitch of the small text under a symbol
 
 STYLE = """
 .lad text{font-family:"DejaVu Sans Mono",Menlo,Consolas,monospace;font-size:12px;fill:#111}
@@ -34,7 +48,9 @@ STYLE = """
 .lad .box.step{stroke-width:2.5}
 .lad .frame{stroke:#777;stroke-width:1;stroke-dasharray:4 3;fill:none}
 .lad .dot{fill:#222}
+.lad .wrap{stroke:#555;stroke-width:1.5;fill:#eee}
 .lad text.small{font-size:10px;fill:#555}
+.lad text.dcomment{font-size:10px;fill:#2a6a2a}
 .lad text.note{font-size:11px;fill:#2a6a2a;font-style:italic}
 .lad text.comment{font-size:12px;fill:#2a6a2a}
 .lad text.addr{font-size:11px;fill:#666}
@@ -48,20 +64,18 @@ STYLE = """
 
 @dataclass(frozen=True, slots=True)
 class Geometry:
-    """Column count and output column width shared by all rungs of one drawing."""
+    """What all rungs of one drawing share: the columns a piece of a rung may use, the
+    width of output boxes, the row height and the drawing's width."""
 
     cols: int
     out_w: int
-    note_w: int
-    text_w: int = 0  # widest comment line or file name
+    rh: int = RH
+    comments: bool = False  # device comments under contacts and coils
+    page: int = PAGE_W
+    width: int = 0
 
-    @property
-    def out_x(self) -> int:
-        return LM + self.cols * CW
-
-    @property
-    def width(self) -> int:
-        return max(self.out_x + self.out_w + self.note_w, self.text_w) + 12
+    def gy(self, y: int) -> int:
+        return y * self.rh + WIRE_Y
 
 
 def _px(chars: int) -> int:
@@ -72,23 +86,53 @@ def _esc(s: str) -> str:
     return escape(s, {'"': "&quot;"})
 
 
-def geometry(sheets: list[Sheet]) -> Geometry:
-    cols, out_chars, note_chars, text_chars = 1, 6, 0, 0
+def _box_text(ins) -> str:
+    return " ".join((ins.mnemonic, *(d for d, _ in operand_texts(ins))))
+
+
+def geometry(sheets: list[Sheet], comments: bool = False, page: int = PAGE_W) -> Geometry:
+    """The drawing's geometry: boxes as wide as the widest output's text (within
+    MIN_OUT_W..MAX_OUT_W), as many contact columns as fit the page beside them."""
+    out_chars = 6
     for sh in sheets:
-        cols = max(cols, sh.width)
-        text_chars = max(text_chars, len(sh.path) * 14 // 12)
         for it in sh.items:
-            text_chars = max([text_chars] + [min(MAX_COMMENT, len(c)) for c in it.comment])
-            outs = it.grid.outputs if isinstance(it, RungView) else [it.row]
-            for o in outs:
-                out_chars = max(out_chars, display_width(instr_text(o.ins)) + 2)  # CJK names: 2 each
-                note_chars = max(note_chars, min(MAX_NOTE, len(sh.notes.get(o.index, ""))))
-    return Geometry(cols, max(64, _px(out_chars) + 16), _px(note_chars) + 8 if note_chars else 0,
-                    LM + _px(text_chars))
+            for o in (it.grid.outputs if isinstance(it, RungView) else [it.row]):
+                out_chars = max(out_chars, display_width(_box_text(o.ins)), display_width(instr_text(o.ins)))
+    out_w = min(MAX_OUT_W, max(MIN_OUT_W, _px(out_chars) + 16))
+    cols = max(MIN_COLS, (page - LM - 12 - out_w) // CW)
+    geo = Geometry(cols, out_w, RH + (DEVICE_COMMENT_LINES * SMALL_LINE + 4 if comments else 0), comments, page)
+    width = LM + _px(max((display_width(sh.path) * 14 // 12 for sh in sheets), default=0))
+    for sh in sheets:
+        for it in sh.items:
+            width = max(width, _item_width(sh, it, geo))
+    return dataclasses.replace(geo, width=min(page, width + 12))
+
+
+def _item_width(sheet: Sheet, it: RungView | RowView, geo: Geometry) -> int:
+    width = max((LM + 8 + _px(display_width(c)) for c in it.comment), default=0)
+    if isinstance(it, RowView):
+        outs = [(LM, it.row.index, "box")]
+    else:
+        outs = [(LM + p.width * CW, o.index, o.kind) for p in pieces(it, geo) for o in p.outputs]
+        width = max([width] + [LM + p.width * CW for p in pieces(it, geo)])
+    for ox, index, kind in outs:
+        end = _output_end(ox, kind, geo)
+        note = sheet.notes.get(index)
+        width = max(width, end + (8 + _px(display_width(note)) if note else 0))
+    return width
+
+
+def _output_end(ox: int, kind: str, geo: Geometry) -> int:
+    return ox + {"coil": 46, "pin": 40}.get(kind, geo.out_w)
 
 
 def _clip(s: str, n: int) -> str:
-    return s if len(s) <= n else s[:n - 1] + "…"
+    """s in at most n display columns."""
+    if display_width(s) <= n:
+        return s
+    while s and display_width(s) > n - 1:
+        s = s[:-1]
+    return s + "…"
 
 
 def _text(x: float, y: float, s: str, cls: str = "", anchor: str = "middle") -> str:
@@ -105,30 +149,36 @@ def _gx(x: int) -> int:
     return LM + x * CW
 
 
-def _gy(y: int) -> int:
-    return y * RH + WIRE_Y
-
-
 def _title(sheet: Sheet, index: int, text: str) -> str:
     note = sheet.notes.get(index)
     return f"<title>{_esc(text + (' ; ' + note if note else ''))}</title>"
 
 
-def _labels(sheet: Sheet, index: int, cell_ins, x: float, y: int) -> list[str]:
-    """Device above the symbol; below, the written symbol, else the manual's name of a signal
-    (NC5 special M/D)."""
-    devs = operand_texts(cell_ins)
+def _labels(sheet: Sheet, index: int, x: float, y: int, geo: Geometry) -> list[str]:
+    """Device above the symbol; under it the symbol as written (if any), then with
+    --comments the device comment (document.comment_of)."""
+    ins = sheet.instrs[index]
+    devs = operand_texts(ins)
     out = []
     if devs:
-        out.append(_text(x, y - 18, devs[0][0]))
-        below = devs[0][1] or sheet.names.get(index, "")
-        if below:
-            out.append(_text(x, y + 26, _clip(below, MAX_NAME), "small"))
+        out.append(_text(x, y - 18, _clip(devs[0][0], CW // 7)))
+        below = devs[0][1] or sheet.names.get(index, "")  # the written symbol, else a signal's name
+        under = [(_clip(below, DEVICE_COMMENT_CHARS), "small")] if below else []
+        if geo.comments:
+            under += [(t, "dcomment") for t in fold(comment_of(sheet, index), DEVICE_COMMENT_CHARS,
+                                                     DEVICE_COMMENT_LINES + 1 - len(under))]
+        out += [_text(x, y + 26 + k * SMALL_LINE, t, cls) for k, (t, cls) in enumerate(under)]
     return out
 
 
-def _cell(sheet: Sheet, c: Cell) -> str:
-    x0, y = _gx(c.x), _gy(c.y)
+def _marker(mid: float, y: int, number: str) -> str:
+    """A continuation marker: a tag pointing right with the number of the line it carries."""
+    return (f'<path class="wrap" d="M{mid - 12:g},{y - 9} L{mid + 4:g},{y - 9} L{mid + 12:g},{y} '
+            f'L{mid + 4:g},{y + 9} L{mid - 12:g},{y + 9} Z"/>' + _text(mid - 2, y + 4, number, "small"))
+
+
+def _cell(sheet: Sheet, c: Cell, geo: Geometry) -> str:
+    x0, y = _gx(c.x), geo.gy(c.y)
     x1 = x0 + c.w * CW
     mid = (x0 + x1) / 2
     parts: list[str] = []
@@ -139,15 +189,15 @@ def _cell(sheet: Sheet, c: Cell) -> str:
             parts.append(_line(mid - 11, y + 10, mid + 11, y - 10, "sym"))
         elif c.glyph:
             parts.append(_text(mid, y + 4, c.glyph))
-        parts += _labels(sheet, c.index, c.ins, mid, y)
+        parts += _labels(sheet, c.index, mid, y, geo)
     elif c.kind == "compare":
         (s1, sym1), (s2, sym2) = operand_texts(c.ins)[:2]
         rel = ("D" if c.ins.spec.width == 32 else "") + c.glyph
         parts += [_line(x0, y, x0 + 10, y), _line(x1 - 10, y, x1, y),
                   f'<rect class="box" x="{x0 + 10}" y="{y - 13}" width="{x1 - x0 - 20}" height="26"/>',
-                  _text(mid, y + 4, f"{s1} {rel} {s2}")]
+                  _text(mid, y + 4, _clip(f"{s1} {rel} {s2}", 2 * CW // 7 - 3))]
         if sym1 or sym2:
-            parts.append(_text(mid, y + 26, f"{sym1 or s1} {rel} {sym2 or s2}", "small"))
+            parts.append(_text(mid, y + 26, _clip(f"{sym1 or s1} {rel} {sym2 or s2}", 2 * CW // 6 - 1), "small"))
     elif c.kind == "inv":
         parts += [_line(x0, y, x1, y), _line(mid - 8, y + 12, mid + 8, y - 12, "sym"),
                   _text(mid, y - 18, "INV", "small")]
@@ -163,6 +213,12 @@ def _cell(sheet: Sheet, c: Cell) -> str:
         parts += [_line(x0, y, x0 + 8, y), _line(x1 - 8, y, x1, y),
                   f'<rect class="box step" x="{x0 + 8}" y="{y - 14}" width="{x1 - x0 - 16}" height="28"/>',
                   _text(mid, y + 4, operand_texts(c.ins)[0][0]), _text(mid, y - 18, "STL", "small")]
+    elif c.kind == "wrap_out":  # the line goes on at the marker of the same number below
+        return ("<g>" + _line(x0, y, mid - 12, y) + _marker(mid, y, c.glyph)
+                + f"<title>continued on the next line at {_esc(c.glyph)}</title></g>")
+    elif c.kind == "wrap_in":
+        return ("<g>" + _marker(mid, y, c.glyph) + _line(mid + 12, y, x1, y)
+                + f"<title>continued from {_esc(c.glyph)} on the line above</title></g>")
     else:  # tap: the power at the branch point made at step c.glyph
         parts += [_line(x0, y, mid - 12, y), _line(mid + 12, y, x1, y),
                   f'<rect class="box" x="{mid - 12:g}" y="{y - 10}" width="24" height="20"/>',
@@ -172,9 +228,10 @@ def _cell(sheet: Sheet, c: Cell) -> str:
     return f'<g class="el" data-i="{c.index}">' + "".join(parts) + _title(sheet, c.index, instr_text(c.ins)) + "</g>"
 
 
-def _output(sheet: Sheet, geo: Geometry, o: Output, index: int, y: int) -> list[str]:
-    ox = geo.out_x
+def _output(sheet: Sheet, geo: Geometry, ox: int, o: Output, y: int) -> list[str]:
+    """The output `o` in the output column at x = ox, its line comment beside it."""
     parts = []
+    index = o.index
     if o.kind == "pin":  # a further input of the box drawn on an earlier row
         return [_line(ox, y, ox + 10, y), _text(ox + 14, y + 4, o.letter, "small", "start")]
     if o.kind == "coil":
@@ -184,77 +241,96 @@ def _output(sheet: Sheet, geo: Geometry, o: Output, index: int, y: int) -> list[
              f'<path class="sym" d="M{cx + 6},{y - 12} A14,14 0 0,1 {cx + 6},{y + 12}"/>']
         if o.letter:
             g.append(_text(cx, y + 4, o.letter))
-        g += _labels(sheet, index, o.ins, cx, y)
-        end = cx + 16
+        g += _labels(sheet, index, cx, y, geo)
     else:
         w = geo.out_w - 8
+        chars = int((w - 8) / CHAR)
         g = [f'<rect class="box" x="{ox + 4}" y="{y - 13}" width="{w}" height="26"/>',
-             _text(ox + 4 + w / 2, y + 4, " ".join((o.ins.mnemonic, *(d for d, _ in operand_texts(o.ins)))))]
+             _text(ox + 4 + w / 2, y + 4, _clip(_box_text(o.ins), chars))]
         if any(s for _, s in operand_texts(o.ins)):
-            g.append(_text(ox + 4 + w / 2, y + 26, instr_text(o.ins), "small"))
-        end = ox + 4 + w
+            g.append(_text(ox + 4 + w / 2, y + 26, _clip(instr_text(o.ins), int((w - 4) / SMALL_CHAR)), "small"))
     parts.append(f'<g class="el" data-i="{index}">' + "".join(g) + _title(sheet, index, instr_text(o.ins)) + "</g>")
     note = sheet.notes.get(index)
-    if note:
-        parts.append(_text(max(end, ox + geo.out_w) + 8, y + 4, _clip(note, MAX_NOTE), "note", "start"))
+    x = _output_end(ox, o.kind, geo) + 8
+    room = int((geo.page - 4 - x) / 6.7)  # 11 px italic
+    if note and room >= MIN_NOTE:
+        parts.append(_text(x, y + 4, _clip(note, room), "note", "start"))
     return parts
 
 
-def item_height(it: RungView | RowView) -> int:
-    rows = it.grid.height if isinstance(it, RungView) else 1
-    return len(it.comment) * COMMENT_H + rows * RH
+def pieces(it: RungView, geo: Geometry) -> list[Grid]:
+    return wrap(it.grid, geo.cols)
+
+
+def item_height(it: RungView | RowView, geo: Geometry) -> int:
+    body = sum(p.height * geo.rh + PIECE_GAP for p in pieces(it, geo)) - PIECE_GAP \
+        if isinstance(it, RungView) else geo.rh
+    return len(it.comment) * COMMENT_H + body
 
 
 def item_svg(sheet: Sheet, it: RungView | RowView, geo: Geometry) -> list[str]:
     """The drawing of one rung or row, top at y = 0, as SVG elements."""
     top = len(it.comment) * COMMENT_H
-    parts = [_text(LM + 8, 12 + k * COMMENT_H, _clip(c, MAX_COMMENT), "comment", "start")
+    text_room = int((geo.page - LM - 16) / CHAR)
+    parts = [_text(LM + 8, 12 + k * COMMENT_H, _clip(c, text_room), "comment", "start")
              for k, c in enumerate(it.comment)]
     # the rail runs on through the comment lines and the gap to the next rung
-    body: list[str] = [_line(LM, -top, LM, item_height(it) - top + GAP, "rail")]
+    body: list[str] = [_line(LM, -top, LM, item_height(it, geo) - top + GAP, "rail")]
     if isinstance(it, RowView):
-        ins, y = it.row.ins, _gy(0)
+        ins, y = it.row.ins, geo.gy(0)
         if ins.spec.cls == "label":
             body.append(_text(LM - 8, y + 4, instr_text(ins)[2:] if ins.mnemonic == "P" else instr_text(ins),
                               "label", "end"))
         else:
             body.append(_text(LM - 8, y + 4, str(ins.addr), "addr", "end"))
-            body.append(_line(LM, y, geo.out_x + 4, y))
-            body += _output(sheet, geo, Output(0, 0, "box", ins, it.row.index), it.row.index, y)
-    else:
-        g: Grid = it.grid
-        body.append(_text(LM - 8, _gy(0) + 4, str(it.addr), "addr", "end"))
-        body += [_line(_gx(w.x0), _gy(w.y0), _gx(w.x1), _gy(w.y1)) for w in g.wires]
-        body += [_cell(sheet, c) for c in g.cells]
-        for o in g.outputs:
-            body.append(_line(_gx(o.x), _gy(o.y), geo.out_x, _gy(o.y)))
-            body += _output(sheet, geo, o, o.index, _gy(o.y))
-        for f in g.frames:
-            body.append(f'<rect class="frame" x="{_gx(f.x0) + 3}" y="{_gy(f.y0) - 28}" '
-                        f'width="{_gx(f.x1) - _gx(f.x0) - 6}" height="{(f.y1 - f.y0) * RH + 50}"/>')
-        for x, y in g.rails:
-            body.append(_line(_gx(x) + 2, _gy(y) - 12, _gx(x) + 2, _gy(y) + 12, "rail"))
-        for x, y in g.ends:
-            body.append(_line(_gx(x), _gy(y) - 6, _gx(x), _gy(y) + 6, "sym"))
-        body += [f'<circle class="dot" cx="{_gx(x)}" cy="{_gy(y)}" r="3"/>' for x, y in g.dots]
+            body.append(_line(LM, y, LM + 4, y))
+            body += _output(sheet, geo, LM, Output(0, 0, "box", ins, it.row.index), y)
+        parts.append(f'<g transform="translate(0,{top})">' + "".join(body) + "</g>")
+        return parts
+    body.append(_text(LM - 8, geo.gy(0) + 4, str(it.addr), "addr", "end"))
+    y0 = 0
+    for g in pieces(it, geo):
+        body.append(f'<g transform="translate(0,{y0})">' if y0 else "<g>")
+        body += _piece_svg(sheet, g, geo)
+        body.append("</g>")
+        y0 += g.height * geo.rh + PIECE_GAP
     parts.append(f'<g transform="translate(0,{top})">' + "".join(body) + "</g>")
     return parts
 
 
-def sheets_svg(sheets: list[Sheet]) -> str:
+def _piece_svg(sheet: Sheet, g: Grid, geo: Geometry) -> list[str]:
+    ox = _gx(g.width)  # the piece's own output column
+    gy = geo.gy
+    body = [_line(_gx(w.x0), gy(w.y0), _gx(w.x1), gy(w.y1)) for w in g.wires]
+    body += [_cell(sheet, c, geo) for c in g.cells]
+    for o in g.outputs:
+        body.append(_line(_gx(o.x), gy(o.y), ox, gy(o.y)))
+        body += _output(sheet, geo, ox, o, gy(o.y))
+    for f in g.frames:
+        body.append(f'<rect class="frame" x="{_gx(f.x0) + 3}" y="{gy(f.y0) - 28}" '
+                    f'width="{_gx(f.x1) - _gx(f.x0) - 6}" height="{(f.y1 - f.y0) * geo.rh + 50}"/>')
+    for x, y in g.rails:
+        body.append(_line(_gx(x) + 2, gy(y) - 12, _gx(x) + 2, gy(y) + 12, "rail"))
+    for x, y in g.ends:
+        body.append(_line(_gx(x), gy(y) - 6, _gx(x), gy(y) + 6, "sym"))
+    body += [f'<circle class="dot" cx="{_gx(x)}" cy="{gy(y)}" r="3"/>' for x, y in g.dots]
+    return body
+
+
+def sheets_svg(sheets: list[Sheet], comments: bool = False) -> str:
     """One SVG: each file's title, then its rungs and rows stacked in program order."""
-    geo = geometry(sheets)
+    geo = geometry(sheets, comments)
     y = 0
     parts: list[str] = []
-    for sh in sheets:
+    for no, sh in enumerate(sheets):
         parts.append(f'<g class="sheet" transform="translate(0,{y})">'
                      + _text(8, 18, sh.path, "file", "start") + "</g>")
         y += 30
         for it in sh.items:
             cls = "rung" if isinstance(it, RungView) else "row"
-            parts.append(f'<g class="{cls}" id="{_esc(anchor(sheets.index(sh), it))}" '
+            parts.append(f'<g class="{cls}" id="{_esc(anchor(no, it))}" '
                          f'transform="translate(0,{y})">' + "".join(item_svg(sh, it, geo)) + "</g>")
-            y += item_height(it) + GAP
+            y += item_height(it, geo) + GAP
     return (f'<svg xmlns="http://www.w3.org/2000/svg" class="lad" width="{geo.width}" height="{y}" '
             f'viewBox="0 0 {geo.width} {y}">\n<style>\n{STYLE}\n</style>\n' + "\n".join(parts) + "\n</svg>\n")
 

@@ -336,8 +336,8 @@ class Scanner:
         end_of_scan(m)
 
     def _check_instrumented(self) -> None:
-        """Steps whose routine was wrapped after decoding (coverage, the ladder report's power
-        recorder) must run as wrapped: such a program runs on the interpreter."""
+        """Steps whose routine was wrapped after decoding (coverage) must run as wrapped: such
+        a program runs on the interpreter."""
         self._checked = True
         if any(s.run is not r for s, r in zip(self.prog.steps, self._runs)):
             self.code = None

@@ -46,12 +46,26 @@ class Failure:
 
 
 @dataclass
+class Checked:
+    """One `DEV=V` (or alarm) of an expect line as checked, held or not: the report page
+    lists every one."""
+
+    device: str
+    expected: str
+    actual: int | float | str
+    held: bool
+
+
+@dataclass
 class ExpectOutcome:
     line: int
     text: str
     time_us: int
     scan: int
     failures: list[Failure] = field(default_factory=list)
+    # every check of the line (a run on the reference or compiled engine; the batch lanes keep
+    # only the failures); not compared, as `seconds`
+    checks: list[Checked] = field(default_factory=list, compare=False)
     # wall time simulated since the previous check (JUnit test case `time`); not compared
     seconds: float = field(default=0.0, compare=False)
 
@@ -261,6 +275,9 @@ class Simulation:
         # where each time's value changes go as soon as they are complete (the streamed VCD);
         # None: they are kept in RunResult.trace
         self.trace_sink: Callable[[int, list[tuple[int, int | float]]], None] | None = None
+        # called with the machine and the scan number at the end of every scan, forces applied
+        # (the report samples the lit ladder elements here: ladder/report.py)
+        self.scan_end: Callable[[Machine, int], None] | None = None
         self.forces: dict[DeviceView, int | float] = {}
         self.by_scan: dict[int, list[Event]] = {}
         for e in st.events:
@@ -329,13 +346,17 @@ class Simulation:
     def check(self, e: Event, k: int) -> ExpectOutcome:
         out = ExpectOutcome(e.line, e.text, k * self.period, k)
         if e.kind == "alarm":
-            if not any(a[2] == e.alarm for a in self.m.alarms):
+            raised = any(a[2] == e.alarm for a in self.m.alarms)
+            out.checks.append(Checked(f"alarm {e.alarm}", "raised", "raised" if raised else "not raised", raised))
+            if not raised:
                 out.failures.append(Failure(e.line, e.col, k * self.period, k, f"alarm {e.alarm}",
                                             "raised", "not raised", "", e.text))
             return out
         for c in e.checks:
             actual = c.view.read(self.m)
-            if not c.holds(actual):
+            held = c.holds(actual)
+            out.checks.append(Checked(c.view.name, c.expected_text(), actual, held))
+            if not held:
                 out.failures.append(self._failure(e, c, k, actual))
         return out
 
@@ -424,6 +445,8 @@ class Simulation:
                 moved.clear()
                 if changes:
                     trace.add(m.now_us, changes)
+            if self.scan_end is not None:
+                self.scan_end(m, k)
             if fault:
                 break
             for e in self.by_scan.get(k, ()):

@@ -172,15 +172,15 @@ def failure_artifacts(image: Image, target: Target, sc: Scenario, lines: dict[st
                       folder: str) -> dict[str, str]:
     """A failing scenario run again with its trace kept: {path: text} of its VCD, the GTKWave
     save file beside it and the HTML report page (the ladder lit by scan, waveforms)."""
-    from mlctool.ladder.report import PowerProbe, report_html
+    from mlctool.ladder.report import ScanLamps, report_html
     from mlctool.sim.vcd import gtkw_path, to_gtkw, to_vcd
 
     st, _ = load_stimulus(sc.stim, target)
     models, _ = build_models(st, target)
     period = st.scan_us or DEFAULT_SCAN_US
-    power = PowerProbe(period)
-    sim = Simulation(image, target, st, models, period, [], trace=True, probe=power)
+    sim = Simulation(image, target, st, models, period, [], trace=True)
+    scan_lamps = ScanLamps(sim, lines)
     result = sim.run(plan_scans(st, period, None, None))
     vcd, html = artifact_paths(sc.stim, folder)
     return {vcd: to_vcd(result, image, target), gtkw_path(vcd): to_gtkw(vcd, result.views),
-            html: report_html(sim, result, power, {**lines, sc.stim: st.lines}, [], sc.stim)}
+            html: report_html(sim, result, scan_lamps, [], sc.stim)}

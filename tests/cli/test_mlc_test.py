@@ -166,6 +166,11 @@ def test_a_failing_scenario_writes_its_waveform_and_report_beside_the_junit(mlc,
     assert "tests/pick_cycle.stim: failed; waveform ci/tests-pick_cycle.vcd, report ci/tests-pick_cycle.html" in r.err
     assert "$timescale" in vcd.read_text() and "D10" in vcd.read_text()
     assert "<html" in html.read_text("utf-8").lower() and (project / "ci" / "tests-pick_cycle.gtkw").is_file()
+    # the page shows the failure: its row, the first-failure line, and opens at its scan
+    page = html.read_text("utf-8")
+    row = re.search(r'<tr class="fail" data-scan="(\d+)" id="first-failure">.*?<td>D10</td><td>7</td><td>2</td>', page)
+    assert row and 'type="range" min="0" max="' in page and f'value="{row[1]}" aria-label="scan"' in page
+    assert "<b>First failure</b>" in page and "D10 expected 7, actual 2" in page
     assert sorted(p.name for p in (project / "ci").iterdir()) == [
         "junit.xml", "tests-pick_cycle.gtkw", "tests-pick_cycle.html", "tests-pick_cycle.vcd"]  # passing: none
     root = _validate_junit(project / "ci" / "junit.xml")
