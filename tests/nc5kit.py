@@ -52,6 +52,14 @@ def outcome(il: str, stim: str, part: str | None = None, period_us: int = 10_000
                       engine=simkit.ENGINE).run(n)
 
 
+def nc_written(view) -> bool:
+    """A device the NC (or the HMI) writes, which a stimulus must not play when the virtual NC
+    runs: the target's areas marked write = "nc" (M3cnnn, D3cnnn, M59xxx, D59xxx)."""
+    kind = NC5.devices.get(view.kind)
+    area = kind.area(view.number) if kind is not None else None
+    return area is not None and area.write == "nc"
+
+
 def model_diags(stim: str, part: str | None = None) -> list[tuple[str, int, int, str]]:
     """(file name, line, column, code) of what build_models says about the stimulus' models."""
     with tempfile.TemporaryDirectory() as tmp:

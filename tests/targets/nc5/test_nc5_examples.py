@@ -11,16 +11,15 @@ from __future__ import annotations
 import re
 
 import pytest
+from nc5kit import NC5, nc_written
 
 from conftest import SAMPLES, SIM_ENGINES
 from mlctool.asm import program_from_paths
 from mlctool.sim.run import Simulation, build_models, plan_scans
 from mlctool.sim.signals import SIGNAL
 from mlctool.sim.stimulus import load_stimulus
-from mlctool.targetapi import load_target
 
 NC5_SAMPLES = SAMPLES / "nc5"
-NC5 = load_target("nc5")
 # the sections of chapter 6 (L5600-L5617), each a sample man_6_<N>_<topic>.il
 SECTIONS = {
     "6.1": "mode switching", "6.2": "machining, block functions, feed override", "6.3": "handwheel",
@@ -51,13 +50,6 @@ def test_every_example_has_a_sample_or_is_pending():
     assert len(PRESENT) >= 12
 
 
-def _nc_written(view) -> bool:
-    """A device the NC (or the HMI) writes: the target's areas marked write = "nc"."""
-    kind = NC5.devices.get(view.kind)
-    area = kind.area(view.number) if kind is not None else None
-    return area is not None and area.write == "nc"
-
-
 @pytest.mark.parametrize("section", PRESENT)
 def test_example(section):
     il = sample(section)
@@ -66,10 +58,10 @@ def test_example(section):
     assert st.lines[0].startswith(f"# Manual {section} "), st.lines[0]
     assert [m.kind for m in st.models] == ["nc5"], "the example runs against one virtual NC"
     played = [(e.line, v.name) for e in st.events if e.kind in ("set", "force")
-              for v, _ in e.assigns if _nc_written(v)]
+              for v, _ in e.assigns if nc_written(v)]
     assert not played, f"the stimulus plays the NC's own devices: {played}"
     nc_checks = [c for e in st.events if e.kind == "expect" for c in e.checks
-                 if c.view.kind.startswith(SIGNAL) or _nc_written(c.view)]
+                 if c.view.kind.startswith(SIGNAL) or nc_written(c.view)]
     assert len(nc_checks) >= 5, "the expectations must read what the NC does"
     image, diags, _ = program_from_paths([str(il)], NC5)
     assert image is not None, diags
