@@ -33,6 +33,10 @@ demo: $(STAMP)
 	@echo "waveform written to out/conveyor.vcd (open with: gtkwave out/conveyor.vcd out/conveyor.gtkw)"
 	cd samples/project && ../../$(BIN)/mlc build && ../../$(BIN)/mlc test --coverage --coverage-dir ../../out --junit ../../out/project-junit.xml
 	@echo "project built into samples/project/build/; test and coverage reports in out/"
+	$(BIN)/mlc test samples/nc5-mill --junit $(CURDIR)/out/mill-junit.xml
+	@echo "the mill ran against the virtual NC (docs/nc5.md \"Worked examples\"); next, its scenario that fails on purpose:"
+	$(BIN)/mlc test samples/nc5-mill/broken --out $(CURDIR)/out/mill-broken; test $$? -eq 1
+	@echo "failed as it should (exit 1): waveform and report in out/mill-broken/"
 
 # the benchmarks run in their own venv: the simulator's peers (awlsim, pyrung) are not test
 # dependencies, and pyrung's pyclickplc pins an older pymodbus than mlctool needs; mlctool

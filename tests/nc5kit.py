@@ -11,6 +11,7 @@ import simkit
 from mlctool.sim.run import RunResult, Simulation, build_models, plan_scans
 from mlctool.sim.state import parse_device_name
 from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.targetapi.signals import device_signal
 
 NC5 = simkit.NC5
 
@@ -50,6 +51,14 @@ def outcome(il: str, stim: str, part: str | None = None, period_us: int = 10_000
     views = [parse_device_name(w, NC5) for w in watch]
     return Simulation(image, NC5, st, models, st.scan_us or period_us, views, False,
                       engine=simkit.ENGINE).run(n)
+
+
+def nc_written(view) -> bool:
+    """A device the NC (or the HMI) writes, which a stimulus must not play when the virtual NC
+    runs: the rows of the signal table whose writer is the NC or the HMI (NC->MLC, HMI->MLC:
+    M3cnnn, D3cnnn, M59xxx, D59xxx)."""
+    found = device_signal(NC5, view.kind, view.number)
+    return found is not None and found.signal.direction in ("NC->MLC", "HMI->MLC")
 
 
 def model_diags(stim: str, part: str | None = None) -> list[tuple[str, int, int, str]]:

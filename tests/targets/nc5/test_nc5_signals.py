@@ -131,6 +131,7 @@ def test_decision_m3x357_is_the_c_axis():
 
 def test_decision_spindle_speeds_and_mlc_axis_commands_are_32_bit():
     assert nc5.row("D2x024").type == nc5.row("D2x030").type == "32-bit"
+    assert nc5.row("D3x050").type == "32-bit" and nc5.row("D3x048").type == "word"
     assert nc5.lookup("D21025").high and nc5.lookup("D21025").signal.device == "D2x024"
     assert {nc5.row(f"D2x{n}").type for n in range(256, 320, 2)} == {"32-bit float"}
     assert nc5.lookup("D21319").signal.device == "D2x318"

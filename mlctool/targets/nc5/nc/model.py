@@ -368,6 +368,7 @@ class NcModel(DeviceModel):
                 budget = self._advance(mb, dw, budget, moving_ok)
                 if budget < 0:
                     return
+                self.path_speed = 0  # the block's motion has ended: no speed while its codes wait
                 self.phase = 2
             if self.phase == 2:
                 if not self._handshake(mb, dw, block):
@@ -421,6 +422,7 @@ class NcModel(DeviceModel):
         """Move or dwell for `budget` us; the time left over when the block's motion ends, -1
         while it goes on."""
         if self.dwell_left > 0:
+            self.path_speed = 0  # a dwell moves nothing
             used = min(budget, self.dwell_left)
             self.dwell_left -= used
             return budget - used if self.dwell_left == 0 else -1
