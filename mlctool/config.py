@@ -90,6 +90,8 @@ KEYS = {
     "symbols": (_is_table, 'a table of NAME = "OPERAND" (`[symbols]`)'),
     "pulse_modes": (_is_pulse_modes, 'a list of 1-4 pulse output modes for Ps0-Ps3, each "U/D", "P/R", '
                     '"A/B" or "" (`pulse_modes = ["A/B", "U/D"]`, fbs target)'),
+    "tables": (_is_str_list, 'a list of "[SR=]FILE" register tables (`tables = ["R5000=tables/home.pos"]`, '
+               'fbs target)'),
     "severity": (_is_table, 'a table of CODE = "error" | "warning" | "off" (`[severity]`)'),
 }
 

@@ -46,12 +46,25 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
     """Check instruction-list sources against the target's manual.
 
     With no FILE, checks the project of the nearest mlc.toml above the current folder: its
-    `sources`, together, with its settings. A DIR stands for the *.il files below it.
+    `sources`, together, with its settings (and its positioning `tables`). A FILE that is a
+    module of the project is checked with the whole project, and only its diagnostics are
+    shown. A DIR stands for the *.il files below it.
 
     Exit 0: no errors; 1: errors (or warnings with --werror); 2: usage or unreadable input.
     """
     config = get_config(config_path)
-    files = expand_sources(files) if files else _project_sources(config)
+    if not files and config.root is None:
+        raise click.UsageError("no FILE given and no mlc.toml here or above: name files or folders "
+                               "to check, or run inside a project (docs/project.md)")
+    files = expand_sources(files)
+    focus: list[str] = []
+    if config.root is not None:  # (outside a project the linter does not load the assembler)
+        from mlctool.asm.project import project_scope, table_file
+
+        scope = project_scope(files, config)
+        # the project's positioning tables are checked with its sources (a .pos in `tables`)
+        files = scope.files + [p for p in map(table_file, scope.tables) if _positioning_source(p)]
+        focus = scope.focus
     target = get_target(target_name, config)
     ignored = rules_dropped(ignore, select, no_lint)
     # FBs positioning programs (.pos/.mpos) have their own language: mlctool/targets/fbs
@@ -65,6 +78,9 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
         pos = check_positioning(positioning, config, ignored)
         diags = sorted(diags + pos.diagnostics, key=Diagnostic.sort_key)
         lines = {**lines, **pos.lines}
+    if focus:  # modules of the project: checked with the others; the others' diagnostics not shown
+        others = set(files) - set(focus)
+        diags = [d for d in diags if d.file not in others]
     errors = sum(d.severity == "error" for d in diags)
     warnings = sum(d.severity == "warning" for d in diags)
     code = 2 if unreadable(diags) else 1 if errors or (werror and warnings) else 0
@@ -82,15 +98,6 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
     if guesses:  # many errors of the instruction/device kinds that another target has not
         click.echo(wrong_target_note(guesses, their_errors, target.name, result.errors), err=True)
     sys.exit(code)
-
-
-def _project_sources(config) -> list[str]:
-    if config.root is None:
-        raise click.UsageError("no FILE given and no mlc.toml here or above: name files or folders "
-                               "to check, or run inside a project (docs/project.md)")
-    from mlctool.asm.project import project_build
-
-    return project_build(config).sources
 
 
 @main_group.command("explain", epilog=examples(

@@ -6,6 +6,7 @@ import sys
 
 import click
 
+from mlctool.asm.project import project_scope
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     config_option,
@@ -13,21 +14,25 @@ from mlctool.cli.common import (
     examples,
     get_config,
     get_target,
+    output_format,
     output_plan,
+    quiet_option,
     show,
     target_option,
+    write_outputs,
 )
 from mlctool.diagnostics import unreadable
+from mlctool.fileio import same_file
 from mlctool.ladder import sheets_from_files
 from mlctool.report import summary_line
 
-WRITERS = {".svg": "svg", ".html": "html", ".htm": "html"}
+WRITERS = {".svg": "SVG", ".html": "HTML", ".htm": "HTML"}
 
 
 @main_group.command("ladder", epilog=examples(
     "mlc ladder prog.il                    # on the terminal",
-    "mlc ladder src/main.il src/lib.il -o program.html   # a main program and its library",
-    "mlc ladder prog.il -o prog.svg",
+    "mlc ladder                            # in a project: every module of mlc.toml",
+    "mlc ladder src/main.il -o main.svg    # a module of the project, its CALLs resolved",
 ))
 @target_option
 @encoding_option
@@ -36,39 +41,40 @@ WRITERS = {".svg": "svg", ".html": "html", ".htm": "html"}
               help="write OUT.svg (rungs stacked) or OUT.html (self-contained page)")
 @click.option("--term", is_flag=True, help="print the ladder on the terminal (default without -o)")
 @click.option("--title", default="", help="title of the HTML page")
-@click.argument("files", nargs=-1, required=True, type=click.Path(), metavar="FILE...")
+@quiet_option
+@click.argument("files", nargs=-1, type=click.Path(), metavar="[FILE]...")
 def ladder_cmd(target_name, config_path, out_path, term, title, files):
     """Draw the FILEs as ladder diagrams, one rung per IL rung, in program order.
 
+    With no FILE, the modules of the project of mlc.toml; a FILE that is a module of the
+    project is drawn with the whole project loaded (its CALLs resolve), alone (docs/project.md).
     The sources must pass `mlc check` without errors. Exit 0: drawn; 1: the sources have
     errors (shown as by mlc check, nothing written); 2: usage error or unreadable input.
     """
-    kind = None
-    if out_path is not None:
-        suffix = "." + out_path.rsplit(".", 1)[-1].lower() if "." in out_path else ""
-        kind = WRITERS.get(suffix)
-        if kind is None:
-            raise click.BadParameter("the output must end in .svg or .html", param_hint="-o")
+    kind = output_format(out_path, "-o", WRITERS) if out_path is not None else None
     config = get_config(config_path)
-    plan = output_plan(files, config)
+    scope = project_scope(files, config)
+    plan = output_plan(scope.files, config)
     if out_path is not None:
         plan.add(out_path, "-o")
         plan.validate()
     target = get_target(target_name, config)
-    sheets, diags, lines = sheets_from_files(list(files), target, config)
+    sheets, diags, lines = sheets_from_files(scope.files, target, config)
     errors = [d for d in diags if d.severity == "error"]
     if errors:
         show(errors, lines)
         click.echo(summary_line(len(errors), 0) + "; nothing drawn", err=True)
         sys.exit(2 if unreadable(errors) else 1)
-    if kind == "svg":
+    if scope.focus:
+        sheets = [s for s in sheets if any(same_file(s.path, f) for f in scope.focus)]
+    if kind == "SVG":
         from mlctool.ladder.svg import sheets_svg
 
-        plan.write({out_path: sheets_svg(sheets)})
-    elif kind == "html":
+        write_outputs(plan, {out_path: sheets_svg(sheets)})
+    elif kind == "HTML":
         from mlctool.ladder.html import sheets_html
 
-        plan.write({out_path: sheets_html(sheets, title)})
+        write_outputs(plan, {out_path: sheets_html(sheets, title)})
     if term or kind is None:
         from mlctool.ladder.term import print_sheets
 
