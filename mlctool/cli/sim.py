@@ -154,6 +154,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     # however the command ends (an error, Ctrl-C, --max-wall), no staged output is left behind
     click.get_current_context().with_resource(plan)
     target = get_target(_object_target(list(program), target_name) or target_name, config)
+    preload = load_tables(tables, scope.tables, target, config)
     with collector_paused():
         image, diags, lines = program_from_paths(list(program), target, config)
     if image is None:
@@ -167,7 +168,6 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     # with the run's diagnostics, once per device, and in --json's `warnings`
     unmodelled = unmodelled_writes(image, target)
 
-    preload = load_tables(tables, scope.tables, target, config)
     if engine == "native":
         _native_notes(ahead=True)
     if window is not None and simulation_of(target).pulse_pins is None:

@@ -131,11 +131,11 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
         for name in COVERAGE_FILES:
             plan.add(os.path.join(coverage_dir, name), "--coverage")
     plan.validate()
+    preload = load_tables((), tables, target, config)
     image, diags, lines = program_from_paths(sources, target, config)
     if image is None:
         show([d for d in diags if d.severity == "error"], lines)
         sys.exit(2)
-    preload = load_tables((), tables, target, config)
     try:
         if with_coverage:
             scenarios = run_all(image, target, stims, sources, jobs, with_coverage, cluster, preload)

@@ -1,6 +1,10 @@
 """Coverage of a program by simulation runs: per step, whether it executed (and how often),
 and for contacts whether their own value was seen both On and Off. A coil or application
-instruction counts as executed when it ran with its rung condition On (when it acted).
+instruction counts as executed when it acted: it ran with its rung condition On; a
+multi-input instruction (FBs FUN140 HSPSO, FUN147: EN, PAU, ABT, one block each) with any of
+its inputs On; an instruction the manual runs whatever its condition (FUN141 MPARA,
+`unconditional` in the target's table) every time it ran; a P-suffix form (MOVP) only in the
+scans it executed (its condition's Off->On).
 
 The recorder wraps the reference interpreter's step routines (mlctool/sim/decode.py `probe`),
 so coverage runs always use the interpreter. Reports: text, JSON and Cobertura XML with IL
@@ -15,6 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from mlctool.program import Image
+from mlctool.targetapi.model import InstrSpec
 
 
 class Probe:
@@ -25,11 +30,20 @@ class Probe:
         self.seen_on = bytearray(n_steps)
         self.seen_off = bytearray(n_steps)
 
-    def step(self, run: Callable, cls: str) -> Callable:
-        """Count a step when it acts: contacts and flow instructions whenever they run, coils
-        and application instructions only when their rung condition is On."""
+    def step(self, run: Callable, spec: InstrSpec) -> Callable:
+        """Count a step when it acts: contacts, flow instructions and unconditional ones
+        whenever they run, coils and application instructions only when their rung condition
+        is On, a multi-input instruction when any of its inputs is (the blocks before it on the
+        block stack, and the rung result: docs/fbs.md)."""
         hits = self.hits
-        if cls == "output":
+        further = len(spec.inputs) - 1
+        if spec.cls == "output" and not spec.unconditional and further > 0:
+            def any_input(m, s):
+                if m.acc or any(m.blocks[-further:]):
+                    hits[s.index] += 1
+                return run(m, s)
+            return any_input
+        if spec.cls == "output" and not spec.unconditional:
             def acted(m, s):
                 if m.acc:
                     hits[s.index] += 1
