@@ -103,16 +103,23 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
 @main_group.command("explain", epilog=examples(
     "mlc explain W401",
     "mlc explain e304                      # codes are not case sensitive",
+    "mlc explain                           # every code, one line each",
 ))
-@click.argument("code", metavar="CODE")
+@click.argument("code", metavar="[CODE]", required=False)
 def explain_cmd(code):
     """Print the documentation of a diagnostic code.
 
-    Exit 0: printed; 2: no such code.
+    With no CODE, list every code with its severity and summary. Exit 0: printed; 2: no such
+    code.
     """
     # imported here: `mlc check` of a clean program never reads the codes
     from mlctool.codes import CODES
 
+    if code is None:
+        for c in sorted(CODES.values(), key=lambda c: (c.code[1:], c.code)):
+            click.echo(f"{c.code}  {c.severity:7}  {c.summary}")
+        click.echo("mlc explain CODE prints one code's documentation (docs/check.md lists them too)")
+        return
     c = CODES.get(code.upper())
     if c is None:
         from mlctool.suggest import did_you_mean
@@ -127,10 +134,20 @@ def explain_cmd(code):
     "mlc check --target vs --model VS1 prog.il   # then check for one of them",
 ))
 def targets_cmd():
-    """List the targets and the manual each one follows."""
+    """List the targets and the manual each one follows.
+
+    A manual is named by its title and edition; its file (the text the tables were read from)
+    is named too when it is beside this checkout (../shared/manuals/), which a clone is not.
+    """
+    from pathlib import Path
+
+    manuals = Path(__file__).resolve().parents[3] / "shared" / "manuals"
     for name in available_targets():
         t = load_target(name)
-        click.echo(f"{t.name:6} {t.title:22} manual: {t.manual} ({t.settings.get('manual_title', '')})")
+        line = f"{t.name:6} {t.title:22} manual: {t.settings.get('manual_title') or t.manual}"
+        if t.manual and (manuals / t.manual).is_file():
+            line += f" (file {manuals / t.manual})"
+        click.echo(line)
 
 
 def _positioning_source(path: str) -> bool:
