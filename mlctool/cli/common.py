@@ -187,14 +187,13 @@ def output_format(path: str, flag: str, formats: dict[str, str], default: str | 
         return formats[suffix]
     if default is not None and suffix not in _FORMATS:
         return default
-    written = ", ".join(sorted(set(formats)))
     if suffix in _FORMATS:
         why = f"{suffix} is the extension of {_FORMATS[suffix]} files"
     else:
         why = "no extension" if not suffix else f"unknown extension {suffix}"
     raise MlcError(diag("<command line>", Span.at(1), "E120",
-                        f"{flag} {path}: {why}; {flag} writes {' or '.join(sorted(set(formats.values())))} "
-                        f"({written})"), 2)
+                        f"{flag} {path}: {why}; {flag} writes {' or '.join(dict.fromkeys(formats.values()))} "
+                        f"({' or '.join(formats)})"), 2)
 
 
 _QUIET_KEY = "mlc.quiet"

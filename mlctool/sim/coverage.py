@@ -30,25 +30,16 @@ class Probe:
         self.seen_on = bytearray(n_steps)
         self.seen_off = bytearray(n_steps)
 
-    def step(self, run: Callable, spec: InstrSpec) -> Callable:
-        """Count a step when it acts: contacts, flow instructions and unconditional ones
-        whenever they run, coils and application instructions only when their rung condition
-        is On, a multi-input instruction when any of its inputs is (the blocks before it on the
-        block stack, and the rung result: docs/fbs.md)."""
+    def step(self, run: Callable, cls: str) -> Callable:
+        """Count a step when it acts: contacts and flow instructions whenever they run, coils
+        and application instructions by what their form executes (acted())."""
         hits = self.hits
-        further = len(spec.inputs) - 1
-        if spec.cls == "output" and not spec.unconditional and further > 0:
-            def any_input(m, s):
-                if m.acc or any(m.blocks[-further:]):
+        if cls == "output":
+            def counted_if_acted(m, s):
+                if acted(m, s.ins.spec, s.index):
                     hits[s.index] += 1
                 return run(m, s)
-            return any_input
-        if spec.cls == "output" and not spec.unconditional:
-            def acted(m, s):
-                if m.acc:
-                    hits[s.index] += 1
-                return run(m, s)
-            return acted
+            return counted_if_acted
 
         def counted(m, s):
             hits[s.index] += 1
@@ -72,6 +63,23 @@ class Probe:
             self.hits[k] += h
             self.seen_on[k] |= other.seen_on[k]
             self.seen_off[k] |= other.seen_off[k]
+
+
+def acted(m, spec: InstrSpec, index: int) -> bool:
+    """Whether an output-class instruction, about to run (outside a P form's gate: the probe
+    wraps the whole step, mlctool/sim/decode.py), executes in this scan: unconditional (the
+    manual runs it whatever its condition: FBs MPARA) always; a multi-input one (FBs HSPSO,
+    FUN147: EN, PAU, ABT, the blocks before it and the rung result) when any input is On; a
+    P form (MOVP) on its condition's Off->On (its edge memory still holds the last scan's);
+    any other when its condition is On."""
+    if spec.unconditional:
+        return True
+    further = len(spec.inputs) - 1
+    if further > 0 and any(m.blocks[-further:]):
+        return True
+    if spec.pulse:
+        return m.acc and not m.edge[index]
+    return bool(m.acc)
 
 
 @dataclass

@@ -179,10 +179,10 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
             step.run = flow[op]
         else:  # refused up front by unsimulated(); never a silent no-op
             raise NotSimulated(ins)
-        if probe:  # inside the pulse form's gate: a MOVP counts the scans it executed
-            step.run = probe.step(step.run, spec)
         if spec.pulse:
             step.run = _pulsed(step.run)
+        if probe:
+            step.run = probe.step(step.run, spec.cls)
         if railed and op not in semantics.CONTACTS and op not in _RAIL_SETTERS:
             step.run = _railed(step.run)  # outside the probe: it sees the rung as it runs
         steps.append(step)
