@@ -232,6 +232,19 @@ def write_outputs(plan: Outputs, files, streamed=()) -> None:
     said_written([*streamed, *(path for path, _ in items)])
 
 
+def command_scope(files, config: Config, what: str):
+    """What a command works on by the one rule of docs/project.md (mlctool/asm/project.py
+    project_scope); no FILE outside a project is a usage error naming `what` it needs."""
+    if not files and config.root is None:
+        raise click.UsageError(f"no FILE given and no mlc.toml here or above: name the {what}, or run "
+                               "inside a project (docs/project.md)")
+    from mlctool.asm.project import (
+        project_scope,  # (not for `mlc check` of a file outside a project)
+    )
+
+    return project_scope(files, config)
+
+
 def expand_sources(args: list[str] | tuple[str, ...], pattern: str = "*.il") -> list[str]:
     """File arguments as given; a directory stands for the files matching `pattern` below it,
     sorted by path (deterministic whatever the file system's order), hidden folders skipped."""

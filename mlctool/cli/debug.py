@@ -6,9 +6,9 @@ import sys
 
 import click
 
-from mlctool.asm.project import project_scope
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    command_scope,
     config_option,
     encoding_option,
     examples,
@@ -78,10 +78,8 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
         else:
             serve_stdio(defaults)
         return
-    if not program and config.root is None:
-        raise click.UsageError("give the program FILE... (or --dap), or run inside a project (docs/project.md)")
     # no FILE: the project; a module of the project: the whole project runs
-    program = project_scope(program, config).files
+    program = command_scope(program, config, "program FILE... (or --dap)").files
     from mlctool.debug.console import Console, interactive
     from mlctool.debug.load import LoadError, load_session
 

@@ -7,9 +7,9 @@ import sys
 
 import click
 
-from mlctool.asm.project import project_scope
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    command_scope,
     config_option,
     encoding_option,
     examples,
@@ -49,10 +49,7 @@ def fmt_cmd(target_name, config_path, check_only, steps, files):
     errors; 2: unreadable input.
     """
     config = get_config(config_path)
-    if not files and config.root is None:
-        raise click.UsageError("no FILE given and no mlc.toml here or above: name the files to format, "
-                               "or run inside a project (docs/project.md)")
-    files = files or project_scope((), config).files
+    files = files or command_scope((), config, "files to format").files
     target = get_target(target_name, config)
     encoding, _ = source_encoding(config)
     if not check_only:  # each file is rewritten in place: two names for one file are refused (E606)

@@ -6,9 +6,9 @@ import sys
 
 import click
 
-from mlctool.asm.project import project_scope
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    command_scope,
     config_option,
     encoding_option,
     examples,
@@ -53,7 +53,7 @@ def ladder_cmd(target_name, config_path, out_path, term, title, files):
     """
     kind = output_format(out_path, "-o", WRITERS) if out_path is not None else None
     config = get_config(config_path)
-    scope = project_scope(files, config)
+    scope = command_scope(files, config, "sources to draw")
     plan = output_plan(scope.files, config)
     if out_path is not None:
         plan.add(out_path, "-o")

@@ -12,10 +12,11 @@ import time
 import click
 
 from mlctool.asm import program_from_paths
-from mlctool.asm.project import project_scope, table_file
+from mlctool.asm.project import table_file
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     collector_paused,
+    command_scope,
     config_option,
     encoding_option,
     examples,
@@ -126,7 +127,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     scan_us = _time_option(scan_time, "--scan-time")
     until_us = _time_option(until, "--until")
     config = get_config(config_path)
-    scope = project_scope(program, config)
+    scope = command_scope(program, config, "program to simulate")
     program = scope.files
     # every output is checked against the inputs and the other outputs, and its folder, before
     # anything runs (mlctool/fileio.py); all are written at the end, or none

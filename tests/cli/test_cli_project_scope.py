@@ -118,3 +118,10 @@ def test_an_output_of_unknown_extension_is_written_in_the_options_format(mlc, pr
     r = mlc("sim", "--stimulus", "tests/pick_cycle.stim", "--report", "run.page", cwd=project)
     assert r.code == 0 and r.err == "wrote run.page\n"
     assert (project / "run.page").read_text("utf-8").lstrip().lower().startswith("<!doctype html")
+
+
+@pytest.mark.parametrize("command", ["sim", "ladder", "fmt", "debug", "objdump", "check"])
+def test_no_file_outside_a_project_is_a_usage_error(mlc, tmp_path, command):
+    r = mlc(command, cwd=tmp_path)
+    assert r.code == 2 and "no FILE given and no mlc.toml here or above" in r.err
+    assert "Traceback" not in r.err
