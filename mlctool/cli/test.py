@@ -55,6 +55,8 @@ def _enter_project(path: str | None):
         start = Path.cwd()
     else:
         p = Path(path)
+        if not p.exists():
+            raise MlcError(diag(path, Span.at(1), "E100", f"{path}: no such file or folder"))
         start = p if p.is_dir() else p.parent
     start = start.resolve()
     folder = next((d for d in (start, *start.parents) if (d / "mlc.toml").is_file()), None)

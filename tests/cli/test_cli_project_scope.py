@@ -97,6 +97,8 @@ def test_test_of_one_scenario_or_a_module(mlc, project):
     (project / "notes.il").write_text("END\n")
     r = mlc("test", "notes.il", cwd=project)
     assert r.code == 2 and "neither a module of the project" in r.err
+    r = mlc("test", "tests/typo.stim", cwd=project)
+    assert r.code == 2 and "E100" in r.err and "no such file or folder" in r.err
 
 
 def test_a_file_outside_the_project_is_taken_as_given(mlc, project, tmp_path):
