@@ -1,30 +1,40 @@
 # Two entry points that work on a fresh machine: `make demo` and `make test`.
+# One .venv, two installs: `make demo` installs only what running mlc needs (`pip install -e .`,
+# RUN_STAMP); `make test` adds the test extras (pytest, hypothesis, dask, cython ...: TEST_STAMP).
 PY ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
-STAMP := $(VENV)/.installed
+RUN_STAMP := $(VENV)/.installed-run
+TEST_STAMP := $(VENV)/.installed-test
 
 .PHONY: test demo bench lint fuzz clean
 
-$(STAMP): pyproject.toml
+$(BIN)/python:
 	$(PY) -m venv $(VENV)
 	$(BIN)/pip install --quiet --upgrade pip
-	$(BIN)/pip install --quiet -e '.[test]'
-	touch $(STAMP)
 
-test: $(STAMP)
+$(RUN_STAMP): pyproject.toml | $(BIN)/python
+	$(BIN)/pip install --quiet -e .
+	touch $(RUN_STAMP)
+
+# the test install holds all that running needs too: the run stamp is renewed with it
+$(TEST_STAMP): pyproject.toml | $(BIN)/python
+	$(BIN)/pip install --quiet -e '.[test]'
+	touch $(TEST_STAMP) $(RUN_STAMP)
+
+test: $(TEST_STAMP)
 	$(BIN)/pytest
 
 # the fuzz targets of the suite with a larger budget and fresh randomness (the suite runs
 # them derandomized in CI); FUZZ_EXAMPLES per target
 FUZZ_EXAMPLES ?= 2000
-fuzz: $(STAMP)
+fuzz: $(TEST_STAMP)
 	env -u CI MLC_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(BIN)/pytest -q tests/test_fuzz_inputs.py
 
-lint: $(STAMP)
+lint: $(TEST_STAMP)
 	$(BIN)/ruff check mlctool tests bench
 
-demo: $(STAMP)
+demo: $(RUN_STAMP)
 	mkdir -p out
 	$(BIN)/mlc check samples/nc5/*.il
 	$(BIN)/mlc build samples/nc5/conveyor.il -o out/conveyor.mlx --listing out/conveyor.lst

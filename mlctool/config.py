@@ -95,6 +95,8 @@ KEYS = {
     "pulse_modes": (_is_pulse_modes, 'a list of 1-4 pulse output modes for Ps0-Ps3, each "U/D", "P/R", '
                     '"A/B" or "" (`pulse_modes = ["A/B", "U/D"]`, fbs target)'),
     "channels": (_is_channels, "a whole number of NC channels 1-8 (`channels = 2`, nc5 target; default 1)"),
+    "tables": (_is_str_list, 'a list of "[SR=]FILE" register tables (`tables = ["R5000=tables/home.pos"]`, '
+               'fbs target)'),
     "severity": (_is_table, 'a table of CODE = "error" | "warning" | "off" (`[severity]`)'),
 }
 

@@ -82,6 +82,7 @@ class _Resolver:
         self.mnemonics = caches.mnemonics  # mnemonic -> its plain form for plain_line(), or (None, ...)
         self.step_memo = caches.steps  # (id(instruction form), first operand's kind) -> Target.step_spans
         self._problems: list = []
+        self.refused: set[str] = set()  # `.define` names refused as reading as an operand (E106)
         self.syntax = target.operand_syntax
         self.names = names or {}  # named labels of this file -> P number (check/labels.py)
         self.named_labels = bool(target.settings.get("named_labels"))
@@ -154,7 +155,9 @@ class _Resolver:
         if name == ".define" and len(ops) == 2:
             sym, val = ops
             if not is_symbol_name(sym.text, self.t) or self._is_operand(sym.text, self.syntax):
-                self.err(st.line, sym, "E106", f"{sym.text!r} cannot be a symbol name: it reads as an operand")
+                self.err(st.line, sym, "E106", f"{sym.text!r} cannot be a symbol name: it reads as an operand",
+                         "its uses are not reported again; choose a name that is no device, constant or label")
+                self.refused.add(sym.text.upper())
             elif (wide := self.wide_name_over(sym.text)) is not None:
                 self.err(st.line, sym, "E106", f"symbol name {sym.text!r} is {wide} long: a name with Chinese "
                          f"characters has at most {self.t.settings['named_labels'].get('max_length', 16)} "
@@ -313,6 +316,8 @@ class _Resolver:
         """A resolved line into the module: its problems at its words, then the instruction."""
         spec, operands, table, ok, problems, steps = res
         for idx, code, msg, notes in problems:
+            if idx >= 0 and st.operands[idx].text.upper() in self.refused:
+                continue  # a use of a refused symbol name (E106 at its .define says why): no cascade
             self.err(st.line, st.name if idx < 0 else st.operands[idx], code, msg, *notes)
         if spec is None:
             if ok:  # a bare P label written as an instruction
@@ -827,9 +832,31 @@ def _unknown_instruction_hint(t: Target, name: str) -> tuple[str, tuple[str, ...
     pulse = _pulse_hint(t, name)
     if pulse:
         return "", pulse
+    form = _form_hint(t, name)
+    if form:
+        return "", form
     from mlctool.suggest import did_you_mean
 
     return did_you_mean(name, [*t.instructions, *t.variants, *t.unavailable], cutoff=0.65), ()
+
+
+def _form_hint(t: Target, name: str) -> tuple[str, ...]:
+    """TMR/CNT (NC5's timer and counter instructions) on a target that drives its timers and
+    counters with another mnemonic (VS: `OUT T0 K10`, `OUT C0 K3`): the target's form of the
+    same routine (its `op`), with example operands, instead of a near spelling (TTMR, INT)."""
+    forms = [s for specs in t.variants.values() for s in specs] + list(t.instructions.values())
+    found = [s for s in forms if s.op == name.lower() and s.mnemonic != name and s.operands]
+    if not found:
+        return ()
+    s = found[0]
+    example = " ".join([s.mnemonic] + [_example_operand(o) for o in s.operands])
+    return (f"target {t.name} writes {name}'s instruction as `{example}` ({s.section})",)
+
+
+def _example_operand(o) -> str:
+    """A written operand of an operand spec: a constant where it takes one, else its first
+    device kind numbered 0."""
+    return "K10" if "K" in o.kinds else f"{sorted(o.kinds)[0]}0"
 
 
 def _pulse_hint(t: Target, name: str) -> tuple[str, ...]:

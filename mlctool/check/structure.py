@@ -29,7 +29,7 @@ def check_rungs(module: Module, target: Target, broken: frozenset[int] = frozens
     driven = False  # the current rung has driven at least one output
     after_out = False  # the current result is an output's (no load since): OR cannot reach back
     blocks = 0  # blocks waiting for ANB/ORB
-    mps = 0
+    pushed: list[Instr] = []  # the open MPS instructions, innermost last
     last = None
 
     def emit(d: Diagnostic) -> None:
@@ -37,16 +37,19 @@ def check_rungs(module: Module, target: Target, broken: frozenset[int] = frozens
             out.append(d)
 
     def close(ins: Instr | None) -> None:
-        nonlocal acc, driven, after_out, blocks, mps, tainted
+        nonlocal acc, driven, after_out, blocks, tainted
         where = ins or last
         if where is not None and acc and not driven:
             emit(_at(where, "E313", "rung ends without an output"))
         elif where is not None and blocks:
             emit(_at(where, "E313", f"{blocks} block(s) never combined with ANB/ORB"))
-        if where is not None and mps:
-            emit(_at(where, "E308", f"{mps} MPS without MPP at the end of the rung"))
+        if where is not None and pushed:  # at the MPS left open (the first), not where the rung ends
+            emit(_at(pushed[0], "E308", f"{len(pushed)} MPS without MPP at the end of the rung",
+                     f"the rung ends before {where.mnemonic} at line {where.line}" if where is ins
+                     else f"the rung ends at line {where.line}"))
         acc = driven = after_out = False
-        blocks = mps = 0
+        blocks = 0
+        pushed.clear()
         tainted = hit  # a broken line just before `ins` may belong to the next rung too
 
     prev_line = 0
@@ -77,14 +80,14 @@ def check_rungs(module: Module, target: Target, broken: frozenset[int] = frozens
         elif cls == "mps":
             if not acc:
                 emit(_at(ins, "E311", "MPS needs a current result"))
-            mps += 1
-            if mps > depth_limit:
-                emit(_at(ins, "E309", f"MPS nested {mps} deep; the stack holds {depth_limit}"))
+            pushed.append(ins)
+            if len(pushed) > depth_limit:
+                emit(_at(ins, "E309", f"MPS nested {len(pushed)} deep; the stack holds {depth_limit}"))
         elif cls in ("mrd", "mpp"):
-            if mps < 1:
+            if not pushed:
                 emit(_at(ins, "E308", f"{ins.mnemonic} without a preceding MPS"))
             elif cls == "mpp":
-                mps -= 1
+                pushed.pop()
         elif cls == "output":
             extra = max(len(ins.spec.inputs) - 1, 0)  # multi-input: one block per further input
             if not acc:

@@ -26,6 +26,7 @@ COMMAND_MODULES = {
     "device": "mlctool.cli.device",
     "fmt": "mlctool.cli.fmt",
     "import": "mlctool.cli.imports",
+    "init": "mlctool.cli.init",
     "ladder": "mlctool.cli.ladder",
     "lsp": "mlctool.cli.lsp",
     "sim": "mlctool.cli.sim",
@@ -42,6 +43,8 @@ COMMAND_SUMMARIES = {
     "explain": "Print the documentation of a diagnostic code, or the manual's row of a special device.",
     "fmt": "Rewrite IL files in the canonical layout (idempotent; code unchanged).",
     "import": "Convert an editor's export to plain IL for the target (docs/vs.md, Imports).",
+    "init": "Write a new project into DIR (default: here): mlc.toml, src/main.il, a passing scenario "
+            "in tests/, a CI workflow and a pre-commit configuration.",
     "ladder": "Draw the FILEs as ladder diagrams, one rung per IL rung, in program order.",
     "lsp": "Serve the Language Server Protocol over stdio for editors (docs/editor.md).",
     "link": "Link object modules (.mlo): one main module and its subroutine libraries.",

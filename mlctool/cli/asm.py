@@ -24,7 +24,7 @@ from mlctool.asm.link import link
 from mlctool.asm.listing import listing, objdump_json, objdump_text, unit_il
 from mlctool.asm.mapfile import link_map
 from mlctool.asm.objfile import ObjectFile, encode
-from mlctool.asm.project import project_build
+from mlctool.asm.project import project_build, project_scope
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     config_option,
@@ -33,8 +33,10 @@ from mlctool.cli.common import (
     get_config,
     get_target,
     output_plan,
+    quiet_option,
     show,
     target_option,
+    write_outputs,
 )
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag, unreadable
 from mlctool.fileio import Outputs
@@ -93,7 +95,7 @@ def _write_program(plan: Outputs, program: ObjectFile, target, out: str, listing
         files.append((map_path, link_map(program, target, os.path.basename(out))))
     if listing_path:
         files.append((listing_path, listing(program, lines)))
-    plan.write(files)
+    write_outputs(plan, files)
 
 
 @main_group.command("build", epilog=examples(
@@ -111,11 +113,14 @@ def _write_program(plan: Outputs, program: ObjectFile, target, out: str, listing
 @click.option("--map", "map_path", default=None, metavar="FILE", help="write a link map (linking only)")
 @click.option("--sr", "sr", default=None, metavar="REG",
               help="FBs positioning table (.pos/.mpos): its start register SR (default R0)")
+@quiet_option
 @click.argument("sources", nargs=-1, type=click.Path(), metavar="[FILE]...")
 def build_cmd(target_name, config_path, output, compile_only, listing_path, map_path, sr, sources):
     """Assemble sources into object modules (.mlo) or a linked program (.mlx).
 
-    With no FILE, builds the project described by mlc.toml (docs/project.md).
+    With no FILE, builds the project described by mlc.toml (docs/project.md); so do FILEs
+    that are modules of the project, without -o or -c. Each file written is named on stderr
+    (`wrote FILE`; -q: silent).
     A positioning program (.pos/.mpos) builds into a register image (-o TABLE.json|.csv).
 
     Exit 0: built; 1: errors in the sources or at link (nothing written); 2: usage error,
@@ -129,6 +134,8 @@ def build_cmd(target_name, config_path, output, compile_only, listing_path, map_
         raise _usage("--sr is for FBs positioning programs (.pos/.mpos)")
     target = with_capacity(get_target(target_name, config), config)
     where = ""
+    if sources and output is None and not compile_only and project_scope(sources, config).project:
+        sources = ()  # modules of the project, and no output named: the project's build
     if not sources:
         job = project_build(config)
         sources, where = job.sources, "mlc.toml "
@@ -153,12 +160,12 @@ def build_cmd(target_name, config_path, output, compile_only, listing_path, map_
     if inputs.programs:
         raise _usage("a linked program (.mlx) cannot be an input of build or link", inputs.programs[0][0])
     if compile_only:
-        plan.write(zip(_object_paths(sources, output).values(), map(encode, inputs.objects), strict=True))
+        write_outputs(plan, zip(_object_paths(sources, output).values(), map(encode, inputs.objects), strict=True))
         return
     if output.lower().endswith(".mlo"):
         obj = inputs.objects[0]
         files = [(output, encode(obj))] + ([(listing_path, listing(obj, inputs.lines))] if listing_path else [])
-        plan.write(files)
+        write_outputs(plan, files)
         return
     _link_and_write(plan, inputs, target, output, listing_path, map_path)
 
@@ -198,7 +205,7 @@ def _build_positioning(sources, output, sr, config) -> None:
         data = build_image(checked.programs[sources[0]], output, sr)
     except ImageError as e:
         raise _usage(str(e)) from None
-    plan.write({output: data})
+    write_outputs(plan, {output: data})
 
 
 def _object_paths(sources, output) -> dict[str, str]:
@@ -234,6 +241,7 @@ def _object_target_name(path: str, explicit: str | None, config) -> str:
 @click.option("-o", "--output", required=True, metavar="FILE", help="the linked program (.mlx)")
 @click.option("--listing", "listing_path", default=None, metavar="FILE", help="write a listing")
 @click.option("--map", "map_path", default=None, metavar="FILE", help="write a link map")
+@quiet_option
 @click.argument("objects", nargs=-1, required=True, type=click.Path(), metavar="FILE...")
 def link_cmd(target_name, config_path, output, listing_path, map_path, objects):
     """Link object modules (.mlo): one main module and its subroutine libraries.
@@ -269,7 +277,7 @@ def link_cmd(target_name, config_path, output, listing_path, map_path, objects):
 
 
 @main_group.command("objdump", epilog=examples(
-    "mlc objdump build/program.mlx",
+    "mlc objdump                           # in a project: its program (mlc.toml `output`)",
     "mlc objdump --json build/program.mlx",
     "mlc objdump build/program.mlx --il-dir rebuilt/   # IL that rebuilds the same bytes",
 ))
@@ -278,13 +286,26 @@ def link_cmd(target_name, config_path, output, listing_path, map_path, objects):
 @click.option("--il", "as_il", is_flag=True, help="IL source that assembles back to the same bytes")
 @click.option("--il-dir", default=None, metavar="DIR",
               help="write each module's IL to DIR/<module name> (to rebuild a linked program)")
-@click.argument("file", type=click.Path())
-def objdump_cmd(target_name, as_json, as_il, il_dir, file):
+@config_option
+@quiet_option
+@click.argument("file", required=False, type=click.Path(), metavar="[FILE]")
+def objdump_cmd(target_name, as_json, as_il, il_dir, config_path, file):
     """Show an object module (.mlo) or linked program (.mlx), or an FBs positioning
     register image (.json/.csv) as program text.
 
+    With no FILE, the program the project of mlc.toml builds (its `output`: run `mlc build`
+    first).
+
     Exit 0: shown; 2: usage error, unreadable input or a bad object file.
     """
+    if file is None:
+        config = get_config(config_path)
+        if config.root is None:
+            raise click.UsageError("no FILE given and no mlc.toml here or above: name the object "
+                                   "or program to show, or run inside a project (docs/project.md)")
+        file = project_build(config).output
+        if not os.path.exists(file):
+            raise _usage(f"{file} does not exist: build the project first (mlc build)")
     if is_image(file):
         program, sr, problem = load_image(file)
         if problem is not None:
@@ -311,7 +332,7 @@ def objdump_cmd(target_name, as_json, as_il, il_dir, file):
                 raise _usage(f"module name {u.path!r} cannot be written under {il_dir}")
             files[plan.add(path, f"the IL of module {u.path}")] = unit_il(obj, k)
         plan.validate()
-        plan.write(files)
+        write_outputs(plan, files)
     elif as_il:
         click.echo("".join(unit_il(obj, k) for k in range(len(obj.units))), nl=False)
     else:

@@ -47,12 +47,25 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
     """Check instruction-list sources against the target's manual.
 
     With no FILE, checks the project of the nearest mlc.toml above the current folder: its
-    `sources`, together, with its settings. A DIR stands for the *.il files below it.
+    `sources`, together, with its settings (and its positioning `tables`). A FILE that is a
+    module of the project is checked with the whole project, and only its diagnostics are
+    shown. A DIR stands for the *.il files below it.
 
     Exit 0: no errors; 1: errors (or warnings with --werror); 2: usage or unreadable input.
     """
     config = get_config(config_path)
-    files = expand_sources(files) if files else _project_sources(config)
+    if not files and config.root is None:
+        raise click.UsageError("no FILE given and no mlc.toml here or above: name files or folders "
+                               "to check, or run inside a project (docs/project.md)")
+    files = expand_sources(files)
+    focus: list[str] = []
+    if config.root is not None:  # (outside a project the linter does not load the assembler)
+        from mlctool.asm.project import project_scope, table_file
+
+        scope = project_scope(files, config)
+        # the project's positioning tables are checked with its sources (a .pos in `tables`)
+        files = scope.files + [p for p in map(table_file, scope.tables) if _positioning_source(p)]
+        focus = scope.focus
     target = get_target(target_name, config)
     ignored = rules_dropped(ignore, select, no_lint)
     # FBs positioning programs (.pos/.mpos) have their own language: mlctool/targets/fbs
@@ -66,6 +79,9 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
         pos = check_positioning(positioning, config, ignored)
         diags = sorted(diags + pos.diagnostics, key=Diagnostic.sort_key)
         lines = {**lines, **pos.lines}
+    if focus:  # modules of the project: checked with the others; the others' diagnostics not shown
+        others = set(files) - set(focus)
+        diags = [d for d in diags if d.file not in others]
     errors = sum(d.severity == "error" for d in diags)
     warnings = sum(d.severity == "warning" for d in diags)
     code = 2 if unreadable(diags) else 1 if errors or (werror and warnings) else 0
@@ -85,33 +101,30 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
     sys.exit(code)
 
 
-def _project_sources(config) -> list[str]:
-    if config.root is None:
-        raise click.UsageError("no FILE given and no mlc.toml here or above: name files or folders "
-                               "to check, or run inside a project (docs/project.md)")
-    from mlctool.asm.project import project_build
-
-    return project_build(config).sources
-
-
 @main_group.command("explain", epilog=examples(
     "mlc explain W401",
-    "mlc explain e304                      # codes are not case sensitive",
     "mlc explain M21000                    # a special M/D of the target: the manual's row",
+    "mlc explain                           # every code, one line each",
 ))
-@click.argument("code", metavar="CODE|DEVICE")
+@click.argument("code", metavar="[CODE|DEVICE]", required=False)
 @target_option
 def explain_cmd(code, target_name):
     """Print the documentation of a diagnostic code, or the manual's row of a special device.
 
     A device (M21000, D31024) is looked up in the target's signal table (NC5: the MLC <-> NC
-    special M/D of manual ch. 5); the target is --target, else mlc.toml's, else nc5.
+    special M/D of manual ch. 5); the target is --target, else mlc.toml's, else nc5. With no
+    CODE, list every code with its severity and summary.
 
     Exit 0: printed; 2: no such code or signal.
     """
     # imported here: `mlc check` of a clean program never reads the codes
     from mlctool.codes import CODES
 
+    if code is None:
+        for c in sorted(CODES.values(), key=lambda c: (c.code[1:], c.code)):
+            click.echo(f"{c.code}  {c.severity:7}  {c.summary}")
+        click.echo("mlc explain CODE prints one code's documentation (docs/check.md lists them too)")
+        return
     c = CODES.get(code.upper())
     if c is not None:
         click.echo(f"{c.code} ({c.severity}): {c.summary}\n\n{c.doc.strip()}")
@@ -159,10 +172,20 @@ def _explain_device(text: str, target_name: str | None) -> bool:
     "mlc check --target vs --model VS1 prog.il   # then check for one of them",
 ))
 def targets_cmd():
-    """List the targets and the manual each one follows."""
+    """List the targets and the manual each one follows.
+
+    A manual is named by its title and edition; its file (the text the tables were read from)
+    is named too when it is beside this checkout (../shared/manuals/), which a clone is not.
+    """
+    from pathlib import Path
+
+    manuals = Path(__file__).resolve().parents[3] / "shared" / "manuals"
     for name in available_targets():
         t = load_target(name)
-        click.echo(f"{t.name:6} {t.title:22} manual: {t.manual} ({t.settings.get('manual_title', '')})")
+        line = f"{t.name:6} {t.title:22} manual: {t.settings.get('manual_title') or t.manual}"
+        if t.manual and (manuals / t.manual).is_file():
+            line += f" (file {manuals / t.manual})"
+        click.echo(line)
 
 
 def _positioning_source(path: str) -> bool:

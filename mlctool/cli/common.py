@@ -169,6 +169,82 @@ def output_plan(inputs, config: Config | None = None) -> Outputs:
     return plan
 
 
+# An output's extension names its format (docs/reliability.md, "Outputs"); these are the
+# formats mlc writes or reads, so that `--report x.svg` is known to be another format's name
+_FORMATS = {".svg": "SVG", ".html": "HTML", ".htm": "HTML", ".vcd": "VCD", ".gtkw": "GTKWave save file",
+            ".xml": "XML", ".json": "JSON", ".csv": "CSV", ".txt": "text", ".il": "IL source",
+            ".stim": "stimulus", ".mlo": "object module", ".mlx": "linked program", ".lst": "listing",
+            ".map": "link map", ".pos": "positioning program", ".mpos": "positioning program",
+            ".toml": "TOML", ".png": "PNG", ".pdf": "PDF"}
+
+
+def output_format(path: str, flag: str, formats: dict[str, str], default: str | None = None) -> str:
+    """The format an output is written in, from its extension: one of `formats` (suffix ->
+    format). A name with another format's extension (`--report run.svg`) is E120, exit 2;
+    so is any other name when there is no `default` (the option chooses by extension)."""
+    suffix = os.path.splitext(path)[1].lower()
+    if suffix in formats:
+        return formats[suffix]
+    if default is not None and suffix not in _FORMATS:
+        return default
+    if suffix in _FORMATS:
+        why = f"{suffix} is the extension of {_FORMATS[suffix]} files"
+    else:
+        why = "no extension" if not suffix else f"unknown extension {suffix}"
+    raise MlcError(diag("<command line>", Span.at(1), "E120",
+                        f"{flag} {path}: {why}; {flag} writes {' or '.join(dict.fromkeys(formats.values()))} "
+                        f"({' or '.join(formats)})"), 2)
+
+
+_QUIET_KEY = "mlc.quiet"
+
+
+def _remember_quiet(ctx: click.Context, _param, value: bool) -> None:
+    if value:
+        ctx.meta[_QUIET_KEY] = True
+
+
+def quiet_option(fn):
+    """`-q/--quiet`: no `wrote FILE` lines (read by write_outputs and said_written)."""
+    return click.option("-q", "--quiet", is_flag=True, expose_value=False, callback=_remember_quiet,
+                        help="do not name the files written (one `wrote FILE` line each on stderr)")(fn)
+
+
+def quiet() -> bool:
+    """Whether -q was given: the files written are not named."""
+    ctx = click.get_current_context(silent=True)
+    return bool(ctx is not None and ctx.meta.get(_QUIET_KEY))
+
+
+def said_written(paths) -> None:
+    """One `wrote FILE` line per file written, on stderr (stdout carries the command's data:
+    --json, a table, a ladder), unless -q (docs/project.md, "Outputs")."""
+    if quiet():
+        return
+    for path in paths:
+        click.echo(f"wrote {path}", err=True)
+
+
+def write_outputs(plan: Outputs, files, streamed=()) -> None:
+    """plan.write(files), then say each file written (the `streamed` ones too: plan.stream)."""
+    items = list(files.items() if isinstance(files, dict) else files)
+    plan.write(items)
+    said_written([*streamed, *(path for path, _ in items)])
+
+
+def command_scope(files, config: Config, what: str):
+    """What a command works on by the one rule of docs/project.md (mlctool/asm/project.py
+    project_scope); no FILE outside a project is a usage error naming `what` it needs."""
+    if not files and config.root is None:
+        raise click.UsageError(f"no FILE given and no mlc.toml here or above: name the {what}, or run "
+                               "inside a project (docs/project.md)")
+    from mlctool.asm.project import (
+        project_scope,  # (not for `mlc check` of a file outside a project)
+    )
+
+    return project_scope(files, config)
+
+
 def expand_sources(args: list[str] | tuple[str, ...], pattern: str = "*.il") -> list[str]:
     """File arguments as given; a directory stands for the files matching `pattern` below it,
     sorted by path (deterministic whatever the file system's order), hidden folders skipped."""
@@ -215,6 +291,37 @@ def with_pulse_modes(target: Target, config: Config) -> Target:
         return target
     merged = [m.replace("/", "") for m in modes] + list(packaged)[len(modes):]
     return dataclasses.replace(target, settings={**target.settings, "pulse_modes": merged})
+
+
+def load_tables(specs, project_specs: list[str], target: Target, config: Config) -> list:
+    """The register tables to preload: mlc.toml `tables` (project_specs, paths relative to
+    here: mlctool/asm/project.py project_tables), then each `--table` (specs), loaded by the
+    target's extension (its Simulation.load_table). A bad --table is a usage error; a bad
+    mlc.toml entry is E121 at its line; a table file's own problems are shown, exit 2."""
+    if not specs and not project_specs:
+        return []
+    from mlctool.targetapi.registry import simulation_of
+
+    load = simulation_of(target).load_table
+    where = config.locate("tables")
+    if load is None:
+        if project_specs:
+            raise MlcError(diag(*where, "E121", f"mlc.toml `tables`: target {target.name} has no register "
+                                "tables (FBs positioning tables only)"))
+        raise click.BadParameter(f"target {target.name} has no register tables", param_hint="--table")
+    out = []
+    for spec, ours in [*((s, True) for s in project_specs), *((s, False) for s in specs)]:
+        try:
+            table, problems = load(spec)
+        except ValueError as e:
+            if ours:
+                raise MlcError(diag(*where, "E121", f"mlc.toml `tables`: {e}")) from None
+            raise click.BadParameter(str(e), param_hint="--table") from None
+        if table is None:
+            show(problems, {})
+            sys.exit(2)
+        out.append(table)
+    return out
 
 
 def show(diags: list[Diagnostic], lines: dict[str, list[str]]) -> None:

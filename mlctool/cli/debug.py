@@ -8,6 +8,7 @@ import click
 
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    command_scope,
     config_option,
     encoding_option,
     examples,
@@ -21,7 +22,7 @@ from mlctool.sim.stimulus import StimError, parse_time
 
 
 @main_group.command("debug", epilog=examples(
-    "mlc debug prog.il --stimulus s.stim        # the console: step, break, back, rung ...",
+    "mlc debug --stimulus tests/start.stim      # a project's program: step, break, back, rung ...",
     "mlc debug --dap                            # a DAP server on stdio (VS Code: docs/debug.md)",
     "mlc debug prog.il --web --port 8080        # the live ladder monitor: http://127.0.0.1:8080/",
 ))
@@ -47,7 +48,8 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
               program):
     """Debug a program on the simulator: breakpoints, stepping, time travel (console or DAP).
 
-    The console reads commands (`help` lists them) from the terminal, or from a pipe for
+    With no FILE, the program of the project of mlc.toml; a FILE that is a module of the
+    project runs the whole project (docs/project.md). The console reads commands (`help` lists them) from the terminal, or from a pipe for
     scripts. With --dap or --dap-port the program comes in the client's launch request.
     With --web the ladder is served as a live monitor page until Ctrl-C.
     Exit 0: the session ended; 2: usage error, unreadable input or a port in use.
@@ -76,8 +78,8 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
         else:
             serve_stdio(defaults)
         return
-    if not program:
-        raise click.UsageError("give the program FILE... (or --dap)")
+    # no FILE: the project; a module of the project: the whole project runs
+    program = command_scope(program, config, "program FILE... (or --dap)").files
     from mlctool.debug.console import Console, interactive
     from mlctool.debug.load import LoadError, load_session
 

@@ -14,8 +14,10 @@ from mlctool.cli.common import (
     get_config,
     get_target,
     output_plan,
+    quiet_option,
     show,
     target_option,
+    write_outputs,
 )
 from mlctool.diagnostics import unreadable
 from mlctool.imports import DIALECT_TARGET, FORMATS, detect, import_text, read_comments, read_export
@@ -36,6 +38,7 @@ from mlctool.syntax.source import source_encoding
               help="write the IL here (default: standard output)")
 @click.option("--comments", "comments_file", default=None, type=click.Path(dir_okay=False),
               help="a GX device-comment CSV: each device's comment on the lines using it")
+@quiet_option
 @click.argument("file", type=click.Path())
 def import_cmd(target_name, config_path, fmt, output, comments_file, file):
     """Convert an editor's export to plain IL for the target (docs/vs.md, Imports).
@@ -70,7 +73,7 @@ def import_cmd(target_name, config_path, fmt, output, comments_file, file):
     how = (f"target {target.name}, the dialect of a {found_fmt} export; --target chooses another"
            if dialect else f"target {target.name}")
     if output:
-        plan.write({output: text})
+        write_outputs(plan, {output: text})
         click.echo(f"{file}: {found_fmt} -> {output} ({how}); check it with "
                    f"`mlc check --target {target.name} {output}`", err=True)
     else:

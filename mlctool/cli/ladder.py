@@ -8,26 +8,31 @@ import click
 
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    command_scope,
     config_option,
     encoding_option,
     examples,
     get_config,
     get_target,
+    output_format,
     output_plan,
+    quiet_option,
     show,
     target_option,
+    write_outputs,
 )
 from mlctool.diagnostics import unreadable
+from mlctool.fileio import same_file
 from mlctool.ladder import sheets_from_files
 from mlctool.report import summary_line
 
-WRITERS = {".svg": "svg", ".html": "html", ".htm": "html"}
+WRITERS = {".svg": "SVG", ".html": "HTML", ".htm": "HTML"}
 
 
 @main_group.command("ladder", epilog=examples(
     "mlc ladder prog.il                    # on the terminal",
-    "mlc ladder src/main.il src/lib.il -o program.html   # a main program and its library",
-    "mlc ladder prog.il -o prog.svg",
+    "mlc ladder                            # in a project: every module of mlc.toml",
+    "mlc ladder src/main.il -o main.svg    # a module of the project, its CALLs resolved",
 ))
 @target_option
 @encoding_option
@@ -39,39 +44,40 @@ WRITERS = {".svg": "svg", ".html": "html", ".htm": "html"}
 @click.option("--width", type=click.IntRange(60, 1000), default=None, metavar="N",
               help="terminal ladder N characters wide (default: the terminal's; 100 when not a terminal)")
 @click.option("--comments", is_flag=True, help="show device comments (line and .define comments) under contacts")
-@click.argument("files", nargs=-1, required=True, type=click.Path(), metavar="FILE...")
+@quiet_option
+@click.argument("files", nargs=-1, type=click.Path(), metavar="[FILE]...")
 def ladder_cmd(target_name, config_path, out_path, term, title, width, comments, files):
     """Draw the FILEs as ladder diagrams, one rung per IL rung, in program order.
 
+    With no FILE, the modules of the project of mlc.toml; a FILE that is a module of the
+    project is drawn with the whole project loaded (its CALLs resolve), alone (docs/project.md).
     The sources must pass `mlc check` without errors. Exit 0: drawn; 1: the sources have
     errors (shown as by mlc check, nothing written); 2: usage error or unreadable input.
     """
-    kind = None
-    if out_path is not None:
-        suffix = "." + out_path.rsplit(".", 1)[-1].lower() if "." in out_path else ""
-        kind = WRITERS.get(suffix)
-        if kind is None:
-            raise click.BadParameter("the output must end in .svg or .html", param_hint="-o")
+    kind = output_format(out_path, "-o", WRITERS) if out_path is not None else None
     config = get_config(config_path)
-    plan = output_plan(files, config)
+    scope = command_scope(files, config, "sources to draw")
+    plan = output_plan(scope.files, config)
     if out_path is not None:
         plan.add(out_path, "-o")
         plan.validate()
     target = get_target(target_name, config)
-    sheets, diags, lines = sheets_from_files(list(files), target, config)
+    sheets, diags, lines = sheets_from_files(scope.files, target, config)
     errors = [d for d in diags if d.severity == "error"]
     if errors:
         show(errors, lines)
         click.echo(summary_line(len(errors), 0) + "; nothing drawn", err=True)
         sys.exit(2 if unreadable(errors) else 1)
-    if kind == "svg":
+    if scope.focus:
+        sheets = [s for s in sheets if any(same_file(s.path, f) for f in scope.focus)]
+    if kind == "SVG":
         from mlctool.ladder.svg import sheets_svg
 
-        plan.write({out_path: sheets_svg(sheets, comments)})
-    elif kind == "html":
+        write_outputs(plan, {out_path: sheets_svg(sheets, comments)})
+    elif kind == "HTML":
         from mlctool.ladder.html import sheets_html
 
-        plan.write({out_path: sheets_html(sheets, title, comments)})
+        write_outputs(plan, {out_path: sheets_html(sheets, title, comments)})
     if term or kind is None:
         from mlctool.ladder.term import print_sheets
 

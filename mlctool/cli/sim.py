@@ -6,27 +6,32 @@ alarm no expectation names; 2: usage errors or unreadable input.
 
 from __future__ import annotations
 
-import os
 import sys
 import time
 
 import click
 
 from mlctool.asm import program_from_paths
+from mlctool.asm.project import table_file
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     collector_paused,
+    command_scope,
     config_option,
     encoding_option,
     examples,
     get_config,
     get_target,
+    load_tables,
     max_wall_option,
+    output_format,
     output_plan,
+    quiet_option,
     show,
     target_option,
+    write_outputs,
 )
-from mlctool.cli.sim_batch import batch_cmd, is_batch
+from mlctool.cli.sim_batch import batch_cmd, expand, is_batch
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
 from mlctool.sim.decode import unsimulated
 from mlctool.sim.engine import ENGINE_ENV, ENGINES
@@ -103,10 +108,14 @@ def _errors(diags: list[Diagnostic]) -> bool:
 @click.option("--pulse-window", "pulse_window", default=None, metavar="FROM..TO",
               help="trace the pulse output pins as pulse trains between FROM and TO in the VCD "
                    f"(at most {EDGE_LIMIT} edges; FBs: docs/fbs.md)")
-@click.argument("program", nargs=-1, required=True, type=click.Path(), metavar="FILE...")
+@quiet_option
+@click.argument("program", nargs=-1, type=click.Path(), metavar="[FILE]...")
 def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_path, watch,
             as_json, junit_path, watchdog, report_path, engine, jobs, cluster, tables, pulse_window, program):
     """Simulate the program of FILE... (sources, objects or a linked image) on virtual time.
+
+    With no FILE, the project of mlc.toml (its sources and register tables); a FILE that is
+    a module of the project runs the whole project (docs/project.md).
 
     Exit 0: every expectation held; 1: an expectation failed, the program faulted or raised
     an alarm no expectation names; 2: usage error or unreadable input.
@@ -119,10 +128,13 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     scan_us = _time_option(scan_time, "--scan-time")
     until_us = _time_option(until, "--until")
     config = get_config(config_path)
+    scope = command_scope(program, config, "program to simulate")
+    program = scope.files
     # every output is checked against the inputs and the other outputs, and its folder, before
     # anything runs (mlctool/fileio.py); all are written at the end, or none
-    plan = output_plan([*program, *(p for p in [stim_path] if p and not is_batch(p)),
-                        *(_table_file(t) for t in tables)], config)
+    stims = expand(stim_path)[0] if is_batch(stim_path) else [stim_path] if stim_path else []
+    plan = output_plan([*program, *stims,
+                        *(table_file(t) for t in [*scope.tables, *tables])], config)
     keep_gtkw = None
     if vcd_path:
         from mlctool.sim.vcd import gtkw_is_ours, gtkw_path
@@ -136,9 +148,15 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         if path:
             plan.add(path, what)
     plan.validate()
+    # an output named as another format (E120), after E606: an output onto an input says more
+    for path, what, formats in ((vcd_path, "--vcd", {".vcd": "VCD"}), (junit_path, "--junit", {".xml": "XML"}),
+                                (report_path, "--report", {".html": "HTML", ".htm": "HTML"})):
+        if path:
+            output_format(path, what, formats, formats[next(iter(formats))])
     # however the command ends (an error, Ctrl-C, --max-wall), no staged output is left behind
     click.get_current_context().with_resource(plan)
     target = get_target(_object_target(list(program), target_name) or target_name, config)
+    preload = load_tables(tables, scope.tables, target, config)
     with collector_paused():
         image, diags, lines = program_from_paths(list(program), target, config)
     if image is None:
@@ -152,7 +170,6 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     # with the run's diagnostics, once per device, and in --json's `warnings`
     unmodelled = unmodelled_writes(image, target)
 
-    preload = _tables(tables, target)
     if engine == "native":
         _native_notes(ahead=True)
     if window is not None and simulation_of(target).pulse_pins is None:
@@ -240,7 +257,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         from mlctool.ladder.report import report_html
 
         files[report_path] = report_html(sim, result, scan_lamps, watch_views, "")
-    plan.write(files)
+    write_outputs(plan, files, [vcd_path] if vcd_stream is not None else [])
     sys.exit(0 if result.ok else 1)
 
 
@@ -258,12 +275,6 @@ def _native_notes(ahead: bool) -> None:
         reasons = [r for r in native.FALLBACKS if r != missing]
     for reason in reasons:
         click.echo(f"note: the native engine did not run ({reason}); the compiled engine did", err=True)
-
-
-def _table_file(spec: str) -> str:
-    """The file of a --table [SR=]FILE."""
-    head, eq, rest = spec.partition("=")
-    return rest if eq and "/" not in head and os.sep not in head else spec
 
 
 def _object_target(paths: list[str], explicit: str | None) -> str | None:
@@ -297,26 +308,6 @@ def _window_option(text: str | None, vcd_path: str | None, stim_path: str | None
         return parse_window(text, parse_time)
     except (ValueError, StimError) as e:
         raise click.BadParameter(getattr(e, "message", str(e)), param_hint="--pulse-window") from None
-
-
-def _tables(specs: tuple[str, ...], target) -> list:
-    """--table: register tables the target's extension can load (its Simulation, mlctool/targetapi/simulation.py)."""
-    if not specs:
-        return []
-    load = simulation_of(target).load_table
-    if load is None:
-        raise click.BadParameter(f"target {target.name} has no register tables", param_hint="--table")
-    out = []
-    for spec in specs:
-        try:
-            table, problems = load(spec)
-        except ValueError as e:
-            raise click.BadParameter(str(e), param_hint="--table") from None
-        if table is None:
-            show(problems, {})
-            sys.exit(2)
-        out.append(table)
-    return out
 
 
 def _watch(items: tuple[str, ...], target):

@@ -12,7 +12,7 @@ import sys
 
 import click
 
-from mlctool.cli.common import show
+from mlctool.cli.common import show, write_outputs
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.fileio import Outputs
 from mlctool.sim.cluster import ClusterError, cluster_diagnostic
@@ -74,7 +74,7 @@ def batch_cmd(image, target, pattern: str, opts, jobs: int, cluster: str | None,
     if junit_path:
         from mlctool.sim.junit import to_junit
 
-        plan.write({junit_path: to_junit(scenarios, " ".join(program))})
+        write_outputs(plan, {junit_path: to_junit(scenarios, " ".join(program))})
     if bad_input:
         return 2
     return 0 if passed == len(scenarios) else 1

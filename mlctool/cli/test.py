@@ -11,13 +11,17 @@ from pathlib import Path
 import click
 
 from mlctool.asm import program_from_paths
+from mlctool.asm.project import project_tables, table_file
 from mlctool.cli import main_group
 from mlctool.cli.common import (
     encoding_option,
     examples,
     get_target,
+    load_tables,
     max_wall_option,
     output_plan,
+    quiet_option,
+    said_written,
     show,
     target_option,
     with_cli_encoding,
@@ -44,25 +48,33 @@ COVERAGE_FILES = ("coverage.txt", "coverage.json", "coverage.xml")
 
 def _enter_project(path: str | None):
     """cd into the project folder (the one holding mlc.toml: PATH's, else the nearest one at or
-    above the current folder) and load its configuration."""
+    above the current folder) and load its configuration. PATH is the project's folder, its
+    mlc.toml, or a file inside it (a module, a scenario): then the nearest mlc.toml above it.
+    Returns (configuration, PATH relative to the project folder when PATH is a file in it)."""
     if path is None:
-        here = Path.cwd()
-        folder = next((d for d in (here, *here.parents) if (d / "mlc.toml").is_file()), here)
+        start = Path.cwd()
     else:
         p = Path(path)
-        folder = p.parent if p.is_file() else p
-    if not (folder / "mlc.toml").is_file():
-        where = "here or above" if path is None else f"in {folder}"
-        raise MlcError(diag(str(folder / "mlc.toml"), Span.at(1), "E100",
+        if not p.exists():
+            raise MlcError(diag(path, Span.at(1), "E100", f"{path}: no such file or folder"))
+        start = p if p.is_dir() else p.parent
+    start = start.resolve()
+    folder = next((d for d in (start, *start.parents) if (d / "mlc.toml").is_file()), None)
+    if folder is None:
+        where = "here or above" if path is None else f"in {start} or above"
+        raise MlcError(diag(str(start / "mlc.toml"), Span.at(1), "E100",
                             f"no mlc.toml {where} (mlc test runs a project's tests)"))
+    inside = None
+    if path is not None and Path(path).is_file() and Path(path).name != "mlc.toml":
+        inside = os.path.relpath(Path(path).resolve(), folder)
     os.chdir(folder)
-    return with_cli_encoding(load_config(explicit="mlc.toml"))
+    return with_cli_encoding(load_config(explicit="mlc.toml")), inside
 
 
 @main_group.command("test", epilog=examples(
     "mlc test                              # the project of the nearest mlc.toml",
     "mlc test --coverage --junit junit.xml -j 2",
-    "mlc test samples/project",
+    "mlc test tests/pick_cycle.stim        # one scenario of the project",
 ))
 @target_option
 @encoding_option
@@ -71,33 +83,45 @@ def _enter_project(path: str | None):
               help="run scenarios in N worker processes")
 @click.option("--cluster", default=None, metavar="tcp://HOST:PORT",
               help="run the scenarios on this Dask scheduler's workers (docs/scale.md)")
-@click.option("--junit", "junit_path", default=None, metavar="FILE", help="write JUnit XML (path relative to the project)")
+@click.option("--junit", "junit_path", default=None, metavar="FILE", help="write JUnit XML")
 @click.option("--coverage", "with_coverage", is_flag=True,
               help="record coverage; writes coverage.txt, coverage.json and coverage.xml (Cobertura)")
-@click.option("--coverage-dir", default=".", show_default=True, metavar="DIR", help="folder for the coverage reports")
+@click.option("--coverage-dir", default=None, metavar="DIR",
+              help="folder for the coverage reports (default: the project's folder)")
 @click.option("-k", "keywords", multiple=True, metavar="PATTERN",
               help="run only the scenarios whose path contains PATTERN, or matches it as a glob "
                    "(tests/pick*); repeatable: any of them")
 @click.option("--json", "as_json", is_flag=True, help="print the results as JSON on stdout")
 @click.option("--out", "out_dir", default=None, metavar="DIR",
               help=f"folder for a failing scenario's waveform and report page "
-                   f"(default: beside --junit, else {ARTIFACT_DIR})")
-@click.argument("path", required=False, type=click.Path(), metavar="[DIR]")
+                   f"(default: beside --junit, else {ARTIFACT_DIR} in the project's folder)")
+@quiet_option
+@click.argument("path", required=False, type=click.Path(), metavar="[FILE|DIR]")
 def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir, keywords, as_json, out_dir, path):
     """Run the stimulus files of the project in DIR (default: the nearest mlc.toml at or above
     the current folder).
 
-    mlc.toml names the program (`sources`) and the scenarios (`tests`, globs). Exit 0 when
-    every expectation held, 1 on any failure or fault, 2 on usage errors or unreadable input.
+    mlc.toml names the program (`sources`), its register tables (`tables`) and the scenarios
+    (`tests`, globs). PATH may also be a file of the project: a scenario runs alone, a module
+    runs every scenario. Files named on the command line (--junit, --out, --coverage-dir) are
+    relative to the current folder, as with every command; each file written is named on
+    stderr (-q: silent). Exit 0 when every expectation held, 1 on any failure or fault, 2 on
+    usage errors or unreadable input.
     """
-    config = _enter_project(path)
+    here = os.getcwd()
+    config, inside = _enter_project(path)
+    # named outputs: relative to where the command was run, now from the project's folder
+    junit_path, out_dir, coverage_dir = (None if p is None else os.path.relpath(os.path.join(here, p))
+                                         for p in (junit_path, out_dir, coverage_dir))
+    coverage_dir = coverage_dir or "."
     target = get_target(target_name, config)
     sources, stims, problems = discover(config)
     if problems:
         show(problems, {})
         sys.exit(2)
-    stims = _selected(stims, keywords)
-    plan = output_plan([*sources, *stims], config)
+    stims = _selected(_inside(inside, sources, stims), keywords)
+    tables = project_tables(config)
+    plan = output_plan([*sources, *stims, *map(table_file, tables)], config)
     if junit_path:
         plan.add(junit_path, "--junit")
     out_dir = out_dir or (os.path.dirname(junit_path) or "." if junit_path else ARTIFACT_DIR)
@@ -109,17 +133,18 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
         for name in COVERAGE_FILES:
             plan.add(os.path.join(coverage_dir, name), "--coverage")
     plan.validate()
+    preload = load_tables((), tables, target, config)
     image, diags, lines = program_from_paths(sources, target, config)
     if image is None:
         show([d for d in diags if d.severity == "error"], lines)
         sys.exit(2)
     try:
         if with_coverage:
-            scenarios = run_all(image, target, stims, sources, jobs, with_coverage, cluster)
+            scenarios = run_all(image, target, stims, sources, jobs, with_coverage, cluster, preload)
         else:  # a batch: bit-sliced or numpy lanes where the program and stimuli allow (same results)
             from mlctool.sim.batch import Options, run_batch
 
-            scenarios = run_batch(image, target, stims, Options(), jobs, cluster=cluster)[0]
+            scenarios = run_batch(image, target, stims, Options(preload=preload), jobs, cluster=cluster)[0]
     except ClusterError as e:
         show([cluster_diagnostic(e)], {})
         sys.exit(2)
@@ -133,7 +158,7 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
     files = {}
     for sc in scenarios:
         if sc.result is not None and not sc.ok:
-            found = failure_artifacts(image, target, sc, lines, out_dir)
+            found = failure_artifacts(image, target, sc, lines, out_dir, preload)
             files.update(found)
             sc.artifacts = tuple(p for p in found if not p.endswith(".gtkw"))
     if as_json:
@@ -147,12 +172,29 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
         for name, render in zip(COVERAGE_FILES, (cov.to_text, cov.to_json, cov.to_cobertura), strict=True):
             files[os.path.join(coverage_dir, name)] = render(rep)
     plan.write(files)
+
+    def shown(p: str) -> str:  # a path as the user reaches it from where the command ran
+        return os.path.relpath(os.path.abspath(p), here)
+
+    said_written(map(shown, files))
     for sc in scenarios:
         if sc.artifacts:
-            click.echo(f"{sc.stim}: failed; waveform {sc.artifacts[0]}, report {sc.artifacts[1]}", err=True)
+            click.echo(f"{sc.stim}: failed; waveform {shown(sc.artifacts[0])}, report {shown(sc.artifacts[1])}",
+                       err=True)
     if with_coverage and not as_json:
         click.echo(cov.to_text(rep), nl=False)
     sys.exit(0 if all(sc.ok for sc in scenarios) else 1)
+
+
+def _inside(inside: str | None, sources: list[str], stims: list[str]) -> list[str]:
+    """PATH a file of the project: a scenario runs alone, a module (or mlc.toml) runs them all."""
+    if inside is None or any(os.path.normpath(inside) == os.path.normpath(s) for s in sources):
+        return stims
+    chosen = [s for s in stims if os.path.normpath(s) == os.path.normpath(inside)]
+    if not chosen:
+        raise click.UsageError(f"{inside} is neither a module of the project (`sources`) nor one of its "
+                               f"scenarios (`tests`): " + ", ".join(stims))
+    return chosen
 
 
 def _selected(stims: list[str], keywords: tuple[str, ...]) -> list[str]:

@@ -1,6 +1,10 @@
 """Coverage of a program by simulation runs: per step, whether it executed (and how often),
 and for contacts whether their own value was seen both On and Off. A coil or application
-instruction counts as executed when it ran with its rung condition On (when it acted).
+instruction counts as executed when it acted: it ran with its rung condition On; a
+multi-input instruction (FBs FUN140 HSPSO, FUN147: EN, PAU, ABT, one block each) with any of
+its inputs On; an instruction the manual runs whatever its condition (FUN141 MPARA,
+`unconditional` in the target's table) every time it ran; a P-suffix form (MOVP) only in the
+scans it executed (its condition's Off->On).
 
 The recorder wraps the reference interpreter's step routines (mlctool/sim/decode.py `probe`),
 so coverage runs always use the interpreter. Reports: text, JSON and Cobertura XML with IL
@@ -15,6 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from mlctool.program import Image
+from mlctool.targetapi.model import InstrSpec
 
 
 class Probe:
@@ -27,14 +32,14 @@ class Probe:
 
     def step(self, run: Callable, cls: str) -> Callable:
         """Count a step when it acts: contacts and flow instructions whenever they run, coils
-        and application instructions only when their rung condition is On."""
+        and application instructions by what their form executes (acted())."""
         hits = self.hits
         if cls == "output":
-            def acted(m, s):
-                if m.acc:
+            def counted_if_acted(m, s):
+                if acted(m, s.ins.spec, s.index):
                     hits[s.index] += 1
                 return run(m, s)
-            return acted
+            return counted_if_acted
 
         def counted(m, s):
             hits[s.index] += 1
@@ -58,6 +63,23 @@ class Probe:
             self.hits[k] += h
             self.seen_on[k] |= other.seen_on[k]
             self.seen_off[k] |= other.seen_off[k]
+
+
+def acted(m, spec: InstrSpec, index: int) -> bool:
+    """Whether an output-class instruction, about to run (outside a P form's gate: the probe
+    wraps the whole step, mlctool/sim/decode.py), executes in this scan: unconditional (the
+    manual runs it whatever its condition: FBs MPARA) always; a multi-input one (FBs HSPSO,
+    FUN147: EN, PAU, ABT, the blocks before it and the rung result) when any input is On; a
+    P form (MOVP) on its condition's Off->On (its edge memory still holds the last scan's);
+    any other when its condition is On."""
+    if spec.unconditional:
+        return True
+    further = len(spec.inputs) - 1
+    if further > 0 and any(m.blocks[-further:]):
+        return True
+    if spec.pulse:
+        return m.acc and not m.edge[index]
+    return bool(m.acc)
 
 
 @dataclass

@@ -42,7 +42,9 @@ def to_junit(scenarios: list[Scenario], suite_name: str) -> str:
     for sc in scenarios:
         r = sc.result
         cases = r.expectations if r else []
-        problems = [d for d in sc.diagnostics if d.code != "E603"]  # faults, alarms, bad stimulus
+        # faults, alarms, bad stimulus (a run-time warning goes to system-out)
+        problems = [d for d in sc.diagnostics if d.code != "E603" and d.severity == "error"]
+        warned = [d for d in sc.diagnostics if d.severity == "warning"]
         ts = ET.SubElement(root, "testsuite", name=sc.stim, tests=str(len(cases) + len(problems)),
                            failures=str(sum(not e.passed for e in cases)), errors=str(len(problems)),
                            time=_seconds(sc.seconds), file=sc.stim)
@@ -63,6 +65,7 @@ def to_junit(scenarios: list[Scenario], suite_name: str) -> str:
         if r is not None:
             out = f"{r.scans} scans, {ms(r.time_us)} ms virtual time"
             out += "".join(f"\n{_KIND[os.path.splitext(a)[1]]}: {a}" for a in sc.artifacts)  # a failure's files
+            out += "".join(f"\nwarning[{d.code}] {d.file}:{d.span.line}: {d.message}" for d in warned)
             ET.SubElement(ts, "system-out").text = out
     ET.indent(root)
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"

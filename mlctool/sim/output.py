@@ -62,7 +62,7 @@ def to_json(r: RunResult, warnings: Sequence[Diagnostic] = ()) -> str:
             "address": r.fault.addr, "file": r.fault.file, "line": r.fault.line,
             "instruction": r.fault.source,
         },
-        "warnings": [d.as_dict() for d in warnings],
+        "warnings": [d.as_dict() for d in [*warnings, *run_warnings(r)]],
     }
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
 
@@ -85,9 +85,16 @@ def summary(r: RunResult) -> str:
             f"{passed} passed, {failed} failed" + ("; program fault" if r.fault else ""))
 
 
+def run_warnings(r: RunResult) -> list[Diagnostic]:
+    """The run-time warnings (W330 ...) at their instructions."""
+    return [diag(w.file, Span.at(w.line), w.code, f"at {w.time_us / 1000:g} ms (scan {w.scan}), step {w.addr}: "
+                 f"{w.message}") for w in r.warnings]
+
+
 def run_diagnostics(r: RunResult, stim_path: str) -> list[Diagnostic]:
-    """Failed expectations (at their stimulus line), unexpected alarms and the fault."""
-    diags: list[Diagnostic] = []
+    """Failed expectations (at their stimulus line), unexpected alarms, the fault and the
+    run-time warnings."""
+    diags: list[Diagnostic] = run_warnings(r)
     for f in r.failed:
         diags.append(diag(stim_path, Span.at(f.line, f.col, len(f.text)), "E603", failure_message(f)))
     for a in r.alarms:

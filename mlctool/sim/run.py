@@ -87,6 +87,19 @@ class AlarmReport:
 
 
 @dataclass
+class WarningReport:
+    """A run-time warning (sim/semantics.py warn) at its instruction."""
+
+    time_us: int
+    scan: int
+    code: str
+    message: str
+    addr: int
+    file: str
+    line: int
+
+
+@dataclass
 class FaultReport:
     time_us: int
     scan: int
@@ -108,6 +121,7 @@ class RunResult:
     fault: FaultReport | None
     trace: list[tuple[int, list[tuple[int, int | float]]]]  # (time us, [(view index, value)])
     pin_window: object = None  # sim/pin_window.py PinWindow of --pulse-window (None: per-scan levels only)
+    warnings: list[WarningReport] = field(default_factory=list)  # run-time warnings, first of each
 
     @classmethod
     def lazy(cls, period_us: int, scans: int, expectations: list[ExpectOutcome],
@@ -119,7 +133,7 @@ class RunResult:
         read, it is called on the other side)."""
         r = cls.__new__(cls)
         r.__dict__.update(period_us=period_us, scans=scans, expectations=expectations, alarms=[],
-                          fault=None, trace=[], pin_window=None, _final=final)
+                          fault=None, trace=[], pin_window=None, warnings=[], _final=final)
         return r
 
     def __getattr__(self, name: str):
@@ -406,8 +420,9 @@ class Simulation:
         y_views = {v.number: i for i, v in enumerate(self.views) if v.kind == "Y" and v.view == "bit"}
         moved: set[int] = set()
         fault = None
-        seen_alarms = 0
+        seen_alarms = seen_warnings = 0
         alarms: list[AlarmReport] = []
+        warnings: dict[tuple[int, str, str], WarningReport] = {}  # the first of each
         scans_done = 0
         checked_at = time.perf_counter()
         for k in range(n_scans):
@@ -424,6 +439,11 @@ class Simulation:
                 alarms.append(AlarmReport(a[0], k, a[2], a[3], ins.addr, ins.file, ins.line,
                                           a[2] in self.alarm_names))
             seen_alarms = len(m.alarms)
+            for t, pc, code, message in m.warnings[seen_warnings:]:
+                ins = self.prog.steps[pc].ins
+                warnings.setdefault((pc, code, message), WarningReport(t, k, code, message, ins.addr, ins.file,
+                                                                       ins.line))
+            seen_warnings = len(m.warnings)
             outputs = self.irq.outputs if self.irq is not None else []
             if self.tracing and outputs:
                 for t, n, level in outputs:
@@ -468,7 +488,7 @@ class Simulation:
         alarms = _first_alarms(alarms)
         devices = {v.name: v.read(m) for v in self.views}
         return RunResult(self.period, scans_done, devices, self.views, outcomes, alarms, fault, trace.close(),
-                         m.pin_window)
+                         m.pin_window, list(warnings.values()))
 
     def _fault(self, f: Fault, k: int) -> FaultReport:
         if f.step is None:

@@ -36,6 +36,14 @@ def alarm(m: Machine, name: str, message: str) -> None:
             m.bits["M"][n] = 1
 
 
+def warn(m: Machine, code: str, message: str) -> None:
+    """A run-time warning (a W code of codes.toml): the PLC goes on as the manual says, but
+    what happened is likely not what the program meant (W330: a positioning instruction
+    started on an empty table). Reported at the instruction, once per instruction and
+    message in a run; it does not fail the run."""
+    m.warnings.append((m.now_us, m.pc, code, message))
+
+
 # the generic ops whose routines set the target's status flags (set_flags: here and in
 # targets/vs/routines.py); on a target with flags the compiled engine keeps their routines
 FLAG_OPS = frozenset({"add", "sub", "mul", "div", "fadd", "fsub", "fmul", "fdiv", "int", "sum"})

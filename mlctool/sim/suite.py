@@ -81,15 +81,17 @@ def discover(config: Config) -> tuple[list[str], list[str], list[Diagnostic]]:
 
 
 def run_scenario(image: Image, target: Target, stim_path: str, coverage: bool = False,
-                 loaded: tuple | None = None) -> Scenario:
-    """`loaded`: load_stimulus's result for stim_path, when it was read already."""
+                 loaded: tuple | None = None, preload: list = ()) -> Scenario:
+    """`loaded`: load_stimulus's result for stim_path, when it was read already; `preload`:
+    the register tables loaded with the program (mlc.toml `tables`)."""
     start = time.perf_counter()
-    sc = _run_scenario(image, target, stim_path, coverage, loaded)
+    sc = _run_scenario(image, target, stim_path, coverage, loaded, preload)
     sc.seconds = time.perf_counter() - start
     return sc
 
 
-def _run_scenario(image: Image, target: Target, stim_path: str, coverage: bool, loaded: tuple | None) -> Scenario:
+def _run_scenario(image: Image, target: Target, stim_path: str, coverage: bool, loaded: tuple | None,
+                  preload: list) -> Scenario:
     st, diags = loaded if loaded is not None else load_stimulus(stim_path, target)
     if st is None or any(d.severity == "error" for d in diags):
         return Scenario(stim_path, None, diags, st.lines if st else [])
@@ -102,7 +104,7 @@ def _run_scenario(image: Image, target: Target, stim_path: str, coverage: bool, 
         n_scans = plan_scans(st, period, None, None)
     except RunTooLong as e:
         return Scenario(stim_path, None, [diag(stim_path, Span.at(1), "E601", str(e))], st.lines)
-    sim = Simulation(image, target, st, models, period, [], trace=False, probe=probe)
+    sim = Simulation(image, target, st, models, period, [], trace=False, probe=probe, preload=preload)
     result = sim.run(n_scans)
     return Scenario(stim_path, result, run_diagnostics(result, stim_path), st.lines, probe)
 
@@ -117,19 +119,19 @@ def _worker_image(sources: tuple[str, ...], target_name: str, root: str):
 
 
 def _run_in_worker(args) -> Scenario:
-    sources, target_name, root, stim, coverage = args
+    sources, target_name, root, stim, coverage, preload = args
     image, target = _worker_image(sources, target_name, root)
-    return run_scenario(image, target, stim, coverage)
+    return run_scenario(image, target, stim, coverage, preload=preload)
 
 
 def _run_chunk(shared, chunk: list[tuple[str, tuple]]) -> list[Scenario]:
     """A cluster worker's part of a suite (mlctool/sim/cluster.py)."""
-    image, target, coverage = shared
-    return [run_scenario(image, target, stim, coverage, loaded) for stim, loaded in chunk]
+    image, target, coverage, preload = shared
+    return [run_scenario(image, target, stim, coverage, loaded, preload) for stim, loaded in chunk]
 
 
 def run_all(image: Image, target: Target, stims: list[str], sources: list[str], jobs: int = 1,
-            coverage: bool = False, cluster: str | None = None) -> list[Scenario]:
+            coverage: bool = False, cluster: str | None = None, preload: list = ()) -> list[Scenario]:
     """The scenarios' outcomes in the order of `stims`: here, in `jobs` processes, or on the
     Dask scheduler at `cluster` (ClusterError when it cannot be used). (`mlc test` without
     coverage runs its scenarios with mlctool/sim/batch.py's run_batch instead.)"""
@@ -137,11 +139,11 @@ def run_all(image: Image, target: Target, stims: list[str], sources: list[str], 
         from mlctool.sim.cluster import map_chunks
 
         items = [(s, load_stimulus(s, target)) for s in stims]
-        parts = map_chunks(cluster, _run_chunk, (image, target, coverage), items, per_thread=4)
+        parts = map_chunks(cluster, _run_chunk, (image, target, coverage, list(preload)), items, per_thread=4)
         return [sc for part in parts for sc in part]
     if jobs <= 1 or len(stims) <= 1:
-        return [run_scenario(image, target, s, coverage) for s in stims]
-    args = [(tuple(sources), target.name, os.getcwd(), s, coverage) for s in stims]
+        return [run_scenario(image, target, s, coverage, preload=preload) for s in stims]
+    args = [(tuple(sources), target.name, os.getcwd(), s, coverage, list(preload)) for s in stims]
     with ProcessPoolExecutor(max_workers=jobs) as pool:
         return list(pool.map(_run_in_worker, args))
 
@@ -169,7 +171,7 @@ def artifact_paths(stim: str, folder: str) -> tuple[str, str]:
 
 
 def failure_artifacts(image: Image, target: Target, sc: Scenario, lines: dict[str, list[str]],
-                      folder: str) -> dict[str, str]:
+                      folder: str, preload: list = ()) -> dict[str, str]:
     """A failing scenario run again with its trace kept: {path: text} of its VCD, the GTKWave
     save file beside it and the HTML report page (the ladder lit by scan, waveforms)."""
     from mlctool.ladder.report import ScanLamps, report_html
@@ -178,7 +180,7 @@ def failure_artifacts(image: Image, target: Target, sc: Scenario, lines: dict[st
     st, _ = load_stimulus(sc.stim, target)
     models, _ = build_models(st, target)
     period = st.scan_us or DEFAULT_SCAN_US
-    sim = Simulation(image, target, st, models, period, [], trace=True)
+    sim = Simulation(image, target, st, models, period, [], trace=True, preload=preload)
     scan_lamps = ScanLamps(sim, lines)
     result = sim.run(plan_scans(st, period, None, None))
     vcd, html = artifact_paths(sc.stim, folder)

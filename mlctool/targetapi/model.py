@@ -109,6 +109,9 @@ class InstrSpec:
     pulse: bool = False  # the P-suffix form: executes once per Off->On of its condition
     models: frozenset[str] = frozenset()  # models that have it; empty: every model
     once: bool = False  # the manual allows it once per program (E904)
+    # the manual has it execute in every scan whatever its condition (FBs FUN141 MPARA): coverage
+    # counts every execution, not only those with the condition On
+    unconditional: bool = False
     # "open": starts an exclusive region (an STL step: only one step's coils are live, so the
     # same coil in two regions is no double coil); "close": ends the regions (RET)
     region: str = ""
@@ -300,6 +303,7 @@ def _instructions(entries: list[dict], convention: dict | None = None
                     constraints=tuple(e.get("constraints", ())),
                     section=e["section"], notes=notes, inputs=tuple(e.get("inputs", ())),
                     pulse=pulse, models=models, once=bool(e.get("once", False)),
+                    unconditional=bool(e.get("unconditional", False)),
                     region=e.get("region", ""),
                 )
                 # aliases name the 16-bit form too (FBs: HSPSO is also written FUN140)

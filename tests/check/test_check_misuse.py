@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import shutil
 
 import pytest
@@ -63,3 +64,22 @@ def test_no_note_for_a_few_typos_or_errors_every_target_shares(mlc, tmp_path):
     p.write_text("LD X0\n" + "QQQ Y0\n" * 8 + "END\n")  # unknown everywhere
     r = mlc("check", str(p))
     assert r.code == 1 and "looks like" not in r.err
+
+
+@pytest.mark.parametrize("line, form", [("TMR T0 K10", "OUT T0 K10"), ("CNT C0 K3", "OUT C0 K10")])
+def test_nc5_timer_and_counter_on_vs_name_the_vs_form(mlc, tmp_path, line, form):
+    """TMR/CNT on VS: the VS form of the same instruction, not a near spelling (TTMR, INT)."""
+    (tmp_path / "p.il").write_text(f"LD X0\n{line}\nEND\n")
+    r = mlc("check", "--target", "vs", "p.il", cwd=tmp_path)
+    assert r.code == 1 and "E201" in r.err
+    assert f"target vs writes {line.split()[0]}'s instruction as `{form}`" in r.err
+    assert "TTMR" not in r.err and "INT" not in r.err
+
+
+def test_a_symbol_name_that_reads_as_an_operand_is_one_error(mlc, tmp_path):
+    """`.define P1 X0`: E106 at the name, and its uses (LD P1, a P device in a contact) are
+    not reported again."""
+    (tmp_path / "p.il").write_text(".define P1 X0\nLD P1\nOUT Y0\nLD X1\nAND P1\nOUT Y1\nEND\n")
+    r = mlc("check", "--format", "json", "p.il", cwd=tmp_path)
+    found = [(d["code"], d["line"]) for d in json.loads(r.out)["diagnostics"]]
+    assert r.code == 1 and found == [("E106", 1)]

@@ -452,7 +452,7 @@ def test_label_out_of_range():
     ("FOR K1\nFOR K1\nFOR K1\nFOR K1\nFOR K1\nFOR K1\nNEXT\nNEXT\nNEXT\nNEXT\nNEXT\nNEXT\nEND\n", [("E307", 6, 1)]),
     # E308 MPS/MRD/MPP balance; E309 depth (target.toml mps_depth)
     ("LD X0\nMRD\nOUT Y0\nEND\n", [("E308", 2, 1)]),
-    ("LD X0\nMPS\nOUT Y0\nLD X1\nOUT Y1\nEND\n", [("E308", 4, 1)]),
+    ("LD X0\nMPS\nOUT Y0\nLD X1\nOUT Y1\nEND\n", [("E308", 2, 1)]),  # at the MPS left open
     ("LD X0\n" + "MPS\nAND X1\n" * 9 + "OUT Y0\n" + "MPP\n" * 9 + "OUT Y1\nEND\n", [("E309", 18, 1)]),
     ("LD X0\n" + "MPS\nAND X1\n" * 8 + "OUT Y0\n" + "MPP\nOUT Y1\n" * 8 + "END\n", []),
     # E310 ANB/ORB without two blocks
@@ -461,7 +461,7 @@ def test_label_out_of_range():
     # E311 contact without a load; E312 output without condition; E313 unfinished rung
     ("AND X0\nOUT Y0\nEND\n", [("E311", 1, 1)]),
     ("OR X0\nOUT Y0\nEND\n", [("E311", 1, 1)]),
-    ("MPS\nEND\n", [("E311", 1, 1), ("E308", 2, 1)]),
+    ("MPS\nEND\n", [("E308", 1, 1), ("E311", 1, 1)]),
     ("OUT Y0\nEND\n", [("E312", 1, 1)]),
     ("MOV K1 D0\nEND\n", [("E312", 1, 1)]),
     ("LD X0\nLD X1\nOUT Y0\nEND\n", [("E313", 3, 1)]),

@@ -195,10 +195,13 @@ def test_rung_counts_follow_the_program_not_the_coils():
 @pytest.mark.parametrize("target_name", sorted(TARGETS))
 def test_load_after_coil_without_anb_still_ends_the_rung(target_name):
     """A load after a coil inside an MPS branch that no ANB/ORB takes up starts a new rung:
-    the open MPS is the error (E308), reported once, and the next rungs are not dragged in."""
+    the open MPS is the error (E308), reported once at the MPS (the note names where the rung
+    ends), and the next rungs are not dragged in."""
     text = _program("LD X0", "MPS", "AND X1", "OUT Y0", "LD X2", "OUT Y1", "LD X3", "OUT Y2")
     r = check_texts([SourceText("t.il", text)], TARGETS[target_name])
-    assert [(d.code, d.span.line) for d in r.diagnostics if d.severity == "error"] == [("E308", 5)]
+    errors = [d for d in r.diagnostics if d.severity == "error"]
+    assert [(d.code, d.span.line) for d in errors] == [("E308", 2)]
+    assert errors[0].notes == ("the rung ends before LD at line 5",)
 
 
 @pytest.mark.parametrize("target_name", sorted(TARGETS))

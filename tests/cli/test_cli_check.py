@@ -168,7 +168,11 @@ def test_explain_a_device_prints_its_signal_row(mlc):
 
 def test_targets_and_version(mlc):
     r = mlc("targets")
-    assert r.code == 0 and "nc5" in r.out and "000_a33d4a328dc57a96.txt" in r.out
+    assert r.code == 0 and "nc5" in r.out
+    # the manual by its title and edition; its file only where it is (not in a clone)
+    assert "manual: 台達 NC5 系列 MLC 應用技術手冊 V1.0 (2022-06)" in r.out
+    manual = ROOT.parent / "shared" / "manuals" / "000_a33d4a328dc57a96.txt"
+    assert ("000_a33d4a328dc57a96.txt" in r.out) == manual.is_file()
     v = mlc("--version")
     assert v.code == 0 and "0.1.0" in v.out
 
@@ -230,3 +234,11 @@ def test_text_output_summarises_beyond_50_per_code_json_and_sarif_never(mlc, tmp
     assert len(json.loads(mlc("check", "--format", "json", str(p)).out)["diagnostics"]) == 120
     sarif = json.loads(mlc("check", "--format", "sarif", str(p)).out)
     assert len(sarif["runs"][0]["results"]) == 120
+
+
+def test_explain_without_a_code_lists_every_code(mlc):
+    r = mlc("explain")
+    assert r.code == 0
+    listed = [line.split()[0] for line in r.out.splitlines()[:-1]]
+    assert sorted(listed) == sorted(CODES) and len(listed) == len(CODES)
+    assert "W401  warning  double coil" in r.out

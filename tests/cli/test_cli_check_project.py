@@ -24,10 +24,13 @@ def _files(r) -> set[str]:
     return {d["file"] for d in json.loads(r.out)["diagnostics"]}
 
 
-def test_check_without_files_checks_the_project_sources_together(mlc, project):
-    # conveyor.il alone calls P10/P11 that only the library pickplace.il exports: E304
-    alone = mlc("check", "src/conveyor.il", cwd=project)
+def test_check_without_files_checks_the_project_sources_together(mlc, project, tmp_path):
+    # conveyor.il alone (outside the project) calls P10/P11 that only the library pickplace.il exports: E304
+    shutil.copy(project / "src" / "conveyor.il", tmp_path / "conveyor.il")
+    alone = mlc("check", "conveyor.il", cwd=tmp_path)
     assert alone.code == 1 and "E304" in alone.err
+    # in the project, a module is checked with the others (docs/project.md, one rule)
+    assert mlc("check", "src/conveyor.il", cwd=project).code == 0
     r = mlc("check", cwd=project / "docs" / "notes")
     assert r.code == 0, r.err
     assert "E304" not in r.err

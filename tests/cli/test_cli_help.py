@@ -61,7 +61,8 @@ def test_help_lists_exit_codes(mlc, name):
 
 def test_file_metavars_are_consistent():
     """Files are FILE (FILE... for several, [FILE]... when none may be given), folders DIR."""
-    allowed = {"FILE", "FILE...", "[FILE]...", "[FILE|DIR]...", "FILE|DIR", "DIR", "[DIR]", "[SR=]FILE"}
+    allowed = {"FILE", "FILE...", "[FILE]", "[FILE]...", "[FILE|DIR]", "[FILE|DIR]...", "FILE|DIR", "DIR", "[DIR]",
+               "[SR=]FILE"}
     seen = set()
     for name, cmd in COMMANDS.items():
         ctx = click.Context(cmd, info_name=name)

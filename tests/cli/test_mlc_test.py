@@ -38,7 +38,7 @@ def _validate_cobertura(path: Path) -> etree._Element:
 
 
 def test_project_passes_with_coverage_and_junit(mlc, project):
-    r = mlc("test", "--coverage", "--junit", "out.xml", str(project))
+    r = mlc("test", "--coverage", "--junit", "out.xml", cwd=project)
     assert r.code == 0, r.out + r.err
     assert re.search(r"^4 passed, 0 failed$", r.out, re.M)
     root = _validate_junit(project / "out.xml")
@@ -77,7 +77,7 @@ def test_uncovered_lines_are_named(mlc, project):
 def test_broken_test_fails_and_shows_the_expectation(mlc, project):
     stim = project / "tests" / "pick_cycle.stim"
     stim.write_text(stim.read_text().replace("expect Y2=1 Y3=1 D10=2", "expect Y2=1 Y3=1 D10=7"))
-    r = mlc("test", "--junit", "out.xml", str(project))
+    r = mlc("test", "--junit", "out.xml", cwd=project)
     assert r.code == 1
     assert "tests/pick_cycle.stim:" in r.err and "error[E603]" in r.err and "D10 expected 7, actual 2" in r.err
     assert "FAIL" in r.out and "3 passed, 1 failed" in r.out
@@ -87,8 +87,8 @@ def test_broken_test_fails_and_shows_the_expectation(mlc, project):
 
 
 def test_jobs_give_the_same_results(mlc, project):
-    assert mlc("test", "--junit", "one.xml", "--coverage", "--coverage-dir", "c1", str(project)).code == 0
-    assert mlc("test", "-j", "2", "--junit", "two.xml", "--coverage", "--coverage-dir", "c2", str(project)).code == 0
+    assert mlc("test", "--junit", "one.xml", "--coverage", "--coverage-dir", "c1", cwd=project).code == 0
+    assert mlc("test", "-j", "2", "--junit", "two.xml", "--coverage", "--coverage-dir", "c2", cwd=project).code == 0
     assert without_times((project / "one.xml").read_bytes()) == without_times((project / "two.xml").read_bytes())
     assert (project / "c1" / "coverage.json").read_bytes() == (project / "c2" / "coverage.json").read_bytes()
 
@@ -160,7 +160,7 @@ def test_json_holds_each_scenario_as_mlc_sim_json_does(mlc, project):
 
 def test_a_failing_scenario_writes_its_waveform_and_report_beside_the_junit(mlc, project):
     _break_pick_cycle(project)
-    r = mlc("test", "--junit", "ci/junit.xml", str(project))
+    r = mlc("test", "--junit", "ci/junit.xml", cwd=project)
     assert r.code == 1
     vcd, html = project / "ci" / "tests-pick_cycle.vcd", project / "ci" / "tests-pick_cycle.html"
     assert "tests/pick_cycle.stim: failed; waveform ci/tests-pick_cycle.vcd, report ci/tests-pick_cycle.html" in r.err
@@ -179,12 +179,12 @@ def test_a_failing_scenario_writes_its_waveform_and_report_beside_the_junit(mlc,
     assert "waveform: ci/tests-pick_cycle.vcd" in out and "report: ci/tests-pick_cycle.html" in out
     assert not (project / "mlc-test-out").exists()
     # without --junit: the default folder, or --out
-    assert mlc("test", "--out", "fails", str(project)).code == 1
+    assert mlc("test", "--out", "fails", cwd=project).code == 1
     assert (project / "fails" / "tests-pick_cycle.vcd").is_file()
     assert mlc("test", str(project)).code == 1 and (project / "mlc-test-out" / "tests-pick_cycle.html").is_file()
 
 
 def test_a_passing_run_writes_no_failure_files(mlc, project):
-    assert mlc("test", "--junit", "ci/junit.xml", str(project)).code == 0
+    assert mlc("test", "--junit", "ci/junit.xml", cwd=project).code == 0
     assert sorted(p.name for p in (project / "ci").iterdir()) == ["junit.xml"]
     assert not (project / "mlc-test-out").exists()

@@ -35,7 +35,7 @@ def _parse(path):
 def test_mlc_test_junit(project):
     stim = project / "tests" / "pick_cycle.stim"
     stim.write_text(stim.read_text().replace("expect Y2=1 Y3=1 D10=2", "expect Y2=1 Y3=1 D10=7"))
-    assert run_mlc("test", "--junit", "out.xml", str(project)).code == 1
+    assert run_mlc("test", "--junit", "out.xml", cwd=project).code == 1
     doc = _parse(project / "out.xml")
     root = doc.getroot()
     suites = root.findall("testsuite")

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from mlctool.sim.semantics import OPERATION_ALARM, alarm
+from mlctool.sim.semantics import OPERATION_ALARM, alarm, warn
 from mlctool.sim.state import DeviceView, Machine, s16, s32
 from mlctool.targetapi.simulation import Simulation
 from mlctool.targets.fbs import mpg as follow
@@ -259,6 +259,27 @@ def _load_table(m: Machine, kind: str, n: int) -> PosProgram | None:
         return None
 
 
+EMPTY_TABLE = "W330"  # codes.toml: a positioning instruction started on an empty or invalid table
+
+
+def _not_started(m: Machine, s, dialect: str, kind: str, n: int, program: PosProgram | None, code: int,
+                 register: str) -> None:
+    """W330: FUN140/FUN147 started (EN rising) on a table that is no program of its own, with
+    the error code the PLC puts in `register` (R4060+Ps, D4060+Gp)."""
+    own, other = ("FUN140", "FUN147") if dialect == "hspso" else ("FUN147", "FUN140")
+    if program is None:
+        first = m.words[kind][n] if 0 <= n < len(m.words[kind]) else 0
+        why = (f"an empty table at {kind}{n} (nothing loaded there: mlc.toml `tables` or --table)" if first == 0
+               else f"{kind}{n}, which holds no positioning table (header {first:04X}H)")
+    elif program.dialect != dialect:
+        why = f"{kind}{n}, which holds a {other} table"
+    else:
+        why = f"the table at {kind}{n}, which breaks a rule of its program (the build's F{code:03d})"
+    written = s.ins.mnemonic if s.ins.mnemonic.upper().startswith("FUN") else f"{own} {s.ins.mnemonic}"
+    warn(m, EMPTY_TABLE, f"{written} {' '.join(s.ins.texts)} started on {why}: not started, "
+         f"error {code} in {register}")
+
+
 def hspso(m: Machine, s) -> None:
     """FUN140 HSPSO Ps SR WR with inputs EN, PAU, ABT (manual 001 ch. 11 FUN140 1-9)."""
     en, pau, abt = _inputs(m, 3)
@@ -290,9 +311,11 @@ def hspso(m: Machine, s) -> None:
         if program is None or program.dialect != "hspso":
             a.error = 34  # not a FUN140 table: "不合法定位程式"
             a.last_en = True
+            _not_started(m, s, "hspso", sr_kind, sr, program, 34, f"R{ERROR + p}")
         elif code:
             a.error = code  # a table written at run time breaks a build rule (41, 42, 43, 34)
             a.last_en = True
+            _not_started(m, s, "hspso", sr_kind, sr, program, code, f"R{ERROR + p}")
         else:
             a.program = program
             wr0 = m.words[slot.wr[0]][slot.wr[1]]  # the user may preset WR+0 (next step - 1)
@@ -434,13 +457,16 @@ def mhspo(m: Machine, s) -> None:
     gs.wr = (s.ops[2].kind, s.ops[2].addr(m, 9))
     _advance_group(m, st, gs)
     if (rising or not grp.last_en) and en and not abt and grp.state == "idle":
-        program = _load_table(m, s.ops[1].kind, s.ops[1].addr(m, 2))
+        sr_kind, sr = s.ops[1].kind, s.ops[1].addr(m, 2)
+        program = _load_table(m, sr_kind, sr)
         code = execution_error(program) if program is not None and program.dialect == "mhspo" else 0
         _mode_overrides(m, st)
         if program is None or program.dialect != "mhspo":
             grp.error, grp.last_en = 34, True
+            _not_started(m, s, "mhspo", sr_kind, sr, program, 34, f"D{G_ERROR + g}")
         elif code:
             grp.error, grp.last_en = code, True  # a table written at run time breaks a build rule
+            _not_started(m, s, "mhspo", sr_kind, sr, program, code, f"D{G_ERROR + g}")
         elif conflicts := mhspo_mode_conflicts(program, [slot.pin_mode for slot in st.slots]):
             k, i = conflicts[0]  # 11.6: U/D or A/B only; the manual names no error code for it
             alarm(m, OPERATION_ALARM, f"FUN147 step {k + 1:03d} drives Ps{i}, whose pulse output mode is "
