@@ -700,9 +700,8 @@ MONITOR_SCRIPT = r"""
 """.strip()
 
 
-def serve(session: DebugSession, port: int = 0, announce=print) -> None:
+def serve(server: WebServer, announce=print) -> None:
     """`mlc debug --web`: serve until interrupted (Ctrl-C)."""
-    server = WebServer(Monitor(session), port)
     announce(f"mlc debug: ladder monitor on {server.url} (Ctrl-C stops)")
     try:
         server.serve_forever()
