@@ -502,7 +502,7 @@ class DebugSession:
                     return self._stopped(Stop("end", f"the stimulus ends here: {self.where()}"))
                 if self.scan >= goal and scans is None:  # the bound of a run with no end
                     return self._stopped(Stop("pause", f"ran {limit} scans, the most one run goes at a time "
-                                                       f"(continue goes on): at {self.where()}"))
+                                                       f"(again to go on): at {self.where()}"))
                 if self.scan >= goal:
                     return self._stopped(Stop("step", f"ran to {self.where()}"))
                 self._between_scans()

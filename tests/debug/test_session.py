@@ -334,7 +334,7 @@ def test_every_long_move_ends_at_the_poll_hook_and_the_session_goes_on():
     s.poll = None
     console.execute("delete 1")
     console.execute("continue")  # nothing fires, no end in sight: the bound is said
-    assert out[-1].startswith("ran 100000 scans, the most one run goes at a time (continue goes on)")
+    assert out[-1].startswith("ran 100000 scans, the most one run goes at a time (again to go on): at scan ")
 
 
 def test_a_long_scan_run_instruction_by_instruction_is_interrupted_inside(tmp_path):
