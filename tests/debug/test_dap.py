@@ -386,3 +386,28 @@ def test_a_taken_port_exits_2_with_e609():
                            timeout=60)
     assert r.returncode == 2 and "Traceback" not in r.stderr, r.stderr
     assert f"error[E609]: cannot serve on 127.0.0.1:{port}: " in r.stderr, r.stderr
+
+
+def test_a_connection_that_does_not_launch_in_time_is_closed(monkeypatch):
+    """A client that connects and says nothing would hold the one-client port forever: it is
+    closed after AUTH_TIMEOUT_S, and the next client (with the token) is served."""
+    from mlctool.debug import dap
+
+    monkeypatch.setattr(dap, "AUTH_TIMEOUT_S", 0.3)
+    srv = dap.listen(0)
+    port = srv.getsockname()[1]
+    server = threading.Thread(target=dap.serve_port, args=(srv, "t" * 20, {}), daemon=True)
+    server.start()
+    with socket.create_connection(("127.0.0.1", port), timeout=10) as silent:
+        started = time.monotonic()
+        assert silent.recv(100) == b"" and time.monotonic() - started < 5  # closed by the server
+    with socket.create_connection(("127.0.0.1", port), timeout=10) as s, s.makefile("rb") as r, \
+            s.makefile("wb") as w:
+        write_frame(w, {"seq": 1, "type": "request", "command": "launch",
+                        "arguments": {"program": str(CWD / "conveyor.il"), "token": "t" * 20}})
+        msgs = [read_frame(r), read_frame(r)]
+        assert [m.get("event") or m["command"] for m in msgs] == ["initialized", "launch"] and msgs[1]["success"]
+        write_frame(w, {"seq": 2, "type": "request", "command": "disconnect"})
+        assert read_frame(r)["command"] == "disconnect"
+    server.join(10)
+    assert not server.is_alive()  # the launched session ended: so did the server
