@@ -21,9 +21,10 @@ loopback address are refused (a web page elsewhere cannot drive the debugger).
 Slow tabs: every tab has its own sender thread and a queue of at most MAX_QUEUE messages (a
 state waiting to be sent is replaced by a newer one), so a tab that stops reading holds up
 nobody else; when its queue is full, or a send to it has waited KEEPALIVE_S, it is
-disconnected. Every move (the buttons, `goto`, a
-console line) runs with the session's poll hook: every MAX_BATCH_S the lock is let go (the
-other tabs' requests are served, all tabs see the progress) and a Pause ends the move.
+disconnected. Every move (the buttons, `goto`, a console line) runs with the session's poll
+hook: every MAX_BATCH_S the lock is let go (the other tabs' requests are served, all tabs see
+the progress) and a Pause ends the move. A connection reads on while its request runs (a
+worker serves them in order), so the Pause of the tab whose move runs reaches it too.
 """
 
 from __future__ import annotations
@@ -56,7 +57,7 @@ MAX_SPEED = 0  # `run` speed 0: as fast as the engine goes
 MAX_BATCH_S = 0.04  # at speed 0, scans run between two looks at the clock
 MAX_PENDING = 200  # output lines sent a tick while running
 MAX_REPLY_LINES = 2000  # output lines in the reply to one request
-KEEPALIVE_S = 20
+KEEPALIVE_S = 20  # a tab that answers no ping, or takes no message, for this long is let go
 MAX_QUEUE = 256  # messages waiting for one tab; past it the tab is disconnected (it stopped reading)
 # console lines the page may send: not `save` (it writes files) nor `quit`
 CONSOLE_REFUSED = ("save", "quit")
@@ -79,8 +80,9 @@ class Tab:
         self.queue: deque[tuple[str, str]] = deque()  # (type, JSON text)
         self.cond = threading.Condition()
         self.closed = False
-        self.stall_s = stall_s  # a send blocked this long: the tab is gone (keepalive cannot tell,
-        self.sending_since: float | None = None  # its ping waits behind the blocked send)
+        # a send blocked stall_s: the tab is gone (keepalive cannot tell: its ping waits behind it)
+        self.stall_s = stall_s
+        self.sending_since: float | None = None
         threading.Thread(target=self._pump, name="mlc-monitor-tab", daemon=True).start()
 
     def put(self, msg: dict) -> None:
@@ -504,7 +506,7 @@ class Monitor:
         runner = self._runner
         self.running = False
         if runner is not None and runner is not threading.current_thread():
-            runner.join(5)  # a tab that stopped reading can hold a send up: it ends soon after
+            runner.join(5)  # it ends at its next tick
         self._runner = None
         return self._end_move()
 
