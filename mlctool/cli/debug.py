@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+from typing import NoReturn
 
 import click
 
@@ -17,6 +18,7 @@ from mlctool.cli.common import (
     show,
     target_option,
 )
+from mlctool.diagnostics import Span, diag
 from mlctool.sim.engine import ENGINE_ENV, ENGINES
 from mlctool.sim.stimulus import StimError, parse_time
 
@@ -38,7 +40,8 @@ from mlctool.sim.stimulus import StimError, parse_time
               help="scans between time-travel checkpoints (at most 64 kept)")
 @click.option("--dap", is_flag=True, help="serve the Debug Adapter Protocol on stdin/stdout")
 @click.option("--dap-port", type=click.IntRange(1, 65535), default=None, metavar="N",
-              help="serve the Debug Adapter Protocol on 127.0.0.1:N (one client)")
+              help="serve the Debug Adapter Protocol on 127.0.0.1:N (one client, which gives the printed "
+                   "token in its launch request)")
 @click.option("--web", is_flag=True,
               help="serve the live ladder monitor (power flow, values, force by clicking) on 127.0.0.1")
 @click.option("--port", type=click.IntRange(0, 65535), default=None, metavar="N",
@@ -52,7 +55,7 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
     project runs the whole project (docs/project.md). The console reads commands (`help` lists them) from the terminal, or from a pipe for
     scripts. With --dap or --dap-port the program comes in the client's launch request.
     With --web the ladder is served as a live monitor page until Ctrl-C.
-    Exit 0: the session ended; 2: usage error, unreadable input or a port in use.
+    Exit 0: the session ended; 2: usage error, unreadable input or a port in use (E609).
     """
     scan_us = None
     if scan_time is not None:
@@ -68,15 +71,23 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
         raise click.UsageError("--port is the --web monitor's port (the DAP server's is --dap-port)")
     config = get_config(config_path)
     if dap or dap_port is not None:
-        from mlctool.debug.dap import serve_port, serve_stdio
+        from mlctool.debug.dap import listen, serve_port, serve_stdio, session_token
 
         model = click.get_current_context().meta.get("mlc.model")  # --model (cli/common.py)
         defaults = {"target": target_name, "model": model, "config": config, "engine": engine, "scanTime": scan_us,
                     "checkpointEvery": checkpoint_every}
-        if dap_port is not None:
-            serve_port(dap_port, defaults)
-        else:
+        if dap_port is None:
             serve_stdio(defaults)
+            return
+        try:
+            token = session_token()
+        except ValueError as e:
+            raise click.UsageError(str(e)) from None
+        try:
+            srv = listen(dap_port)
+        except OSError as e:
+            _cannot_serve("--dap-port", dap_port, e)
+        serve_port(srv, token, defaults)
         return
     # no FILE: the project; a module of the project: the whole project runs
     program = command_scope(program, config, "program FILE... (or --dap)").files
@@ -93,12 +104,18 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
 
     show(unmodelled_writes(session.image, target), session.lines)  # W608, as mlc sim says it
     if web:
-        from mlctool.debug.web import serve
+        from mlctool.debug.web import Monitor, WebServer, serve
 
         try:
-            serve(session, port or 0, lambda text: click.echo(text))
-        except OSError as e:  # the port is taken (or not ours to take)
-            click.echo(f"mlc debug: cannot serve on 127.0.0.1:{port}: {e.strerror or e}", err=True)
-            sys.exit(2)
+            server = WebServer(Monitor(session), port or 0)
+        except OSError as e:
+            _cannot_serve("--port", port, e)
+        serve(server, lambda text: click.echo(text))
         return
     interactive(Console(session, click.echo))
+
+
+def _cannot_serve(option: str, port: int, e: OSError) -> NoReturn:
+    """E609, exit 2: the port is taken (or not ours to take)."""
+    show([diag(f"<{option}>", Span.at(1), "E609", f"cannot serve on 127.0.0.1:{port}: {e.strerror or e}")], {})
+    sys.exit(2)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 import click
 
 from mlctool.cli import main_group
@@ -25,6 +27,7 @@ def lsp_cmd(stdio):
     """
     from mlctool.lsp.server import server
 
-    server.start_io()  # the editor's `exit` ends the process here (pygls: 0 after shutdown, else 1)
-    # standard input closed without an `exit`: as pygls does for `exit` without `shutdown`
-    click.get_current_context().exit(0 if getattr(server.protocol, "_shutdown", False) else 1)
+    server.start_io()  # returns on the editor's `exit` (pygls's own sys.exit is swallowed) or at EOF
+    # 0 after a shutdown, else 1, as pygls means for `exit`; sys.exit, not ctx.exit: the guarded
+    # runner calls click outside standalone mode, where ctx.exit's code was returned and lost
+    sys.exit(0 if getattr(server.protocol, "_shutdown", False) else 1)

@@ -7,12 +7,15 @@ command gets a message, never a traceback.
 
 from __future__ import annotations
 
+import contextlib
 import shlex
 import signal
 import sys
 from collections.abc import Callable, Iterable
 
 from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Interrupted, Stop
+from mlctool.limits import clip, is_decimal
+from mlctool.sim.quantities import MAX_SCANS
 from mlctool.sim.stimulus import StimError, parse_time
 from mlctool.targetapi.signals import device_signal
 
@@ -45,20 +48,20 @@ ALIASES = {"s": "step", "n": "next", "c": "continue", "p": "print", "b": "break"
 
 
 class Console:
-    def __init__(self, session: DebugSession, out: Callable[[str], None], max_count: int | None = None):
+    def __init__(self, session: DebugSession, out: Callable[[str], None]):
         self.s = session
-        # a front end that cannot interrupt a move (DAP reads one request at a time) bounds
-        # counts: step/scan N, run #N or TIME (in scans), goto scans ahead
-        self.max_count = max_count
         self.out = out
         self.displays: list[str] = []
         session.output = out
         self.saved: list[str] = []
         self.last_stop: Stop | None = None  # where the latest move ended
+        self._ctrl_c: list | None = None  # the Ctrl-C presses not yet seen (ctrl_c_ends_moves)
 
     # one line -> False to quit
     def execute(self, line: str) -> bool:
         line = line.strip()
+        if self._ctrl_c is not None:
+            self._ctrl_c.clear()
         if not line or line.startswith("#"):
             return True
         word, _, rest = line.partition(" ")
@@ -75,6 +78,8 @@ class Console:
             return True
         try:
             fn(rest.strip())
+        except Interrupted as e:  # a move that says nothing itself (diff)
+            self.out(str(e) or self.s.interrupted().text)
         except DebugError as e:
             self.out(f"error: {e}")
         except (StimError, ValueError) as e:
@@ -93,14 +98,9 @@ class Console:
     def _count(self, rest: str) -> int:
         if not rest:
             return 1
-        if not rest.isdigit() or int(rest) < 1:
-            raise DebugError(f"{rest!r}: give a count (1, 2, ...)")
-        return self._bounded(int(rest))
-
-    def _bounded(self, n: int) -> int:
-        if self.max_count is not None and n > self.max_count:
-            raise DebugError(f"at most {self.max_count} at a time here (nothing can interrupt a move)")
-        return n
+        if not is_decimal(rest) or not 1 <= int(rest) <= MAX_SCANS:
+            raise DebugError(f"{clip(rest, 24)!r}: give a count from 1 to {MAX_SCANS}")
+        return int(rest)
 
     def _repeat(self, rest: str, move: Callable[[], Stop]) -> None:
         """`move` N times; the session's poll hook between two (a Pause or Ctrl-C ends them)."""
@@ -136,7 +136,7 @@ class Console:
             return
         us = parse_time(rest)
         target_scan = -(-(self.s.time_us + us) // self.s.period)
-        self.report(self.s.run(scans=self._bounded(max(1, target_scan - self.s.scan))))
+        self.report(self.s.run(scans=max(1, target_scan - self.s.scan)))
 
     def cmd_continue(self, rest: str) -> None:
         self.report(self.s.run())
@@ -261,17 +261,15 @@ class Console:
         self.report(self.s.reverse_continue())
 
     def cmd_goto(self, rest: str) -> None:
-        if not rest.lstrip("#").isdigit():
+        if not rest:
             raise DebugError("goto SCAN (a scan number)")
-        k = int(rest.lstrip("#"))
-        self._bounded(k - self.s.scan)
-        self.report(self.s.goto_scan(k))
+        self.report(self.s.goto_scan(self.s.scan_number(rest)))
 
     def cmd_diff(self, rest: str) -> None:
-        parts = rest.replace("#", "").split()
-        if len(parts) != 2 or not all(p.isdigit() for p in parts):
+        parts = rest.split()
+        if len(parts) != 2:
             raise DebugError("diff SCAN_A SCAN_B")
-        a, b = map(int, parts)
+        a, b = (self.s.scan_number(p) for p in parts)
         for k in (a, b):
             if self.s.fault_pos is not None and k > self.s.fault_pos[0]:
                 raise DebugError(f"scan {k} is after the fault")
@@ -292,46 +290,49 @@ class Console:
         self.out(rung_text(self.s))
 
     def cmd_save(self, rest: str) -> None:
-        if not rest:
-            raise DebugError("save FILE.stim")
-        from mlctool.debug.stimfile import stimulus_text
-        from mlctool.fileio import write_atomic
+        from mlctool.debug.stimfile import save_stimulus
 
-        write_atomic(rest, stimulus_text(self.s))
-        self.out(f"wrote {rest}")
+        self.out(save_stimulus(self.s, rest))
 
     def cmd_help(self, rest: str) -> None:
         self.out(HELP)
 
     def execute_interruptible(self, line: str) -> bool:
-        """execute(line) where Ctrl-C ends a long move where it is (`step 99999999`, `run #N`)
-        and comes back to the prompt, as in gdb, instead of ending the debugger. Main thread only."""
-        pressed = []
+        """execute(line) where Ctrl-C ends a long move where it is (`step 99999999`, `goto N`,
+        `diff 0 N`, `reverse-continue`) and comes back to the prompt, as in gdb, instead of
+        ending the debugger. Main thread only."""
+        with self.ctrl_c_ends_moves():
+            return self.execute(line)
 
-        def on_sigint(signum, frame):
-            if pressed:  # a second Ctrl-C: a move without pause points (goto, reverse-continue)
-                raise KeyboardInterrupt
-            pressed.append(signum)
+    @contextlib.contextmanager
+    def ctrl_c_ends_moves(self):
+        """Within the block, SIGINT (Ctrl-C) ends the move running, not the debugger: every long
+        move looks at the poll hook between two scans (and every few thousand instructions
+        inside one), so one Ctrl-C is enough; more of them, during the move or between two
+        commands, change nothing more. Main thread only."""
+        pressed = self._ctrl_c = []  # execute() empties it: a Ctrl-C between two commands is for none
 
         def poll() -> None:
             if pressed:
+                pressed.clear()
                 raise Interrupted
 
-        previous = signal.signal(signal.SIGINT, on_sigint)
+        previous = signal.signal(signal.SIGINT, lambda signum, frame: pressed.append(signum))
         self.s.poll = poll
         try:
-            return self.execute(line)
+            yield
         finally:
             self.s.poll = None
+            self._ctrl_c = None
             signal.signal(signal.SIGINT, previous)
 
     # -- reading lines ------------------------------------------------------------------
-    def run_lines(self, lines: Iterable[str], echo: bool = False) -> None:
-        for line in lines:
-            if echo:
-                self.out(f"(mlc) {line.rstrip()}")
-            if not self.execute(line):
-                break
+    def run_lines(self, lines: Iterable[str]) -> None:
+        """A script, one command a line: Ctrl-C ends the command running, not the session."""
+        with self.ctrl_c_ends_moves():
+            for line in lines:
+                if not self.execute(line):
+                    break
 
     def completions(self) -> list[str]:
         words = list(COMMANDS) + [v.name for v in self.s.program_views()] + list(self.s.symbols)
@@ -341,7 +342,7 @@ class Console:
 def interactive(console: Console) -> None:
     """prompt-toolkit on a terminal; a plain line reader otherwise."""
     if not sys.stdin.isatty():
-        console.run_lines(sys.stdin, echo=False)
+        console.run_lines(sys.stdin)
         return
     try:
         from prompt_toolkit import PromptSession
@@ -353,13 +354,16 @@ def interactive(console: Console) -> None:
     session = PromptSession(history=InMemoryHistory(),
                             completer=WordCompleter(console.completions(), ignore_case=True, sentence=False))
     console.out(f"mlc debug: {console.s.where()} (help lists the commands)")
-    while True:
-        try:
-            line = session.prompt("(mlc) ")
-        except (EOFError, KeyboardInterrupt):
-            break
-        if not console.execute_interruptible(line):
-            break
+    with console.ctrl_c_ends_moves():
+        while True:
+            try:
+                line = session.prompt("(mlc) ")
+            except KeyboardInterrupt:  # Ctrl-C at the prompt: a new line, as in gdb
+                continue
+            except EOFError:
+                break
+            if not console.execute(line):
+                break
 
 
 __all__ = ["BOUNDARY", "Console", "interactive"]

@@ -3,28 +3,48 @@
 The framing is DAP's own: `Content-Length: N` header lines, a blank line, N bytes of JSON.
 One thread (the PLC), one frame (the instruction about to execute); stepIn = one instruction,
 next = one scan, stepBack / reverseContinue travel back in time. A frame that cannot be read
-(no length, bad JSON, not an object) gets an error response; a failing request gets an error
-response with the message; the server never ends on them.
+(no length, bad JSON, nested too deeply, not an object) gets an error response; a failing
+request gets an error response with the message; the server never ends on them.
+
+Requests are read by a thread of their own while the main thread executes them one at a
+time, so a `pause` (or the client leaving) reaches a long move (continue, goto, a console
+`step 99999999`): the session's poll hook sees it between two scans and the move ends there.
+
+On a TCP port (`--dap-port`) anything on the machine can connect, a web page in a browser
+too (a `fetch` POST carries DAP frames in its body). So there the server refuses what is not
+DAP: a line that is not a header (an HTTP request line) closes the connection with nothing
+read further, and every request but `initialize` and `disconnect` waits for a `launch` that
+carries the session's token (generated at start and printed, or MLC_DAP_TOKEN); a launch
+without it, or any other request first, closes the connection. docs/reliability.md, Threat
+model.
 """
 
 from __future__ import annotations
 
+import hmac
 import io
 import json
 import os
+import queue
+import secrets
 import socket
 import sys
+import threading
 from pathlib import Path
 from typing import BinaryIO
 
-from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Stop
+from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Interrupted, Stop
+from mlctool.limits import MAX_DIGITS
 from mlctool.sim.stimulus import StimError
 from mlctool.targetapi.signals import device_signal
 
 THREAD = 1
 MAX_FRAME = 16 * 1024 * 1024
-# a debug-console move runs while no request is read (not even pause): counts are bounded
-MAX_CONSOLE_COUNT = 100_000
+MAX_HEADER_LINES = 32
+TOKEN_ENV = "MLC_DAP_TOKEN"
+MIN_TOKEN = 16  # characters of a token given in MLC_DAP_TOKEN
+AUTH_TIMEOUT_S = 30  # a connection that has not launched with the token by then is closed
+CONSOLE_MOVES = ("step", "scan", "next", "run", "continue", "back", "reverse-continue", "goto", "diff")
 SCOPES = ("Inputs", "Outputs", "Relays", "Words", "Timers", "Counters", "Watched", "Symbols")
 _STOP_REASONS = {"breakpoint": "breakpoint", "watch": "data breakpoint", "condition": "breakpoint",
                  "step": "step", "entry": "entry", "fault": "exception", "goto": "goto",
@@ -32,32 +52,41 @@ _STOP_REASONS = {"breakpoint": "breakpoint", "watch": "data breakpoint", "condit
 
 
 class FrameError(ValueError):
-    pass
+    """A frame that cannot be read. `framing`: not even DAP's framing (a header that is not
+    one: an HTTP request line, say), as opposed to a well-framed body that is bad JSON."""
+
+    def __init__(self, message: str, framing: bool = True):
+        super().__init__(message)
+        self.framing = framing
 
 
 def read_frame(stream: BinaryIO) -> dict | None:
     """One message; None at the end of the stream; FrameError for a frame that is not DAP."""
     length = None
-    saw = False
+    lines = 0
     while True:
         line = stream.readline(65536)
         if not line:
-            if saw:
+            if lines:
                 raise FrameError("the stream ended inside a header")
             return None
-        saw = True
+        lines += 1
         text = line.decode("ascii", "replace").strip()
         if not text:
             if length is None:
                 raise FrameError("a frame without a Content-Length header")
             break
         name, colon, value = text.partition(":")
-        if not colon:
+        if not colon or " " in name.strip():
             _skip_header(stream)
             raise FrameError(f"not a header line: {text[:60]!r}")
+        if lines > MAX_HEADER_LINES:
+            _skip_header(stream)
+            raise FrameError(f"more than {MAX_HEADER_LINES} header lines")
         if name.strip().lower() == "content-length":
-            if not value.strip().isdigit() or int(value) > MAX_FRAME:
-                raise FrameError(f"bad Content-Length {value.strip()[:20]!r}")
+            value = value.strip()
+            if not (value.isascii() and value.isdigit()) or len(value) > MAX_DIGITS or int(value) > MAX_FRAME:
+                raise FrameError(f"bad Content-Length {value[:20]!r}")
             length = int(value)
     body = stream.read(length)
     if len(body) < length:
@@ -65,9 +94,13 @@ def read_frame(stream: BinaryIO) -> dict | None:
     try:
         msg = json.loads(body.decode("utf-8"))
     except (UnicodeDecodeError, json.JSONDecodeError) as e:
-        raise FrameError(f"the frame is not JSON: {e}") from None
+        raise FrameError(f"the frame is not JSON: {e}", framing=False) from None
+    except RecursionError:  # "[" * 200000: the parser's depth bound (the recursion limit)
+        raise FrameError("the frame's JSON nests too deeply", framing=False) from None
+    except ValueError as e:  # an integer of more than 4300 digits
+        raise FrameError(f"the frame's JSON cannot be read: {str(e)[:80]}", framing=False) from None
     if not isinstance(msg, dict):
-        raise FrameError("the frame is not a JSON object")
+        raise FrameError("the frame is not a JSON object", framing=False)
     return msg
 
 
@@ -89,10 +122,18 @@ class RequestError(Exception):
     pass
 
 
+class Refused(Exception):
+    """The connection is closed: it is not DAP, or not the token's holder (TCP port only)."""
+
+
 class DapServer:
-    def __init__(self, reader: BinaryIO, writer: BinaryIO, defaults: dict | None = None):
+    def __init__(self, reader: BinaryIO, writer: BinaryIO, defaults: dict | None = None,
+                 token: str | None = None):
         self.reader, self.writer = reader, writer
         self.defaults = defaults or {}
+        # on a TCP port: the session's token, which the launch request must carry
+        self.token = token
+        self.authenticated = token is None
         self.seq = 0
         self.session: DebugSession | None = None
         self.pending: dict[str, list[dict]] = {}  # setBreakpoints before launch: path -> breakpoints
@@ -100,6 +141,13 @@ class DapServer:
         self.stop_on_entry = True
         self.running = True
         self.lines_of: dict[str, str] = {}
+        self.inbox: queue.Queue = queue.Queue()  # ("msg", dict) | ("bad", FrameError) | ("end", None)
+        # pause requests read (by the reader thread) and handled (by the main thread): a move
+        # in progress ends at its next poll while a pause is pending, or the client has gone
+        self.pauses_read = 0
+        self.pauses_handled = 0
+        self.leaving = False
+        self.pause_ended_a_move = False
 
     # -- transport ---------------------------------------------------------------------
     def send(self, msg: dict) -> None:
@@ -124,20 +172,59 @@ class DapServer:
         self.event("output", {"category": category, "output": text + "\n"})
 
     def serve(self) -> None:
+        """Until disconnect or the end of the stream; Refused (TCP port) when the client is
+        not let in."""
+        threading.Thread(target=self._read, name="mlc-dap-reader", daemon=True).start()
         while self.running:
-            try:
-                msg = read_frame(self.reader)
-            except FrameError as e:
-                self.respond({"seq": 0, "command": "unknown"}, error=f"malformed frame: {e}")
-                continue
-            if msg is None:
+            kind, item = self.inbox.get()
+            if kind == "end":
                 break
-            self.handle(msg)
+            if kind == "bad":
+                if self.token is not None and (item.framing or not self.authenticated):
+                    self.respond({"seq": 0, "command": "unknown"}, error=f"refused: not DAP ({item})")
+                    raise Refused(str(item))
+                self.respond({"seq": 0, "command": "unknown"}, error=f"malformed frame: {item}")
+                continue
+            self.handle(item)
+
+    def _read(self) -> None:
+        """The reader thread: every frame into the inbox; pauses counted as they arrive."""
+        try:
+            while True:
+                try:
+                    msg = read_frame(self.reader)
+                except FrameError as e:
+                    self.inbox.put(("bad", e))
+                    if self.token is not None and (e.framing or not self.authenticated):
+                        break  # not read further: the main thread closes the connection
+                    continue
+                if msg is None:
+                    break
+                if msg.get("type") == "request" and msg.get("command") == "pause":
+                    self.pauses_read += 1
+                elif msg.get("type") == "request" and msg.get("command") == "disconnect":
+                    self.leaving = True
+                self.inbox.put(("msg", msg))
+        except (OSError, ValueError):  # the connection reset, or closed under the reader
+            pass
+        self.leaving = True
+        self.inbox.put(("end", None))
+
+    def _poll(self) -> None:
+        """The session's poll hook: a pending pause, or the client gone, ends the move."""
+        if self.pauses_read > self.pauses_handled or self.leaving:
+            self.pause_ended_a_move = self.pauses_read > self.pauses_handled
+            raise Interrupted
 
     def handle(self, msg: dict) -> None:
         if msg.get("type") != "request" or not isinstance(msg.get("command"), str):
+            if not self.authenticated:
+                raise Refused("not a request")
             self.respond(msg, error="expected a request with a command")
             return
+        if not self.authenticated and msg["command"] not in ("initialize", "launch", "disconnect"):
+            self.respond(msg, error=f"refused: `{msg['command'][:40]}` before a launch with the session's token")
+            raise Refused("no token")
         fn = getattr(self, "on_" + msg["command"], None)
         if fn is None:
             self.respond(msg, error=f"unsupported request {msg['command']!r}")
@@ -148,6 +235,8 @@ class DapServer:
             return
         try:
             fn(msg, args)
+        except Refused:
+            raise
         except (RequestError, DebugError, StimError) as e:
             self.respond(msg, error=getattr(e, "message", None) or str(e))
         except Exception as e:  # a bug: an error response, not a dead debugger
@@ -167,13 +256,22 @@ class DapServer:
             "supportsEvaluateForHovers": True, "supportsTerminateRequest": True,
             "supportsGotoTargetsRequest": False, "supportsRestartRequest": False,
         })
-        self.event("initialized")
+        if self.authenticated:  # else after the launch that carries the token
+            self.event("initialized")
 
     def on_launch(self, req, args) -> None:
         from mlctool.config import load_config
         from mlctool.debug.load import LoadError, load_session
         from mlctool.targets import load_target
 
+        if not self.authenticated:
+            given = args.get("token")
+            if not isinstance(given, str) or not hmac.compare_digest(given.encode(), self.token.encode()):
+                self.respond(req, error="refused: this server needs the session's token (launch argument "
+                                        "`token`, printed when `mlc debug --dap-port` started)")
+                raise Refused("a launch without the token")
+            self.authenticated = True
+            self.event("initialized")
         program = args.get("program")
         if isinstance(program, str):
             program = [program]
@@ -205,10 +303,11 @@ class DapServer:
         try:
             self.session = load_session(program, stim, target, config, self.defaults.get("scanTime"),
                                         args.get("engine") or self.defaults.get("engine"),
-                                        self.defaults.get("checkpointEvery", 100))
+                                        self.defaults.get("checkpointEvery", 100), cwd=cwd)
         except LoadError as e:
             raise RequestError("the program cannot be simulated: " + str(e)) from None
         self.session.output = self.output
+        self.session.poll = self._poll
         self.stop_on_entry = args.get("stopOnEntry", True) is not False
         for path, bps in self.pending.items():
             self._set_line_breakpoints(path, bps, announce=True)
@@ -367,8 +466,11 @@ class DapServer:
         self._go(req, lambda s: s.reverse_continue())
 
     def on_pause(self, req, args) -> None:
-        self.respond(req)  # runs are synchronous: the machine is stopped already
-        if self.session is not None:
+        self.pauses_handled += 1
+        self.respond(req)
+        if self.pause_ended_a_move:  # the move it ended said where it stopped
+            self.pause_ended_a_move = False
+        elif self.session is not None:  # it came when no move ran: the machine is stopped already
             self.stopped(Stop("pause", f"paused at {self.session.where()}"))
 
     # -- looking ------------------------------------------------------------------------
@@ -455,15 +557,17 @@ class DapServer:
         from mlctool.debug.console import ALIASES, COMMANDS, Console
 
         word = text.strip().split(" ", 1)[0].lower()
-        if ALIASES.get(word, word) not in COMMANDS:
+        word = ALIASES.get(word, word)
+        if word not in COMMANDS:
             raise error
         lines: list[str] = []
-        console = Console(s, lines.append, max_count=MAX_CONSOLE_COUNT)
+        console = Console(s, lines.append)
+        if word in CONSOLE_MOVES:  # the client shows the thread running: its Pause ends the move
+            self.event("continued", {"threadId": THREAD, "allThreadsContinued": True})
         console.execute(text)
         s.output = self.output
         self.respond(req, {"result": "\n".join(lines), "variablesReference": 0})
-        if ALIASES.get(word, word) in ("step", "scan", "next", "run", "continue", "back", "reverse-continue",
-                                        "goto"):
+        if word in CONSOLE_MOVES:
             self.stopped(Stop("step", lines[-1] if lines else s.where()))
 
 
@@ -476,21 +580,71 @@ def _is_device(s: DebugSession, text: str) -> bool:
 
 
 def serve_stdio(defaults: dict | None = None) -> None:
-    """DAP on stdin/stdout; anything else printed goes to stderr (stdout carries frames only)."""
+    """DAP on stdin/stdout; anything else printed goes to stderr (stdout carries frames only).
+    The reader thread reads a reader of its own over standard input's file descriptor: one
+    still waiting in sys.stdin's when the session ends would abort the interpreter's exit."""
     out = sys.stdout.buffer
     sys.stdout = sys.stderr
     try:
-        DapServer(sys.stdin.buffer, out, defaults).serve()
+        DapServer(open(os.dup(sys.stdin.fileno()), "rb"), out, defaults).serve()
     finally:
         sys.stdout = sys.__stdout__
 
 
-def serve_port(port: int, defaults: dict | None = None) -> None:
-    with socket.create_server(("127.0.0.1", port)) as srv:
-        print(f"mlc debug: DAP on 127.0.0.1:{port}", file=sys.stderr, flush=True)
-        conn, _ = srv.accept()
-        with conn, conn.makefile("rb") as r, conn.makefile("wb") as w:
-            DapServer(r, w, defaults).serve()
+def session_token() -> str:
+    """MLC_DAP_TOKEN (a launcher's choice, at least MIN_TOKEN characters), else a new one."""
+    given = os.environ.get(TOKEN_ENV)
+    if given is None:
+        return secrets.token_urlsafe(24)
+    if len(given) < MIN_TOKEN or not given.isascii() or not given.isprintable():
+        raise ValueError(f"{TOKEN_ENV}: give at least {MIN_TOKEN} printable ASCII characters")
+    return given
 
 
-__all__ = ["DapServer", "FrameError", "io", "read_frame", "serve_port", "serve_stdio", "write_frame"]
+def listen(port: int) -> socket.socket:
+    """The listening socket on 127.0.0.1:port (OSError when it is taken: the caller says so)."""
+    return socket.create_server(("127.0.0.1", port))
+
+
+def serve_port(srv: socket.socket, token: str, defaults: dict | None = None) -> None:
+    """DAP on a listening socket, one client: connections are taken in turn until one
+    launches with the token; when that one ends, so does the server. The others (not DAP,
+    no token, silent for AUTH_TIMEOUT_S) are closed and wait for nothing."""
+    with srv:
+        port = srv.getsockname()[1]
+        print(f"mlc debug: DAP on 127.0.0.1:{port}, token {token} (the launch request gives it as `token`)",
+              file=sys.stderr, flush=True)
+        while True:
+            conn, _ = srv.accept()
+            server = None
+            with conn, conn.makefile("rb") as r, conn.makefile("wb") as w:
+                server = DapServer(r, w, defaults, token)
+                timer = threading.Timer(AUTH_TIMEOUT_S, _close_unless, (server, conn))
+                timer.daemon = True
+                timer.start()
+                try:
+                    server.serve()
+                except Refused:
+                    pass
+                except OSError:  # the client went away mid-reply
+                    pass
+                finally:
+                    timer.cancel()
+                    try:
+                        conn.shutdown(socket.SHUT_RDWR)
+                    except OSError:
+                        pass
+            if server.authenticated:
+                return
+
+
+def _close_unless(server: DapServer, conn: socket.socket) -> None:
+    if not server.authenticated:  # the reader sees the end; the connection is closed
+        try:
+            conn.shutdown(socket.SHUT_RDWR)
+        except OSError:
+            pass
+
+
+__all__ = ["DapServer", "FrameError", "Refused", "io", "listen", "read_frame", "serve_port", "serve_stdio",
+           "session_token", "write_frame"]

@@ -3,6 +3,8 @@ console, the DAP server and the web monitor)."""
 
 from __future__ import annotations
 
+import os
+
 from mlctool.asm import program_from_paths
 from mlctool.config import Config
 from mlctool.debug.session import DebugSession
@@ -21,7 +23,9 @@ class LoadError(Exception):
 
 def load_session(program: list[str], stim_path: str | None, target, config: Config | None = None,
                  scan_us: int | None = None, engine: str | None = None,
-                 checkpoint_every: int = 100) -> DebugSession:
+                 checkpoint_every: int = 100, cwd: str | None = None) -> DebugSession:
+    """`cwd`: the session's current folder (relative `save` paths; the folder `save` may write
+    into when the program is in no project), by default the process's."""
     image, diags, lines = program_from_paths(list(program), target, config)
     if image is None:
         raise LoadError([d for d in diags if d.severity == "error"], lines)
@@ -38,4 +42,15 @@ def load_session(program: list[str], stim_path: str | None, target, config: Conf
     period = st.scan_us or scan_us or DEFAULT_SCAN_US
     session = DebugSession(image, target, st, models, period, engine=engine, checkpoint_every=checkpoint_every)
     session.lines = lines
+    session.cwd = cwd or os.getcwd()
+    if config is not None and config.root is not None:
+        session.folder, session.folder_is = str(config.root), "the project's folder"
+    else:
+        session.folder = session.cwd
+    # what `save` may never overwrite: everything the session read
+    config_files = [str(config.root / n) for n in ("mlc.toml", "pyproject.toml")] if config and config.root else []
+    if config is not None and config.file is not None:
+        config_files.append(str(config.file))
+    session.inputs = [p for p in [*program, *lines, *([stim_path] if stim_path else []), *config_files]
+                      if os.path.isfile(p)]
     return session

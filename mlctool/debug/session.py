@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import copy
 import math
+import os
 import re
 import time
 from array import array
@@ -32,13 +33,16 @@ from dataclasses import dataclass, field
 
 from mlctool.debug.expr import Expr, ExprError, resolve_device
 from mlctool.devices.base import ModelIO
+from mlctool.limits import clip, is_decimal
 from mlctool.program import Image
+from mlctool.sim.quantities import MAX_SCANS
 from mlctool.sim.run import Simulation, plan_scans
 from mlctool.sim.scan import DEFAULT_WATCHDOG, END_SCAN, Fault, begin_scan, end_of_scan
 from mlctool.sim.state import DeviceView, Machine, SimFault
 from mlctool.sim.stimulus import StimError, Stimulus, parse_value
 
 BOUNDARY = -1
+POLL_STEPS = 4096  # instructions executed one by one between two looks at the poll hook
 Position = tuple[int, int]  # (scan, instructions executed in it; -1: at the scan's start)
 
 
@@ -122,12 +126,18 @@ class DebugSession:
         self.fault: Fault | None = None
         self.fault_pos: Position | None = None
         self.output: Callable[[str], None] = lambda text: None  # logpoints, expectation failures
-        self.expect_failures: list[str] = []
+        # the expectations that failed on this timeline: (scan, stimulus line) -> what failed
+        # (`save` drops them from the stimulus it writes; an action taken before the scan
+        # forgets them: the new timeline checks them again)
+        self.failed_expects: dict[tuple[int, int], str] = {}
         self.stops: list[tuple[Position, dict[str, int | float]]] = []  # watched values at stops
-        # called between the scans of a long `run` (and between a console count's moves), where
-        # the machine is consistent: a front end lets other requests in there, or raises
-        # Interrupted to end the move (the web page's Pause, Ctrl-C on the terminal)
+        # called between the scans of every long move (run, goto's replay, reverse-continue's
+        # search, a console count's moves) and every POLL_STEPS instructions inside a scan,
+        # where the machine is consistent: a front end lets other requests in there, or raises
+        # Interrupted to end the move (the web page's Pause, DAP's pause, Ctrl-C on the terminal)
         self.poll: Callable[[], None] | None = None
+        self._unpolled = 0  # instructions executed since the last poll
+        self.replaying = False  # going back (or scanning for a hit): no action may be taken now
         self._memo_seed = {id(x): x for x in (target, image, self.prog, *self.steps)}
         self._layouts = 1 << 30
         self.checkpoints: dict[int, dict] = {}
@@ -135,6 +145,11 @@ class DebugSession:
         self._checkpoint()
         # `continue` with nothing firing stops where the stimulus ends (its `run`, else its last line)
         self.end_scan = plan_scans(stimulus, period_us, None, None)
+        # `save`: relative paths from `cwd`; written only inside `folder`, never onto `inputs`
+        # (load_session sets them: the project's folder, the files the session read)
+        self.cwd = self.folder = os.getcwd()
+        self.folder_is = "the session's current folder"
+        self.inputs: list[str] = [stimulus.path] if os.path.isfile(stimulus.path) else []
 
     # -- positions and state ------------------------------------------------------------
     @property
@@ -235,6 +250,8 @@ class DebugSession:
         self._act(("write", view, value))
 
     def _act(self, action: tuple) -> None:
+        if self.replaying:  # a front end that serves requests during a move (the web monitor)
+            raise DebugError("the debugger is replaying to another point: Pause it first")
         pos = self.position
         # a new action starts a new timeline: what was logged after this point is dropped
         for p in [p for p in self.actions if p > pos]:
@@ -242,6 +259,8 @@ class DebugSession:
         for k in [k for k in self.checkpoints if k > pos[0]]:
             del self.checkpoints[k]
         self.stops = [(p, v) for p, v in self.stops if p <= pos]
+        for key in [key for key in self.failed_expects if key[0] >= pos[0]]:  # not checked yet
+            del self.failed_expects[key]
         if self.fault_pos is not None and self.fault_pos > pos:
             self.fault_pos = None
         self.actions.setdefault(pos, []).append(action)
@@ -275,11 +294,13 @@ class DebugSession:
         for e in sim.by_scan.get(k, ()):
             if e.kind in ("expect", "alarm"):
                 outcome = sim.check(e, k)
+                first_time = (k, e.line) not in self.failed_expects  # said once, not at each replay
                 for f in outcome.failures:
-                    msg = (f"expect failed: {sim.st.path}:{f.line}: {f.device} is {f.actual}, "
-                           f"expected {f.expected}" + (f" (last written by {f.writer})" if f.writer else ""))
-                    self.expect_failures.append(msg)
-                    self.output(msg)
+                    what = f"{f.device} is {f.actual}, expected {f.expected}"
+                    if first_time:
+                        self.output(f"expect failed: {sim.st.path}:{f.line}: {what}"
+                                    + (f" (last written by {f.writer})" if f.writer else ""))
+                    self.failed_expects.setdefault((k, e.line), what)
         self.scan = k + 1
         self.n = BOUNDARY
         self._checkpoint()
@@ -356,22 +377,28 @@ class DebugSession:
 
     # -- going to a position (replay) ----------------------------------------------------
     def goto(self, pos: Position) -> None:
-        """Put the machine at `pos` by restoring a checkpoint and replaying."""
+        """Put the machine at `pos` by restoring a checkpoint and replaying. Interrupted (from
+        the poll hook) leaves it where the replay got to, between two scans or instructions."""
         if pos[0] < 0:
             raise DebugError("there is no scan before scan 0")
+        if pos[0] > MAX_SCANS:
+            raise DebugError(f"scan {pos[0]}: a run has at most {MAX_SCANS} scans (docs/simulator.md, Bounds)")
         if self.fault_pos is not None and pos > self.fault_pos:
             raise DebugError(f"the program faulted at scan {self.fault_pos[0]}: nothing after it")
         start = max(k for k in self.checkpoints if k <= pos[0])
-        if not (start <= self.scan and self.position <= pos and self.fault is None):
-            self._restore(self.checkpoints[start])
-            self.scan, self.n, self.pc, self.fault = start, BOUNDARY, 0, None
-            for action in self.actions.get((start, BOUNDARY), ()):
-                self._apply(action)
+        was, self.replaying = self.replaying, True
         try:
+            if not (start <= self.scan and self.position <= pos and self.fault is None):
+                self._restore(self.checkpoints[start])
+                self.scan, self.n, self.pc, self.fault = start, BOUNDARY, 0, None
+                for action in self.actions.get((start, BOUNDARY), ()):
+                    self._apply(action)
             if self.n != BOUNDARY and self.scan < pos[0]:
                 while self.n != BOUNDARY:
                     self._exec_one()
+                    self._instruction_done()
             while self.scan < pos[0]:
+                self._between_scans()
                 self._whole_scan()
             if pos[1] >= 0:
                 if self.n == BOUNDARY:
@@ -380,9 +407,12 @@ class DebugSession:
                     self._exec_one()
                     if self.n == BOUNDARY:
                         raise DebugError(f"scan {pos[0]} ends after {pos[1]} instructions")
+                    self._instruction_done()
         except Fault:
             pass
-        self._reset_watches()
+        finally:
+            self.replaying = was
+            self._reset_watches()
 
     def scan_length(self, k: int) -> int:
         """Instructions scan k executes (its END included); leaves the machine inside scan k."""
@@ -391,7 +421,33 @@ class DebugSession:
         while self.scan == k and self.n != BOUNDARY:
             self._exec_one()
             n += 1
+            self._instruction_done()
         return n
+
+    # -- interrupting a long move ----------------------------------------------------------
+    def _between_scans(self) -> None:
+        if self.poll is not None:
+            self.poll()
+
+    def _instruction_done(self) -> None:
+        """Inside a scan: the poll hook every POLL_STEPS instructions (a scan may run up to
+        the watchdog's million steps one by one)."""
+        self._unpolled += 1
+        if self._unpolled >= POLL_STEPS and self.poll is not None:
+            self._unpolled = 0
+            self.poll()
+
+    def _undone_if_interrupted(self, what: str, move: Callable[[], Stop]) -> Stop:
+        """`move()`; interrupted, the machine is put back where it was (from a copy taken
+        first, ~0.5 ms: a replay back could be as long as the move) and the stop says so."""
+        here = (self._snapshot(), self.scan, self.n, self.pc, self._wd, self.fault, self.fault_pos)
+        try:
+            return move()
+        except Interrupted:
+            snap, self.scan, self.n, self.pc, self._wd, self.fault, self.fault_pos = here
+            self._restore(snap)
+            self._reset_watches()
+            return Stop("pause", f"interrupted: {what} did not finish; still at {self.where()}")
 
     def _reset_watches(self) -> None:
         for b in self.breakpoints.values():
@@ -444,11 +500,12 @@ class DebugSession:
                     return self._stopped(stop)
                 if self.scan >= goal and end is not None:
                     return self._stopped(Stop("end", f"the stimulus ends here: {self.where()}"))
+                if self.scan >= goal and scans is None:  # the bound of a run with no end
+                    return self._stopped(Stop("pause", f"ran {limit} scans, the most one run goes at a time "
+                                                       f"(again to go on): at {self.where()}"))
                 if self.scan >= goal:
-                    return self._stopped(Stop("pause" if scans is None else "step",
-                                              f"ran to {self.where()}"))
-                if self.poll is not None:
-                    self.poll()
+                    return self._stopped(Stop("step", f"ran to {self.where()}"))
+                self._between_scans()
         except Fault as f:
             return self._fault_stop(f)
         except Interrupted:
@@ -456,6 +513,13 @@ class DebugSession:
 
     def interrupted(self) -> Stop:
         return Stop("pause", f"interrupted at {self.where()}")
+
+    def scan_number(self, text: str) -> int:
+        """A scan number as typed (`40`, `#40`): ASCII digits, at most MAX_SCANS."""
+        text = text.strip().removeprefix("#")
+        if not is_decimal(text) or int(text) > MAX_SCANS:
+            raise DebugError(f"{clip(text, 24)!r}: give a scan number from 0 to {MAX_SCANS}")
+        return int(text)
 
     def _run_instructions(self, first: bool) -> Stop | None:
         """The rest of this scan (or the next one) instruction by instruction, stopping before
@@ -475,6 +539,7 @@ class DebugSession:
                 stop = self._watch_checks()
                 if stop is not None:
                     return stop
+                self._instruction_done()
         return None
 
     def _counted_hit_stops(self, b) -> bool:
@@ -562,6 +627,9 @@ class DebugSession:
 
     def back(self) -> Stop:
         """One instruction back."""
+        return self._undone_if_interrupted("back", self._back)
+
+    def _back(self) -> Stop:
         here = self.position
         try:
             target = self.previous_position()
@@ -577,11 +645,18 @@ class DebugSession:
             if k == 0:
                 raise DebugError("at the start: nothing to go back to")
             k -= 1
-        self.goto((k, BOUNDARY))
-        return Stop("step", f"back to {self.where()}")
+
+        def move() -> Stop:
+            self.goto((k, BOUNDARY))
+            return Stop("step", f"back to {self.where()}")
+        return self._undone_if_interrupted("back scan", move)
 
     def goto_scan(self, k: int) -> Stop:
-        self.goto((k, BOUNDARY))
+        """To the start of scan k; interrupted, it stays where the replay got to (as a run)."""
+        try:
+            self.goto((k, BOUNDARY))
+        except Interrupted:
+            return self._stopped(self.interrupted())
         if self.fault is not None:
             return Stop("fault", f"the program faulted before scan {k}: {self.fault.message}")
         return Stop("goto", f"at {self.where()}")
@@ -589,17 +664,22 @@ class DebugSession:
     def reverse_continue(self) -> Stop:
         """Back to the last position before here where a breakpoint or watch fired (the
         start if none did). Hit counts are not changed by the search."""
+        return self._undone_if_interrupted("reverse-continue", self._reverse_continue)
+
+    def _reverse_continue(self) -> Stop:
         here = self.position
         counts = {b.id: b.hits for b in self.breakpoints.values()}
         for b in self.breakpoints.values():  # hit counts count from the start of the run
             b.hits = 0
         found: tuple[Position, Stop] | None = None
-        self.goto((0, BOUNDARY))
         saved_out, self.output = self.output, (lambda text: None)
+        was, self.replaying = self.replaying, True
         try:
+            self.goto((0, BOUNDARY))
             instr = self._instr_mode()
             first = True
             while self.position < here and self.fault is None:
+                self._between_scans()
                 try:
                     if instr or self.n != BOUNDARY:
                         stop = self._run_instructions(first)
@@ -614,6 +694,7 @@ class DebugSession:
                 if stop is not None and self.position < here:
                     found = (self.position, stop)
         finally:
+            self.replaying = was
             self.output = saved_out
             for b in self.breakpoints.values():
                 b.hits = counts.get(b.id, b.hits)
@@ -750,13 +831,21 @@ class DebugSession:
         return None
 
     def changed_between(self, a: int, b: int) -> list[tuple[str, object, object]]:
-        """Devices whose values differ between the boundaries of scans a and b."""
-        here = self.position
-        self.goto((a, BOUNDARY))
-        before = self.device_values()
-        self.goto((b, BOUNDARY))
-        after = self.device_values()
-        self.goto(here)
+        """Devices whose values differ between the boundaries of scans a and b. Interrupted,
+        the machine is put back where it was and Interrupted is raised."""
+        values: list[dict] = []
+
+        def move() -> Stop:
+            here = self.position
+            for k in (a, b):
+                self.goto((k, BOUNDARY))
+                values.append(self.device_values())
+            self.goto(here)
+            return Stop("step", "")
+        stop = self._undone_if_interrupted(f"diff {a} {b}", move)
+        if stop.reason == "pause":
+            raise Interrupted(stop.text)
+        before, after = values
         return [(k, before.get(k), after.get(k)) for k in sorted(set(before) | set(after), key=_dev_key)
                 if before.get(k) != after.get(k)]
 

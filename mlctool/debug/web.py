@@ -16,14 +16,27 @@ Hostile input: every message is parsed and checked; anything wrong gets an `erro
 the connection and the server go on. Messages over MAX_MESSAGE bytes close that connection
 (WebSocket code 1009), never the server. Requests whose Host or Origin is not this server's
 loopback address are refused (a web page elsewhere cannot drive the debugger).
+
+Slow tabs: every tab has its own sender thread and a queue of at most MAX_QUEUE messages (a
+state waiting to be sent is replaced by a newer one), so a tab that stops reading holds up
+nobody else; when its queue is full, or a send to it has waited KEEPALIVE_S, it is
+disconnected. Every move (the buttons, `goto`, a console line) runs with the session's poll
+hook: every MAX_BATCH_S the lock is let go (the other tabs' requests are served, all tabs see
+the progress) and a Pause ends the move. A connection reads on while its request runs (a
+worker serves them in order), so the Pause of the tab whose move runs reaches it too.
 """
 
 from __future__ import annotations
 
 import json
+import logging
+import queue
+import socket
+import sys
 import threading
 import time
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from http import HTTPStatus
 
@@ -32,6 +45,8 @@ from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Interrupte
 from mlctool.ladder.document import RungView, build_sheet
 from mlctool.ladder.html import page, sheets_body
 from mlctool.ladder.lighting import lamps, lit
+from mlctool.limits import MAX_DIGITS
+from mlctool.sim.quantities import MAX_SCANS
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
 from mlctool.sim.stimulus import StimError
 
@@ -41,7 +56,8 @@ MAX_SPEED = 0  # `run` speed 0: as fast as the engine goes
 MAX_BATCH_S = 0.04  # at speed 0, scans run between two looks at the clock
 MAX_PENDING = 200  # output lines sent a tick while running
 MAX_REPLY_LINES = 2000  # output lines in the reply to one request
-MAX_GOTO_AHEAD = 100_000  # scans a `goto` may replay forward (under the lock)
+KEEPALIVE_S = 20  # a tab that answers no ping, or takes no message, for this long is let go
+MAX_QUEUE = 256  # messages waiting for one tab; past it the tab is disconnected (it stopped reading)
 # console lines the page may send: not `save` (it writes files) nor `quit`
 CONSOLE_REFUSED = ("save", "quit")
 CONSOLE_MOVES = ("step", "scan", "next", "run", "continue", "back", "reverse-continue", "goto")
@@ -51,6 +67,77 @@ COMMANDS = ("state", "step", "scan", "back", "back-scan", "goto", "run", "pause"
 
 class RequestError(ValueError):
     pass
+
+
+class Tab:
+    """A connected tab: its messages go out from a thread of its own, through a bounded queue,
+    so a tab that never reads blocks nothing but that thread (module doc)."""
+
+    def __init__(self, conn, gone: Callable[[object], None], stall_s: float):
+        self.conn = conn
+        self.gone = gone  # told once when this tab is dropped
+        self.queue: deque[tuple[str, str]] = deque()  # (type, JSON text)
+        self.cond = threading.Condition()
+        self.closed = False
+        # a send blocked stall_s: the tab is gone (keepalive cannot tell: its ping waits behind it)
+        self.stall_s = stall_s
+        self.sending_since: float | None = None
+        threading.Thread(target=self._pump, name="mlc-monitor-tab", daemon=True).start()
+
+    def put(self, msg: dict) -> None:
+        text = json.dumps(msg, separators=(",", ":"))
+        kind = msg.get("type", "")
+        with self.cond:
+            if self.closed:
+                return
+            if self.sending_since is not None and time.monotonic() - self.sending_since > self.stall_s:
+                self._drop()
+                return
+            if kind == "state" and self.queue and self.queue[-1][0] == "state":
+                self.queue[-1] = (kind, text)  # not sent yet: the newer state says all of it
+            elif len(self.queue) >= MAX_QUEUE:
+                self._drop()
+                return
+            else:
+                self.queue.append((kind, text))
+            self.cond.notify()
+
+    def _pump(self) -> None:
+        while True:
+            with self.cond:
+                while not self.queue and not self.closed:
+                    self.cond.wait()
+                if self.closed:
+                    return
+                _, text = self.queue.popleft()
+                self.sending_since = time.monotonic()
+            try:
+                self.conn.send(text)
+            except Exception:  # noqa: BLE001 - a closed tab: dropped, the others go on
+                with self.cond:
+                    self._drop()
+                return
+            self.sending_since = None
+
+    def close(self) -> None:
+        with self.cond:
+            self._drop()
+
+    def _drop(self) -> None:
+        """(Holding cond.) Stop sending and cut the connection: a send blocked on a full
+        socket returns, and the tab's receiving side ends (its client sees the close)."""
+        if self.closed:
+            return
+        self.closed = True
+        self.queue.clear()
+        self.cond.notify_all()
+        sock = getattr(self.conn, "socket", None)
+        if sock is not None:
+            try:
+                sock.shutdown(socket.SHUT_RDWR)
+            except OSError:
+                pass
+        threading.Thread(target=self.gone, args=(self.conn,), daemon=True).start()
 
 
 @dataclass
@@ -110,7 +197,7 @@ class Monitor:
     def __init__(self, session: DebugSession, title: str = ""):
         self.s = session
         self.lock = threading.RLock()
-        self.clients: dict[object, threading.Lock] = {}
+        self.clients: dict[object, Tab] = {}
         self.clients_lock = threading.Lock()
         image = session.image
         names = [p for p, _, _ in image.modules] or sorted({i.file for i in image.instrs if i.file})
@@ -136,6 +223,7 @@ class Monitor:
         self._move_lock = threading.Lock()  # held by the console move in flight
         self._moves_lock = threading.Lock()
         self._moves = 0  # bumped by each pause: a console move started before it ends
+        self._run_interrupted = False  # a run ended by interrupt(): its pause request says "paused at"
         self._move_generation = 0
         self._polled = 0.0
 
@@ -169,31 +257,28 @@ class Monitor:
         return page(self.title, body, MONITOR_STYLE, MONITOR_SCRIPT, CONTROLS)
 
     # -- clients --------------------------------------------------------------------------
-    def add_client(self, conn) -> None:
+    def add_client(self, conn, stall_s: float = KEEPALIVE_S) -> None:
         with self.clients_lock:
-            self.clients[conn] = threading.Lock()
+            self.clients[conn] = Tab(conn, self.remove_client, stall_s)
 
     def remove_client(self, conn) -> None:
         with self.clients_lock:
-            self.clients.pop(conn, None)
+            tab = self.clients.pop(conn, None)
+        if tab is not None:
+            tab.close()
 
     def send(self, conn, msg: dict) -> None:
+        """Queue `msg` for one tab (never waits for it to read)."""
         with self.clients_lock:
-            lock = self.clients.get(conn)
-        if lock is None:
-            return
-        text = json.dumps(msg, separators=(",", ":"))
-        try:
-            with lock:
-                conn.send(text)
-        except Exception:  # noqa: BLE001 - a closed tab: dropped, the others go on
-            self.remove_client(conn)
+            tab = self.clients.get(conn)
+        if tab is not None:
+            tab.put(msg)
 
     def broadcast(self, msg: dict) -> None:
         with self.clients_lock:
-            conns = list(self.clients)
-        for conn in conns:
-            self.send(conn, msg)
+            tabs = list(self.clients.values())
+        for tab in tabs:
+            tab.put(msg)
 
     def _output(self, text: str) -> None:
         """Console output, logpoints and failed expects: into the reply to the request that
@@ -231,7 +316,7 @@ class Monitor:
             if not isinstance(text, str):
                 raise RequestError("send JSON text, not binary messages")
             try:
-                msg = json.loads(text)
+                msg = json.loads(text, parse_int=_bounded_int)
             except (json.JSONDecodeError, RecursionError) as e:
                 raise RequestError(f"not JSON: {e}") from None
             if not isinstance(msg, dict):
@@ -284,32 +369,37 @@ class Monitor:
         return "", False  # the caller sends the state to this client
 
     def cmd_step(self, msg):
-        self.pause()
-        with self.lock:
-            return self._stopped(self.s.step())
+        return self._stopped(self._move(self.s.step))
 
     def cmd_scan(self, msg):
-        self.pause()
-        with self.lock:
-            return self._stopped(self.s.step_scan())
+        return self._stopped(self._move(self.s.step_scan))
 
     def cmd_back(self, msg):
-        self.pause()
-        with self.lock:
-            return self._stopped(self.s.back())
+        return self._stopped(self._move(self.s.back))
 
     def cmd_back_scan(self, msg):
-        self.pause()
-        with self.lock:
-            return self._stopped(self.s.back_scan())
+        return self._stopped(self._move(self.s.back_scan))
 
     def cmd_goto(self, msg):
         k = self._arg(msg, "scan", int)
-        if k > self.s.scan + MAX_GOTO_AHEAD:  # the lock is held while it replays: keep it short
-            raise RequestError(f"`goto`: at most {MAX_GOTO_AHEAD} scans ahead (run goes further)")
-        self.pause()
-        with self.lock:
-            return self._stopped(self.s.goto_scan(k))
+        if k < 0:
+            raise RequestError("there is no scan before scan 0")
+        if k > MAX_SCANS:
+            raise RequestError(f"`goto`: scans go up to {MAX_SCANS}")
+        return self._stopped(self._move(lambda: self.s.goto_scan(k)))
+
+    def _move(self, move: Callable[[], Stop | None]) -> Stop | None:
+        """One move at a time: a run or a move in flight ends first; this one runs in batches
+        (the poll hook, `_poll`), between which the lock is let go and a Pause or any later
+        move from any tab ends it where it is (as Ctrl-C does in gdb)."""
+        generation = self.pause()
+        with self._move_lock, self.lock:
+            self._move_generation, self._polled = generation, time.perf_counter()
+            self.s.poll = self._poll
+            try:
+                return move()
+            finally:
+                self.s.poll = None
 
     def cmd_force(self, msg):
         with self.lock:
@@ -345,27 +435,14 @@ class Monitor:
         word = ALIASES.get(word.lower(), word.lower())
         if word in CONSOLE_REFUSED:
             raise RequestError(f"`{word}` is not available from the page (use the terminal console)")
-        rest = rest.strip().lstrip("#")
-        if word == "goto" and rest.isdigit() and int(rest) > self.s.scan + MAX_GOTO_AHEAD:
-            raise RequestError(f"`goto`: at most {MAX_GOTO_AHEAD} scans ahead (run goes further)")
-        generation = self.pause()
-        with self._move_lock, self.lock:
-            # a long move (step 99999999, run #N, continue) runs in batches: between two the lock
-            # is let go (the other tabs are served, see its progress) and a later move or Pause
-            # from any tab ends it where it is (as Ctrl-C does in gdb)
-            self._move_generation, self._polled = generation, time.perf_counter()
-            self.console.last_stop = None
-            self.s.poll = self._poll
-            try:
-                self.console.execute(line)
-            finally:
-                self.s.poll = None
-            out = self._local.collect
-            if len(out) == 1 and out[0].startswith("error: "):
-                raise RequestError(out[0][len("error: "):])
-            if word in CONSOLE_MOVES and self.console.last_stop is not None:
-                self.stop_text = self.console.last_stop.text
-            return "", True
+        self.console.last_stop = None
+        self._move(lambda: self.console.execute(line))
+        out = self._local.collect
+        if len(out) == 1 and out[0].startswith("error: "):
+            raise RequestError(out[0][len("error: "):])
+        if word in CONSOLE_MOVES and self.console.last_stop is not None:
+            self.stop_text = self.console.last_stop.text
+        return "", True
 
     def _poll(self) -> None:
         """The session's poll hook during a console move (the lock held once, by this thread)."""
@@ -404,7 +481,7 @@ class Monitor:
         return "", True
 
     def cmd_pause(self, msg):
-        was = self.running
+        was, self._run_interrupted = self.running or self._run_interrupted, False
         self.pause()
         with self.lock:
             if was:
@@ -416,9 +493,17 @@ class Monitor:
         runner = self._runner
         self.running = False
         if runner is not None and runner is not threading.current_thread():
-            runner.join(5)  # a tab that stopped reading can hold a send up: it ends soon after
+            runner.join(5)  # it ends at its next tick
         self._runner = None
         return self._end_move()
+
+    def interrupt(self) -> None:
+        """End the run and the move in flight at their next batch, without waiting for them
+        (a Pause as it arrives: the request itself follows in its turn)."""
+        self._run_interrupted = self._run_interrupted or self.running
+        self.running = False
+        with self._moves_lock:
+            self._moves += 1
 
     def _end_move(self) -> int:
         with self._moves_lock:
@@ -463,6 +548,44 @@ class Monitor:
         self.pause()
 
 
+def _is_pause(message) -> bool:
+    try:
+        msg = json.loads(message, parse_int=_bounded_int) if isinstance(message, str) and "pause" in message else None
+    except (ValueError, RecursionError):
+        return False
+    return isinstance(msg, dict) and msg.get("cmd") == "pause"
+
+
+def _quiet_logger() -> logging.Logger:
+    """The websockets library's log: one line on stderr for what it reports as an error (a
+    tab's connection that failed, a keepalive ping that timed out), never a traceback."""
+    log = logging.getLogger("mlctool.debug.web")
+    if not log.handlers:
+        handler = logging.StreamHandler(sys.stderr)
+        handler.setFormatter(_OneLine("mlc debug: web monitor: %(message)s"))
+        handler.setLevel(logging.ERROR)
+        log.addHandler(handler)
+        log.propagate = False
+    return log
+
+
+class _OneLine(logging.Formatter):
+    def format(self, record: logging.LogRecord) -> str:
+        text = record.getMessage()
+        if record.exc_info and record.exc_info[1] is not None:
+            e = record.exc_info[1]
+            text += f" ({type(e).__name__}: {e})"
+        return self._fmt % {"message": text}
+
+
+def _bounded_int(text: str) -> int:
+    """JSON integers as the page sends them: at most MAX_DIGITS digits (Python refuses to
+    convert more than 4300, with a ValueError that is no message for a user)."""
+    if len(text.lstrip("-")) > MAX_DIGITS:
+        raise RequestError(f"a number of {len(text.lstrip('-'))} digits: numbers have at most {MAX_DIGITS}")
+    return int(text)
+
+
 def _json_script(data) -> str:
     """JSON inside a <script> element: `</` cannot end it early."""
     return json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
@@ -474,12 +597,15 @@ class WebServer:
     """The HTTP page at `/` and the WebSocket at `/ws` (the `websockets` package, imported
     here only: `mlc --help` and the other commands never load it)."""
 
-    def __init__(self, monitor: Monitor, port: int = 0):
+    def __init__(self, monitor: Monitor, port: int = 0, keepalive_s: float = KEEPALIVE_S):
         from websockets.sync.server import serve
 
         self.monitor = monitor
+        self.keepalive_s = keepalive_s
+        # a tab that answers no ping for keepalive_s is closed (a browser that went to sleep)
         self.server = serve(self._serve_ws, "127.0.0.1", port, process_request=self._http,
-                            max_size=MAX_MESSAGE, compression=None)
+                            max_size=MAX_MESSAGE, compression=None, logger=_quiet_logger(),
+                            ping_interval=keepalive_s, ping_timeout=keepalive_s)
         self.port = self.server.socket.getsockname()[1]
         self.url = f"http://127.0.0.1:{self.port}/"
         self._page: bytes | None = None
@@ -496,13 +622,14 @@ class WebServer:
                                ("Cache-Control", "no-store"), ("Connection", "close")])
             return Response(status.value, status.phrase, headers, body)
 
-        host = request.headers.get("Host", "")
-        if host not in self._allowed_hosts():  # DNS rebinding: only our own address
+        hosts, origins = request.headers.get_all("Host"), request.headers.get_all("Origin")
+        if len(hosts) != 1 or len(origins) > 1:  # which one would the browser have meant?
+            return respond(HTTPStatus.BAD_REQUEST, b"bad request: one Host header, at most one Origin\n")
+        if hosts[0] not in self._allowed_hosts():  # DNS rebinding: only our own address
             return respond(HTTPStatus.FORBIDDEN, b"forbidden: wrong Host\n")
         path = request.path.split("?", 1)[0]
         if path == "/ws":
-            origin = request.headers.get("Origin")
-            if origin is not None and origin not in {"http://" + h for h in self._allowed_hosts()}:
+            if origins and origins[0] not in {"http://" + h for h in self._allowed_hosts()}:
                 return respond(HTTPStatus.FORBIDDEN, b"forbidden: another site's page\n")
             return None  # the WebSocket handshake goes on
         if path == "/":
@@ -517,20 +644,36 @@ class WebServer:
         from websockets.exceptions import ConnectionClosed
 
         mon = self.monitor
-        mon.add_client(conn)
+        mon.add_client(conn, self.keepalive_s)
+        # requests are served in order by a worker, so that this thread goes on reading: a
+        # Pause from the tab whose own move runs (its `goto`, its console line) reaches it
+        inbox: queue.Queue = queue.Queue()
+        threading.Thread(target=self._work, args=(conn, inbox), name="mlc-monitor-requests", daemon=True).start()
         try:
             mon.send(conn, mon.state())
             for message in conn:
-                reply, changed = mon.handle_text(message)
-                mon.send(conn, reply)
-                if changed:
-                    mon.publish()
-                elif reply.get("ok"):
-                    mon.send(conn, mon.state())
+                if inbox.qsize() >= MAX_QUEUE:
+                    mon.send(conn, {"type": "error", "id": None,
+                                    "message": f"more than {MAX_QUEUE} requests waiting: this one is dropped"})
+                    continue
+                if _is_pause(message):
+                    mon.interrupt()  # now; then in its turn, which replies
+                inbox.put(message)
         except ConnectionClosed:
             pass
         finally:
+            inbox.put(None)
             mon.remove_client(conn)
+
+    def _work(self, conn, inbox: queue.Queue) -> None:
+        mon = self.monitor
+        while (message := inbox.get()) is not None:
+            reply, changed = mon.handle_text(message)
+            mon.send(conn, reply)
+            if changed:
+                mon.publish()
+            elif reply.get("ok"):
+                mon.send(conn, mon.state())
 
     def serve_forever(self) -> None:
         self.server.serve_forever()
@@ -687,9 +830,8 @@ MONITOR_SCRIPT = r"""
 """.strip()
 
 
-def serve(session: DebugSession, port: int = 0, announce=print) -> None:
+def serve(server: WebServer, announce=print) -> None:
     """`mlc debug --web`: serve until interrupted (Ctrl-C)."""
-    server = WebServer(Monitor(session), port)
     announce(f"mlc debug: ladder monitor on {server.url} (Ctrl-C stops)")
     try:
         server.serve_forever()

@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from mlctool.debug.console import Console
 from mlctool.debug.load import load_session
-from mlctool.debug.session import BOUNDARY, DebugError, machine_state
+from mlctool.debug.session import BOUNDARY, POLL_STEPS, DebugError, Interrupted, machine_state
 from mlctool.debug.stimfile import stimulus_text
 from mlctool.sim.run import Simulation, build_models
 from mlctool.sim.stimulus import parse_stimulus_text
@@ -27,8 +27,8 @@ CONVEYOR = str(SAMPLES / "nc5" / "conveyor.il")
 CONVEYOR_STIM = str(SAMPLES / "nc5" / "conveyor.stim")
 
 
-def session(checkpoint_every: int = 4, stim: str | None = CONVEYOR_STIM):
-    return load_session([CONVEYOR], stim, NC5, checkpoint_every=checkpoint_every)
+def session(checkpoint_every: int = 4, stim: str | None = CONVEYOR_STIM, cwd=None):
+    return load_session([CONVEYOR], stim, NC5, checkpoint_every=checkpoint_every, cwd=cwd and str(cwd))
 
 
 def plain_state(s, stim_text: str, scans: int) -> dict:
@@ -140,10 +140,10 @@ def test_diff_lists_changed_devices():
 
 
 def test_save_writes_a_stimulus_that_replays(tmp_path):
-    s = session()
+    s = session(cwd=tmp_path)
     out: list[str] = []
     c = Console(s, out.append)
-    for line in ("run #3", "force X1=1", "watch Y0", "continue", "release X1", "scan", f"save {tmp_path}/t.stim"):
+    for line in ("run #3", "force X1=1", "watch Y0", "continue", "release X1", "scan", "save t.stim"):
         c.execute(line)
     text = (tmp_path / "t.stim").read_text()
     assert "#3 force X1=1" in text and "expect Y0=0" in text and f"run #{s.scan}" in text
@@ -293,3 +293,166 @@ def test_scan_n_stops_where_a_breakpoint_fires_on_the_way(tmp_path):
     for line in ("force X0=1", "break if D0 == 2", "scan 5"):
         console.execute(line)
     assert out[-1] == "condition #1 (D0 == 2) holds at scan 2 (t=20ms), before the scan" and s.scan == 2
+
+
+class StopAfter:
+    """A poll hook that interrupts the move at its n-th call (as Ctrl-C or a Pause would)."""
+
+    def __init__(self, n: int):
+        self.n, self.calls = n, 0
+
+    def __call__(self) -> None:
+        self.calls += 1
+        if self.calls >= self.n:
+            raise Interrupted
+
+
+def test_every_long_move_ends_at_the_poll_hook_and_the_session_goes_on():
+    """goto, diff, reverse-continue, back and the counted moves look at the poll hook between
+    scans (and every POLL_STEPS instructions): interrupted, goto stays where its replay got
+    to; diff, reverse-continue and back put the machine back where it was."""
+    s = session(stim=None, checkpoint_every=1000)
+    out: list[str] = []
+    console = Console(s, out.append)
+    s.poll = StopAfter(50)
+    console.execute("goto 100000000")
+    assert out[-1] == f"interrupted at {s.where()}" and 40 <= s.scan <= 60
+    console.execute("print X0")  # the session goes on
+    assert out[-1] == "X0 = 0"
+    s.poll = None
+    console.execute("goto 700")
+    here, state = s.position, machine_state(s.m)
+    for line in ("diff 0 99999999", "reverse-continue", "back", "back scan"):
+        s.poll = StopAfter(20)
+        console.execute("break 22 if D0 == 12345" if line == "reverse-continue" else "where")
+        console.execute(line)
+        assert out[-1] == f"interrupted: {line} did not finish; still at {s.where()}", out[-1]
+        assert s.position == here and machine_state(s.m) == state, line
+    s.poll = StopAfter(3)
+    console.execute("step 99999999")
+    assert out[-1].startswith("interrupted at scan 700 (t=7s), ") and "conveyor.il:" in out[-1]
+    s.poll = None
+    console.execute("delete 1")
+    console.execute("continue")  # nothing fires, no end in sight: the bound is said
+    assert out[-1].startswith("ran 100000 scans, the most one run goes at a time (again to go on): at scan ")
+
+
+def test_a_long_scan_run_instruction_by_instruction_is_interrupted_inside(tmp_path):
+    """A scan of 30,000 instructions (a FOR loop) with a line breakpoint: the poll hook is seen
+    every POLL_STEPS instructions, so one Ctrl-C does not wait for the scan's end."""
+    (tmp_path / "p.il").write_text("FOR K10000\nLDI M0\nADD D0 K1 D0\nNEXT\nLDI M0\nOUT Y0\nEND\n")
+    s = load_session([str(tmp_path / "p.il")], None, NC5)
+    out: list[str] = []
+    console = Console(s, out.append)
+    console.execute("break 6 if D0 == 1")  # never: instruction by instruction
+    s.poll = StopAfter(2)
+    console.execute("scan")
+    assert out[-1].startswith("interrupted at scan 0 (t=0ms), ") and s.n == 2 * POLL_STEPS, out[-1]
+    s.poll = None
+    console.execute("scan")
+    assert s.m.words["D"][0] == 10000 and s.position == (1, BOUNDARY)
+
+
+def test_scan_numbers_and_counts_are_ascii_and_bounded():
+    s = session(stim=None)
+    out: list[str] = []
+    console = Console(s, out.append)
+    for line, said in (("goto ²", "error: '²': give a scan number from 0 to 1000000000"),
+                       ("goto " + "9" * 5000, "error: '" + "9" * 23 + "…': give a scan number"),
+                       ("goto 1000000001", "error: '1000000001': give a scan number"),
+                       ("diff 0 ¹", "error: '¹': give a scan number"),
+                       ("step ³", "error: '³': give a count from 1 to 1000000000"),
+                       ("next 0", "error: '0': give a count")):
+        console.execute(line)
+        assert out[-1].startswith(said), (line, out[-1])
+    assert s.position == (0, BOUNDARY)
+
+
+def test_save_never_writes_an_input_nor_outside_the_session_folder(tmp_path):
+    """#30.4: `save conveyor.il` overwrote the program; a link was replaced by a file."""
+    folder = tmp_path / "work"
+    folder.mkdir()
+    for name in ("conveyor.il", "conveyor.stim"):
+        (folder / name).write_bytes((SAMPLES / "nc5" / name).read_bytes())
+    (folder / "input.stim").symlink_to("conveyor.il")
+    (folder / "escape.stim").symlink_to(tmp_path / "outside.stim")
+    (folder / "kept.stim").symlink_to("target.stim")
+    before = {p.name: p.read_bytes() for p in folder.iterdir() if not p.is_symlink()}
+    s = load_session([str(folder / "conveyor.il")], str(folder / "conveyor.stim"), NC5, cwd=str(folder))
+    out: list[str] = []
+    console = Console(s, out.append)
+    console.execute("next")
+    for path, said in (("conveyor.il", "is the input"), ("conveyor.stim", "is the input"),
+                       ("input.stim", "is the input"), ("./sub/../conveyor.il", "is the input"),
+                       ("escape.stim", "is outside"), ("../outside.stim", "is outside"),
+                       (str(tmp_path / "x.stim"), "is outside"), ("/etc/passwd", "is outside")):
+        console.execute(f"save {path}")
+        assert out[-1].startswith("error: ") and said in out[-1], (path, out[-1])
+    assert {p.name: p.read_bytes() for p in folder.iterdir() if not p.is_symlink()} == before
+    assert not (tmp_path / "outside.stim").exists() and not (tmp_path / "x.stim").exists()
+    assert (folder / "input.stim").is_symlink() and (folder / "escape.stim").is_symlink()
+    console.execute("save kept.stim")  # a link inside the folder is written through: still a link
+    assert out[-1] == f"wrote kept.stim (the link's target {folder / 'target.stim'})"
+    assert (folder / "kept.stim").is_symlink() and (folder / "target.stim").read_text().startswith("# written by")
+    console.execute("save new/t.stim")
+    assert out[-1] == "wrote new/t.stim" and (folder / "new" / "t.stim").is_file()
+    assert not [p for p in folder.rglob(".mlc-*")]
+
+
+def test_save_drops_the_expectations_that_failed_in_the_session(tmp_path):
+    """#28.5: `save` wrote the expectations that failed in the session: its file failed."""
+    (tmp_path / "p.il").write_text("LD X0\nOUT Y0\nEND\n")
+    (tmp_path / "s.stim").write_text("#1 X0=1\n#2 expect Y0=1\n#3 expect Y0=0\nrun #5\n")
+    s = load_session([str(tmp_path / "p.il")], str(tmp_path / "s.stim"), NC5, cwd=str(tmp_path))
+    out: list[str] = []
+    console = Console(s, out.append)
+    for line in ("force X0=0", "run #5", "goto 0", "release X0", "goto 5"):
+        console.execute(line)
+    # failed on the first timeline (X0 forced Off): gone with it; then #3 fails on the second
+    assert out[1].startswith("expect failed: ") and ":2: Y0 is 0, expected 1" in out[1]
+    console.execute("save t.stim")
+    assert out[-1] == (f"wrote t.stim; dropped 1 expectation(s) that failed in this session, a comment "
+                       f"in the file names each: {tmp_path / 's.stim'}:3")
+    text = (tmp_path / "t.stim").read_text()
+    assert "\n#2 expect Y0=1\n" in text
+    assert "\n# dropped, failed in mlc debug (Y0 is 1, expected 0): #3 expect Y0=0\n" in text
+    r = subprocess.run([*MLC_COMMAND, "sim", "p.il", "--stimulus", "t.stim"], capture_output=True, text=True,
+                       timeout=60, cwd=tmp_path)
+    assert r.returncode == 0, r.stdout + r.stderr
+
+
+def test_one_ctrl_c_ends_goto_in_a_real_console_within_a_second(tmp_path):
+    """#28 acceptance: `goto 100000000` in the console (a subprocess) returns to the prompt on
+    one SIGINT within 1 s, and the session goes on; a second Ctrl-C during a move, or two in a
+    row, never end it (it used to exit 130)."""
+    import os
+    import signal
+    import time
+
+    p = subprocess.Popen([*MLC_COMMAND, "debug", "conveyor.il", "--stimulus", "conveyor.stim"],
+                         stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         cwd=SAMPLES / "nc5", env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    try:
+        def ask(line: str) -> str:
+            p.stdin.write(line + "\n")
+            p.stdin.flush()
+            return p.stdout.readline().strip()
+
+        assert ask("where") == "scan 0 (t=0ms), before the scan"  # loaded
+        for line, presses in (("goto 100000000", 1), ("diff 0 99999999", 2), ("goto 100000000", 3)):
+            p.stdin.write(line + "\n")
+            p.stdin.flush()
+            time.sleep(0.3)
+            started = time.monotonic()
+            for _ in range(presses):
+                p.send_signal(signal.SIGINT)
+                time.sleep(0.02)
+            said = p.stdout.readline()
+            assert time.monotonic() - started < 1.0 and said.startswith("interrupted"), said
+        assert ask("print X0").startswith("X0 = ")
+        p.stdin.write("quit\n")
+        p.stdin.close()
+        assert p.wait(30) == 0
+    finally:
+        if p.poll() is None:
+            p.kill()

@@ -23,7 +23,7 @@ from websockets.exceptions import ConnectionClosed, InvalidStatus
 from websockets.sync.client import connect
 
 from mlctool.debug.load import load_session
-from mlctool.debug.web import COMMANDS, MAX_MESSAGE, Monitor, WebServer
+from mlctool.debug.web import COMMANDS, MAX_MESSAGE, MAX_QUEUE, Monitor, WebServer
 from mlctool.targets import load_target
 from tests.conftest import MLC_COMMAND
 
@@ -146,8 +146,13 @@ def test_force_scan_release_and_junk(server):
     assert "not forced" in tab.request("release", device="X3")["message"]
     assert "not a bit" in tab.request("toggle", device="D0")["message"]
     assert "`scan`" in tab.request("goto", scan="3")["message"]
-    assert "at most 100000 scans ahead" in tab.request("goto", scan=10**30)["message"]
-    assert "at most 100000 scans ahead" in tab.request("console", line="goto #99999999")["message"]
+    # numbers: ASCII digits, at most 20 of them (#30.18: "internal error: ValueError")
+    assert "scans go up to 1000000000" in tab.request("goto", scan=10**10)["message"]
+    assert "numbers have at most 20" in tab.raw(json.dumps({"id": 5, "cmd": "goto", "scan": 10**30}))["message"]
+    assert "numbers have at most 20" in tab.raw('{"cmd": "state", "id": ' + "7" * 5000 + "}")["message"]
+    assert "'²': give a scan number" in tab.request("console", line="goto ²")["message"]
+    assert "'99999999999999999999999…': give a scan number" in tab.request("console", line="goto " + "9" * 900)["message"]
+    assert "'³': give a count" in tab.request("console", line="step ³")["message"]
     assert "no scan before scan 0" in tab.request("goto", scan=-1)["message"]
     assert "not available" in tab.request("console", line="save /tmp/x.stim")["message"]
     assert "unknown command" in tab.request("console", line="frobnicate")["message"]
@@ -273,7 +278,8 @@ JSONISH = st.recursive(st.none() | st.booleans() | st.integers(-10**30, 10**30) 
 ARG = st.one_of(JSONISH, st.sampled_from(["X0", "Y0", "D0", "T0:w", "K4M0", "Q9", "X0:f", "1", "K1e9", "H1G", ""]),
                 st.integers(-3, 40))
 LINES = st.sampled_from(["print D0", "break if D0 >", "watch Y0", "delete 1", "log 6 \"{D0\"", "back",
-                         "goto 3", "rung", "diff 0 2", "save x.stim", "quit", "write D0=7", "step 2", "help", ""])
+                         "goto 3", "rung", "diff 0 2", "save x.stim", "quit", "write D0=7", "step 2", "help", "",
+                         "goto ²", "diff 0 99999999", "goto 99999999"])
 MESSAGE = st.one_of(
     st.text(max_size=40),
     JSONISH.map(json.dumps),
@@ -287,6 +293,13 @@ MESSAGE = st.one_of(
 @given(messages=st.lists(MESSAGE, min_size=1, max_size=8))
 def test_any_message_gets_a_reply_or_an_error_never_an_internal_one(program, messages):
     monitor = Monitor(load_session([str(program)], None, load_target("nc5")))
+    done = threading.Event()
+
+    def pause_every_half_second():  # a `goto 99999999` among the messages: Pause ends it
+        while not done.wait(0.5):
+            monitor.interrupt()
+
+    threading.Thread(target=pause_every_half_second, daemon=True).start()
     try:
         for text in messages:
             reply, _ = monitor.handle_text(text)
@@ -296,6 +309,7 @@ def test_any_message_gets_a_reply_or_an_error_never_an_internal_one(program, mes
         monitor.pause()
         assert monitor.handle_text('{"cmd": "state"}')[0]["ok"]
     finally:
+        done.set()
         monitor.close()
 
 
@@ -334,3 +348,165 @@ def test_a_huge_console_move_is_paused_by_another_tab(server, line):
     assert lines[0].startswith("count ") and lines[2000].endswith("more lines not shown)")
     tab.close()
     other.close()
+
+
+# -- slow, silent and odd clients (#30.14, #30.18) ------------------------------------------------
+
+class StuckConnection:
+    """A tab's connection whose send never returns until its socket is shut down (a browser
+    tab that stopped reading, its TCP window full)."""
+
+    def __init__(self):
+        self.released = threading.Event()
+        self.sent = 0
+        self.socket = self
+
+    def send(self, text: str) -> None:
+        self.sent += 1
+        self.released.wait()
+        raise OSError("connection cut")
+
+    def shutdown(self, how) -> None:
+        self.released.set()
+
+
+class Recorder:
+    def __init__(self):
+        self.messages: list[dict] = []
+        self.socket = None
+
+    def send(self, text: str) -> None:
+        self.messages.append(json.loads(text))
+
+
+def test_a_tab_that_never_reads_stalls_no_other_and_is_let_go(program):
+    """#30.14: every send went out on the caller's thread, so one tab that stopped reading held
+    every broadcast (and the runner, and the other tabs' replies) once its socket was full."""
+    monitor = Monitor(load_session([str(program)], None, load_target("nc5")))
+    stuck, fine = StuckConnection(), Recorder()
+    monitor.add_client(stuck)
+    monitor.add_client(fine)
+    rounds = MAX_QUEUE // 2 - 8  # messages to each tab: fewer than a queue holds
+    try:
+        done = threading.Event()
+
+        def publish_many():
+            for n in range(rounds):
+                monitor.broadcast({"type": "output", "text": str(n)})  # not coalesced: each one queued
+                monitor.publish()
+            done.set()
+
+        threading.Thread(target=publish_many, daemon=True).start()
+        assert done.wait(10), "a tab that never reads held the broadcasts"
+        deadline = time.monotonic() + 10
+        while len(fine.messages) < 2 * rounds and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert [m["type"] for m in fine.messages] == ["output", "state"] * rounds  # all of them, in order
+        assert [m["text"] for m in fine.messages[::2]] == [str(n) for n in range(rounds)]
+        assert not stuck.released.is_set() and stuck in monitor.clients
+        for _ in range(MAX_QUEUE):  # its queue fills: cut off
+            monitor.send(stuck, {"type": "output", "text": "x"})
+        assert stuck.released.is_set() and stuck.sent == 1
+        while stuck in monitor.clients and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert stuck not in monitor.clients and fine in monitor.clients
+    finally:
+        monitor.close()
+
+
+def test_queued_states_are_replaced_by_newer_ones(program):
+    monitor = Monitor(load_session([str(program)], None, load_target("nc5")))
+    stuck = StuckConnection()
+    monitor.add_client(stuck)
+    try:
+        for _ in range(MAX_QUEUE * 4):  # a running machine's states: only the newest waits
+            monitor.publish()
+        time.sleep(0.05)
+        assert not stuck.released.is_set() and len(monitor.clients[stuck].queue) == 1
+    finally:
+        monitor.close()
+
+
+def raw_http(port: int, request: bytes) -> bytes:
+    with socket.create_connection(("127.0.0.1", port), timeout=10) as s:
+        s.sendall(request)
+        data = b""
+        while chunk := s.recv(65536):
+            data += chunk
+        return data
+
+
+@pytest.fixture
+def web_log():
+    """The monitor server's log lines (its websockets library's), as they would be printed."""
+    import logging
+
+    from mlctool.debug import web
+
+    log = web._quiet_logger()
+    lines: list[str] = []
+    handler = logging.Handler(logging.ERROR)
+    handler.emit = lambda record: lines.append(log.handlers[0].format(record))
+    log.addHandler(handler)
+    yield lines
+    log.removeHandler(handler)
+
+
+def test_two_host_or_origin_headers_get_a_400(server, web_log):
+    """#30.18: two Host headers gave HTTP 500 and a traceback (refused, but not cleanly)."""
+    host = f"127.0.0.1:{server.port}".encode()
+    reply = raw_http(server.port, b"GET / HTTP/1.1\r\nHost: " + host + b"\r\nHost: evil.example\r\n\r\n")
+    assert reply.startswith(b"HTTP/1.1 400 "), reply[:100]
+    reply = raw_http(server.port, b"GET /ws HTTP/1.1\r\nHost: " + host + b"\r\nOrigin: http://" + host
+                     + b"\r\nOrigin: http://evil.example\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                       b"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n")
+    assert reply.startswith(b"HTTP/1.1 400 "), reply[:100]
+    assert get(server.url)[0] == 200 and web_log == []
+
+
+def test_a_silent_tab_is_let_go_without_a_traceback(program, web_log):
+    """#30.14: a traceback was printed when keepalive closed a tab that never read; now the tab
+    is let go (its send stalled, or keepalive) with at most one line, the other tab runs on."""
+    session = load_session([str(program)], None, load_target("nc5"))
+    srv = WebServer(Monitor(session), 0, keepalive_s=0.3)
+    srv.start()
+    try:
+        host = f"127.0.0.1:{srv.port}".encode()
+        silent = socket.create_connection(("127.0.0.1", srv.port), timeout=10)  # upgrades, never reads
+        silent.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        silent.sendall(b"GET /ws HTTP/1.1\r\nHost: " + host + b"\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                       b"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n")
+        tab = Tab(srv)
+        tab.request("toggle", device="X0")
+        assert tab.request("run", speed=0)["ok"]
+        deadline = time.monotonic() + 1.5  # the silent tab is let go meanwhile; the other runs on
+        while time.monotonic() < deadline:
+            tab.recv("state")
+        assert tab.request("pause")["ok"] and tab.state["scan"] > 100
+        assert len(srv.monitor.clients) == 1
+        silent.close()
+        tab.close()
+    finally:
+        srv.shutdown()
+    assert not [line for line in web_log if "Traceback" in line or "\n" in line], web_log
+
+
+def test_pause_from_the_tab_whose_move_runs(server):
+    """The tab's own Pause reached its move only after the move ended (one request at a time
+    per connection): now the connection reads on while its request runs."""
+    tab = Tab(server)
+    tab.request("toggle", device="X0")
+    for request in ({"cmd": "console", "line": "goto 100000000"}, {"cmd": "console", "line": "diff 0 99999999"},
+                    {"cmd": "goto", "scan": 999999999}):
+        tab.next_id += 1
+        move = tab.next_id
+        tab.ws.send(json.dumps({"id": move, **request}))
+        time.sleep(0.3)
+        started = time.monotonic()
+        tab.next_id += 1
+        tab.ws.send(json.dumps({"id": tab.next_id, "cmd": "pause"}))
+        reply = tab.reply(move)
+        assert time.monotonic() - started < 1.0 and reply["text"].startswith("interrupted"), reply
+        assert tab.reply(tab.next_id)["ok"]
+    assert tab.request("console", line="print X0")["text"] == "X0 = 1 (forced)"  # the session goes on
+    tab.close()
