@@ -11,6 +11,7 @@ from __future__ import annotations
 import pytest
 
 import vskit
+from conftest import SAMPLES
 
 ENGINES = ("interp", "compiled", "native")
 
@@ -219,3 +220,14 @@ def merge_program(n: int, own_blocks: bool = True) -> str:
 ])
 def test_merge_layout_is_checked(il, expected):
     assert vskit.check_codes(il, severities=("error", "warning")) == expected
+
+
+@pytest.mark.parametrize("engine", ENGINES)
+@pytest.mark.parametrize("name", ["sfc_parallel", "traffic_light_parallel", "parking"])
+def test_chapter_4_sample_on_every_engine(name, engine):
+    """The chapter 4 exercises with a merge or a three-way branch (samples/vs; the CLI runs
+    them on the default engine in test_vs_samples.py)."""
+    image = vskit.image_of((SAMPLES / "vs" / f"{name}.il").read_text("utf-8"))
+    assert image is not None
+    r = vskit.simulate(image, (SAMPLES / "vs" / f"{name}.stim").read_text("utf-8"), engine=engine)
+    assert r.fault is None and r.expectations and not r.failed, [(f.line, f.device, f.expected, f.actual) for f in r.failed]
