@@ -161,6 +161,8 @@ def rung_starts(instrs: list[Instr]) -> list[bool]:
     mps = 0
     for k, ins in enumerate(instrs):
         cls = ins.spec.cls
+        if cls == "nop":  # no step of a rung: a load after `OUT Y1 / NOP` still starts one
+            continue
         if cls == "load" and prev in RUNG_END_CLASSES:
             if not (prev == "output" and mps and _block_is_combined(instrs, k)):
                 out[k] = True

@@ -34,23 +34,24 @@ def image_of(il: str) -> Image | None:
     return image
 
 
-def simulate(image: Image, stim: str, period_us: int = 10_000, scans: int | None = None) -> RunResult:
+def simulate(image: Image, stim: str, period_us: int = 10_000, scans: int | None = None,
+             engine: str | None = None) -> RunResult:
     st, sd = parse_stimulus_text("t.stim", stim, VS)
     assert not sd, [(d.code, d.message) for d in sd]
     n = scans if scans is not None else plan_scans(st, period_us, None, None)
-    return Simulation(image, VS, st, [], period_us, [], False).run(n)
+    return Simulation(image, VS, st, [], period_us, [], False, engine=engine).run(n)
 
 
 def run(il: str, stim: str, alarms: bool = False, period_us: int = 10_000,
-        scans: int | None = None) -> RunResult:
-    """Run il (END added) against stim: no fault, every expectation holds, and (alarms=False)
-    no operation error raised either."""
+        scans: int | None = None, engine: str | None = None) -> RunResult:
+    """Run il (END added) against stim on `engine` (the default one when None): no fault,
+    every expectation holds, and (alarms=False) no operation error raised either."""
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "t.il")
         Path(path).write_text(il.strip() + "\nEND\n", encoding="utf-8")
         image, diags, _ = program_from_paths([path], VS)
     assert image is not None, [(d.code, d.message) for d in diags]
-    r = simulate(image, stim, period_us, scans)
+    r = simulate(image, stim, period_us, scans, engine)
     assert r.fault is None, r.fault
     assert not r.failed, [(f.line, f.device, f.expected, f.actual) for f in r.failed]
     if not alarms:

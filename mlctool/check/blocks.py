@@ -118,18 +118,31 @@ def step_ladder(instrs: list[Instr], library: bool, forms: FormIndex | None = No
     after_fend = library
     step: Instr | None = None  # the open STL block
     on_bus = False  # directly on the STL bus: no load since the STL
-    seen: dict[int, Instr] = {}
-    for ins in instrs:
+    seen: dict[int, Instr] = {}  # step -> the STL of its own block
+    merged: dict[int, Instr] = {}  # step -> the STL naming it in a merge
+    merge = _merges(instrs)
+    for k, ins in enumerate(instrs):
         op, cls = ins.spec.op, ins.spec.cls
         if op == "stl" and ins.operands:
             s = ins.operands[0].number
             if after_fend:
                 out.append(_at(ins, "E902", "STL after FEND: step ladder may not be used in subroutines "
                                "or interrupt routines"))
-            if s in seen:
-                out.append(_at(ins, "E902", f"STL {ins.texts[0]}: the step already has a block at line "
-                               f"{seen[s].line}; each step relay is used by STL once"))
-            seen.setdefault(s, ins)
+            # a merge's STLs in series name steps that may have their own block too (4-6-2's
+            # parallel merge: STL S22 / OUT Y20 ... STL S22 / STL S24 / LD X3 / SET S25)
+            if k in merge:
+                if s in merged:
+                    out.append(_at(ins, "E902", f"STL {ins.texts[0]}: the step already merges at line "
+                                   f"{merged[s].line}; a step leaves through one merge"))
+                merged.setdefault(s, ins)
+                if merge[k] == 8:
+                    out.append(_at(ins, "W320", f"{merge[k] + 1}th step merged here; a merge joins 2 to 8 "
+                                   "steps (4-3-3)"))
+            else:
+                if s in seen:
+                    out.append(_at(ins, "E902", f"STL {ins.texts[0]}: the step already has a block at line "
+                                   f"{seen[s].line}; each step relay opens one block"))
+                seen.setdefault(s, ins)
             step, on_bus = ins, True
             continue
         if op == "ret":
@@ -154,6 +167,21 @@ def step_ladder(instrs: list[Instr], library: bool, forms: FormIndex | None = No
             after_fend = True
     if step is not None:
         out.append(_at(step, "E902", f"the step ladder opened by STL {step.texts[0]} has no RET"))
+    return out
+
+
+def _merges(instrs: list[Instr]) -> dict[int, int]:
+    """The STLs written one after the other (a merge: 4-3-3, 4-6-2): instruction index ->
+    how many STLs of its run come before it."""
+    out: dict[int, int] = {}
+    run: list[int] = []
+    for k, ins in enumerate([*instrs, None]):
+        if ins is not None and ins.spec.op == "stl":
+            run.append(k)
+            continue
+        if len(run) > 1:
+            out.update((at, n) for n, at in enumerate(run))
+        run = []
     return out
 
 

@@ -86,18 +86,26 @@ def _steps(instrs: list[Instr]) -> tuple[list[int | None], set[tuple[int, int]],
     adjacent steps (one transfers to the other by SET/OUT S inside its block); per step the
     transfers written in it."""
     step_of_region: dict[int, int] = {}
+    sources: dict[int, tuple[int, ...]] = {}  # region -> its steps: all of a merge's (STLs in series, 4-6-2)
     steps: list[int | None] = []
-    for ins, region in zip(instrs, exclusive_regions(instrs), strict=True):
+    regions = exclusive_regions(instrs)
+    run: tuple[int, ...] = ()  # the steps of the STLs written one after the other so far
+    for ins, region in zip(instrs, regions, strict=True):
         if ins.spec.region == "open":
+            run = (*run, ins.operands[0].number)
             step_of_region[region] = ins.operands[0].number
+            sources[region] = run
+        else:
+            run = ()
         steps.append(step_of_region.get(region) if region else None)
     adjacent: set[tuple[int, int]] = set()
     transfers: dict[int, list[Instr]] = {}
-    for ins, step in zip(instrs, steps, strict=True):
+    for ins, step, region in zip(instrs, steps, regions, strict=True):
         if step is not None and ins.spec.op in ("step_set", "step_out") and ins.operands[0].kind == "S" \
                 and not ins.operands[0].index:
             target = ins.operands[0].number
-            adjacent |= {(step, target), (target, step)}
+            for source in sources.get(region, (step,)):
+                adjacent |= {(source, target), (target, source)}
             transfers.setdefault(step, []).append(ins)
     return steps, adjacent, transfers
 

@@ -25,7 +25,7 @@ class Step:
     steps: int
     table: tuple[int, ...]
     new_rung: bool = False  # a load that starts a rung (after an output, label or free instr)
-    target: int = -1  # CJ/CALL: label index; FOR: its NEXT; NEXT: its FOR
+    target: int = -1  # CJ/CALL: label index; FOR: its NEXT; NEXT: its FOR; STL: see decode()
     run: Callable = field(default=semantics.nop)
 
 
@@ -36,6 +36,9 @@ class Program:
     image: Image
     target: Target
 
+
+# Step.target of an STL whose step the STL after it joins (read by the target's step ladder routine)
+STL_JOINED = -2
 
 # the ops that move the rail (VS 3-6 MC/MCR, 4-6-1 STL/RET): a program holding one has rungs
 # whose rail may be Off (m.bus), and then every point of such a rung is Off (_railed)
@@ -193,10 +196,17 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
     for s in steps:
         if s.ins.spec.op in ("cj", "call") and not s.ins.operands[0].index:
             s.target = labels.get(s.ins.operands[0].number, -1)
-    following = -1  # STL: the next STL or RET, where an inactive step's block ends (4-6-1)
+    # STL: the next block's first STL or the RET, where an inactive step's block ends (4-6-1);
+    # STL_JOINED for an STL the next instruction (an STL) joins: their steps are one block
+    # (a parallel merge, 4-3-3), decided at its last STL
+    following = -1
     for s in reversed(steps):
         if s.ins.spec.op == "stl":
-            s.target, following = following, s.index
+            joins = s.index > 0 and steps[s.index - 1].ins.spec.op == "stl"
+            joined = s.index + 1 < len(steps) and steps[s.index + 1].ins.spec.op == "stl"
+            s.target = STL_JOINED if joined else following
+            if not joins:
+                following = s.index
         elif s.ins.spec.op == "ret":
             following = s.index
     open_fors: list[Step] = []

@@ -242,6 +242,7 @@ def end_of_scan(m: Machine) -> None:
             m.bits["S"][n] = 0
         m.stl_leaving.clear()
     m.scans_done += 1
-    m.stl_step = None
+    m.stl_steps = ()
+    m.stl_joining = False
     m.bus = True
     m.mc_stack.clear()

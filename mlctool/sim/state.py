@@ -114,7 +114,10 @@ class Machine:
         # Off or an STL step that is not active (loads are ANDed with it)
         self.bus = True
         self.mc_stack: list[bool] = []  # MC: the rail inside each open level, innermost last
-        self.stl_step: int | None = None  # the step relay of the STL block being executed
+        # the step relays of the STL block being executed (several in a parallel merge, 4-3-3;
+        # empty outside step ladder) and whether the next STL joins them
+        self.stl_steps: tuple[int, ...] = ()
+        self.stl_joining = False
         self.stl_leaving: set[int] = set()  # steps that transferred: reset at the end of the scan
         self.fx_state: dict[int, object] = {}  # step index -> memory of an FX routine (SORT, PID)
         # input pulse trains of the stimulus (sim/pulses.py): (kind, number) -> trains; the

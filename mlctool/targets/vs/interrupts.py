@@ -199,8 +199,9 @@ class Interrupts:
     def run_routine(self, m: Machine, number: int) -> None:
         """Run the routine from its pointer to IRET; the interrupted state is put back."""
         _, start = self.routines[number]
-        saved = (m.acc, m.blocks[:], m.stack[:], m.calls, m.fors, m.pc, m.bus, m.stl_step, m.mc_stack[:])
-        m.acc, m.calls, m.fors, m.bus, m.stl_step = False, [], [], True, None
+        saved = (m.acc, m.blocks[:], m.stack[:], m.calls, m.fors, m.pc, m.bus, m.stl_steps, m.stl_joining,
+                 m.mc_stack[:])
+        m.acc, m.calls, m.fors, m.bus, m.stl_steps, m.stl_joining = False, [], [], True, (), False
         m.blocks.clear()
         m.stack.clear()
         m.mc_stack.clear()
@@ -239,7 +240,7 @@ class Interrupts:
             for n in self.held:  # back to the stimulus levels; REF took its inputs out of held
                 self.held[n], xs[n] = xs[n], self.phys[n]
             self.phys = {}
-            (m.acc, m.blocks[:], m.stack[:], m.calls, m.fors, m.pc, m.bus, m.stl_step,
+            (m.acc, m.blocks[:], m.stack[:], m.calls, m.fors, m.pc, m.bus, m.stl_steps, m.stl_joining,
              m.mc_stack[:]) = saved
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 
 from mlctool.sim import semantics as base
+from mlctool.sim.decode import STL_JOINED
 from mlctool.sim.operands import WordRef
 from mlctool.sim.state import Machine, SimFault, bits_f32, f32_bits, put_words, s16, s32, to_f32
 from mlctool.targets.vs.common import (  # set_flags: M9020 zero / M9021 borrow / M9022 carry
@@ -28,49 +29,63 @@ def stl(m: Machine, s):
 
     An active step runs its block; in the scan after it went Off the block runs once more
     with the bus Off (its OUT coils and timers go Off); otherwise the block is not executed:
-    the scan goes on at the next STL or RET (4-1-3, 4-6-1)."""
+    the scan goes on at the next STL or RET (4-1-3, 4-6-1).
+
+    STLs written one after the other are one block: the STL contacts of a parallel merge in
+    series (4-3-3, 4-6-2: `STL S22 / STL S24 / LD X3 / SET S25`). Its bus is On only while
+    every one of them is On, and a transfer from it resets all of them. decode.py marks an
+    STL that the next one joins (target STL_JOINED); the block's last STL decides, for the
+    whole merge, whether it runs."""
     n = s.ops[0].addr(m)
-    on = bool(m.bits["S"][n])
-    was_on = m.edge[s.index]
-    m.edge[s.index] = on
-    m.stl_step = n
+    if m.stl_joining:  # the STL before this one is joined by it: the same block goes on
+        m.stl_steps = (*m.stl_steps, n)
+        on = m.bus and bool(m.bits["S"][n])
+    else:
+        m.stl_steps = (n,)
+        on = bool(m.bits["S"][n])
     m.bus = on
     m.acc = on
     m.blocks.clear()
     m.stack.clear()
+    m.stl_joining = s.target == STL_JOINED
+    if m.stl_joining:
+        return None
+    was_on = m.edge[s.index]
+    m.edge[s.index] = on
     if not on and not was_on and s.target >= 0:
         return s.target
     return None
 
 
 def ret(m: Machine, s) -> None:
-    m.stl_step = None
+    m.stl_steps = ()
+    m.stl_joining = False
     m.bus = m.mc_stack[-1] if m.mc_stack else True
     m.acc = False
 
 
 def _transfer(m: Machine, s) -> None:
-    """SET/OUT Sx inside an active step: Sx On now, the source step Off at the end of the
-    scan (both are On for the rest of the transfer scan, 4-1-3); M9040 inhibits transfers."""
+    """SET/OUT Sx inside an active step: Sx On now, the source steps (every step of a merge,
+    4-3-3) Off at the end of the scan (both are On for the rest of the transfer scan, 4-1-3);
+    M9040 inhibits transfers."""
     relay = m.target.settings.get("stl_inhibit_relay")
     if relay is not None and m.bits["M"][relay]:
         return
     s.ops[0].setbit(m, 1)
     n = s.ops[0].addr(m)
-    if n != m.stl_step:
-        m.stl_leaving.add(m.stl_step)
+    m.stl_leaving.update(k for k in m.stl_steps if k != n)
 
 
 def step_set(m: Machine, s) -> None:
     if m.acc:
-        if m.stl_step is not None:
+        if m.stl_steps:
             _transfer(m, s)
         else:
             s.ops[0].setbit(m, 1)
 
 
 def step_out(m: Machine, s) -> None:
-    if m.stl_step is None:
+    if not m.stl_steps:
         s.ops[0].setbit(m, m.acc)  # an ordinary coil outside step ladder
     elif m.acc:
         _transfer(m, s)

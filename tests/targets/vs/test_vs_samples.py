@@ -7,7 +7,8 @@ import pytest
 
 from conftest import SAMPLES, run_mlc
 
-VS_SAMPLES = ["fountain", "cj_skip", "index", "fountain_modes", "container_fill", "traffic_light"]
+VS_SAMPLES = ["fountain", "cj_skip", "index", "fountain_modes", "container_fill", "traffic_light",
+              "sfc_parallel", "traffic_light_parallel", "parking"]
 
 
 @pytest.mark.parametrize("name", VS_SAMPLES)
@@ -29,6 +30,9 @@ def test_sample_cites_the_manual_and_passes_its_stimulus(name, tmp_path):
     ("fountain_modes", "LD   X2\n", "LD   X1\n"),      # single step switched by the wrong input
     ("container_fill", "ANI  M1\n", "ANI  M9001\n"),  # no mask: the filled container starts S11 again
     ("traffic_light", "OUT  T6 K100", "OUT  T6 K80"),  # A green 8 s, not the chart's 10 s
+    ("sfc_parallel", "STL  S24\nLD   X3", "STL  S23\nLD   X3"),  # merges S22 with S23: too early
+    ("traffic_light_parallel", "OUT  T1 K80", "OUT  T1 K100"),  # B green 10 s, not 8 s
+    ("parking", "LDI  X4\nOUT  Y2", "LDI  X3\nOUT  Y2"),  # car 2 stops at the wrong position
 ])
 def test_stimulus_catches_a_wrong_program(name, wrong, right, tmp_path):
     il = tmp_path / f"{name}.il"
