@@ -247,38 +247,69 @@ def check_property(model: Model, prop: Property) -> None:
         u.expr(prop.response, 0)
 
 
-def _bad_at(u: _Unrolling, prop: Property, k: int):
-    """The condition that the property fails (a witness, for reachable) at scan k."""
-    z3 = u.z3
-    if prop.kind in ("always", "never"):
-        return u.expr(prop.bad_expr(), k)
-    if prop.kind == "reachable":
-        return u.expr(prop.expr, k)
-    if prop.kind == "response":
-        n = prop.scans if prop.time_us is None else prop.time_us // u.model.period
-        i = k - n
-        if i < 0:
-            return z3.BoolVal(False)
-        return z3.And(u.expr(prop.expr, i), *[z3.Not(u.expr(prop.response, t)) for t in range(i, k + 1)])
-    n = prop.scans  # stable: a change at k less than n scans after the one before
-    changes = []
-    for t in range(max(0, k - n + 1), k):
-        changes.append(_changed(u, prop.expr, t))
-    if not changes:
-        return z3.BoolVal(False)
-    return z3.And(_changed(u, prop.expr, k), z3.Or(changes))
+class _Monitor:
+    """The property over an unrolling: bad(k), whether it fails at scan k (for reachable:
+    holds there), with the history a response or stability property needs as terms of the
+    state (so that induction ranges over it too: `free` starts from any history)."""
 
+    def __init__(self, u: _Unrolling, prop: Property, free: bool):
+        self.u, self.prop, self.z3 = u, prop, u.z3
+        z3 = self.z3
+        self.limit = prop.scans if prop.time_us is None else prop.time_us // u.model.period
+        self.hist: list = []  # per scan: the history after it
+        if prop.kind == "response":  # scans since the oldest unanswered trigger (0: none)
+            if free:
+                p0 = z3.Int(f"p_{id(self)}")
+                u.solver.add(p0 >= 0, p0 <= self.limit)
+                self.start = p0
+            else:
+                self.start = z3.IntVal(0)
+        elif prop.kind == "stable":  # (the value, scans since it last changed, capped)
+            if free:
+                v0, a0 = z3.Bool(f"v_{id(self)}"), z3.Int(f"a_{id(self)}")
+                u.solver.add(a0 >= 1, a0 <= self.limit)
+                self.start = (v0, a0)
+            else:
+                self.start = (_start_value(u, prop.expr), z3.IntVal(self.limit))
+        else:
+            self.start = None
+        self.bads: list = []
 
-def _changed(u: _Unrolling, e, k: int):
-    if k == 0:  # against power-on
-        return u.expr(e, 0) != _start_value(u, e)
-    return u.expr(e, k) != u.expr(e, k - 1)
+    def bad(self, k: int):
+        while len(self.bads) <= k:
+            self._step(len(self.bads))
+        return self.bads[k]
+
+    def history(self, k: int):
+        self.bad(k)
+        return self.hist[k]
+
+    def _step(self, k: int) -> None:
+        z3, u, prop = self.z3, self.u, self.prop
+        before = self.hist[k - 1] if k else self.start
+        if prop.kind in ("always", "never"):
+            self.hist.append(None)
+            self.bads.append(u.expr(prop.bad_expr(), k))
+        elif prop.kind == "reachable":
+            self.hist.append(None)
+            self.bads.append(u.expr(prop.expr, k))
+        elif prop.kind == "response":
+            r, t = u.expr(prop.response, k), u.expr(prop.expr, k)
+            p = z3.If(r, 0, z3.If(before > 0, before + 1, z3.If(t, 1, 0)))
+            self.hist.append(p)
+            self.bads.append(p > self.limit)
+        else:
+            v = u.expr(prop.expr, k)
+            prev, age = before
+            changed = v != prev
+            self.hist.append((v, z3.If(changed, 1, z3.If(age < self.limit, age + 1, age))))
+            self.bads.append(z3.And(changed, age < self.limit))
 
 
 def _start_value(u: _Unrolling, e):
+    """The expression at power-on (before the first scan)."""
     z3 = u.z3
-    m = u.model
-    given = {(v.kind, v.number): bool(x) for v, x in m.space.initial}
+    given = {(v.kind, v.number): bool(x) for v, x in u.model.space.initial}
 
     def value(x):
         if isinstance(x, Atom):
@@ -294,53 +325,69 @@ def _start_value(u: _Unrolling, e):
     return value(e)
 
 
-def prove(model: Model, prop: Property, budget: Budget, depth: int = DEFAULT_DEPTH) -> Verdict:
+def _distinct(u: _Unrolling, mon: _Monitor, i: int, j: int):
+    """States i and j (after those scans) differ somewhere: the simple-path constraint that
+    makes k-induction complete on a finite system."""
+    z3 = u.z3
+    a, b = u.state(i), u.state(j)
+    diffs = [x != y for x, y in zip(a["S"], b["S"], strict=True)]
+    for key in a["E"]:
+        x, y = a["E"][key], b["E"][key]
+        diffs += [p != q for p, q in zip(x, y, strict=True)] if isinstance(x, tuple) else [x != y]
+    h1, h2 = mon.history(i), mon.history(j)
+    if isinstance(h1, tuple):
+        diffs += [h1[0] != h2[0], h1[1] != h2[1]]
+    elif h1 is not None:
+        diffs.append(h1 != h2)
+    return z3.Or(diffs) if diffs else z3.BoolVal(False)
+
+
+def prove(model: Model, prop: Property, budget: Budget, depth: int = DEFAULT_DEPTH,
+          induction: int = MAX_INDUCTION) -> Verdict:
     """Bounded model checking to `depth` scans (a counterexample or witness: the shortest),
-    with k-induction (always/never) tried at each depth up to MAX_INDUCTION."""
+    with k-induction (with simple paths) tried at each depth up to `induction`."""
     z3 = _z3()
     started = time.perf_counter()
     check_property(model, prop)
     base = z3.Solver()
     u = _Unrolling(model, base, False)
+    mon = _Monitor(u, prop, False)
     step_solver = z3.Solver()
     w = _Unrolling(model, step_solver, True)
-    induct = prop.kind in ("always", "never")
+    wmon = _Monitor(w, prop, True)
+    reach = prop.kind == "reachable"
     for k in range(depth):
         if budget.out_of_time():
             break
-        base.push()
-        base.add(_bad_at(u, prop, k))
-        found = base.check() == z3.sat
-        if found:
+        if base.check(mon.bad(k)) == z3.sat:
             vecs = _vectors(u, base.model(), k)
-            base.pop()
             trace = replay_trace(model.image, model.target, prop, model.space, model.period, vecs)
             stats = Stats(k + 1, k + 1, k + 1, time.perf_counter() - started)
-            if prop.kind == "reachable":
+            if reach:
                 return Verdict(prop, PROVEN, f"symbolic: bounded model checking found a witness at depth {k + 1}",
                                stats, trace)
             return Verdict(prop, VIOLATED, f"symbolic: bounded model checking, shortest counterexample "
                            f"(depth {k + 1})", stats, trace)
-        base.pop()
-        base.add(z3.Not(_bad_at(u, prop, k)))  # holds at k from here on (the next depths build on it)
-        if induct and k < MAX_INDUCTION:
-            # k-induction: from any state, k+1 scans where the property holds, then one where it fails
-            step_solver.push()
-            for t in range(k + 1):
-                step_solver.add(z3.Not(_bad_at(w, prop, t)))
-            step_solver.add(_bad_at(w, prop, k + 1))
-            if step_solver.check() == z3.unsat:
-                step_solver.pop()
-                return Verdict(prop, PROVEN, f"symbolic: k-induction (k={k + 1}) with its base checked",
-                               Stats(k + 1, 0, k + 1, time.perf_counter() - started))
-            step_solver.pop()
+        base.add(z3.Not(mon.bad(k)))  # holds at k from here on (the next depths build on it)
+        if k < induction:
+            # k-induction: from any state, k+1 scans on a simple path where the property holds, then
+            # one where it fails: none (unsat) proves it for every reachable state
+            step_solver.add(z3.Not(wmon.bad(k)))
+            for i in range(k + 1):
+                step_solver.add(_distinct(w, wmon, i, k + 1))
+            if step_solver.check(wmon.bad(k + 1)) == z3.unsat:
+                stats = Stats(k + 1, 0, k + 1, time.perf_counter() - started)
+                if reach:
+                    return Verdict(prop, VIOLATED, f"symbolic: k-induction (k={k + 1}): no reachable state "
+                                   "satisfies it", stats)
+                return Verdict(prop, PROVEN, f"symbolic: k-induction (k={k + 1}) with its base checked", stats)
     stats = Stats(depth, 0, depth, time.perf_counter() - started)
     why = "--max-wall reached" if budget.out_of_time() else f"no counterexample in {depth} scans from power-on"
-    if prop.kind == "reachable":
+    if reach:
         return Verdict(prop, UNKNOWN, "symbolic: bounded model checking", stats,
                        reason=f"{why}; no witness within the bound (--engine explicit decides it)")
     return Verdict(prop, UNKNOWN, "symbolic: bounded model checking", stats,
-                   reason=f"{why}; induction did not close up to k={MAX_INDUCTION} (--engine explicit may prove it)")
+                   reason=f"{why}; induction did not close up to k={min(induction, depth)} (--engine explicit may prove it)")
 
 
 def _vectors(u: _Unrolling, model, k: int) -> list[tuple]:
