@@ -7,8 +7,6 @@ or undecided (UNKNOWN: the budget ran out); 2: usage errors or unusable input.
 
 from __future__ import annotations
 
-import glob
-import os
 import sys
 
 import click
@@ -30,6 +28,7 @@ from mlctool.cli.common import (
     target_option,
     write_outputs,
 )
+from mlctool.diagnostics import MlcError, diag
 from mlctool.sim.quantities import StimError, parse_time
 from mlctool.verify.run import ENGINES
 
@@ -38,8 +37,8 @@ ARTIFACT_DIR = "mlc-verify-out"
 
 @main_group.command("verify", epilog=examples(
     "mlc verify samples/nc5/conveyor.il --props samples/nc5/conveyor.props",
-    "mlc verify                                 # the project's [verify] properties",
-    "mlc verify prog.il --props p.props --json --sarif verify.sarif --junit verify.xml",
+    "mlc verify samples/verify/press.il --props samples/verify/press.props --engine symbolic",
+    "mlc verify samples/verify/press.il --props samples/verify/press.props --json --sarif v.sarif --junit v.xml",
 ))
 @target_option
 @encoding_option
@@ -84,7 +83,12 @@ def verify_cmd(target_name, config_path, props_paths, engine, max_states, max_wa
             raise click.BadParameter(e.message, param_hint="--max-wall") from None
         if seconds <= 0:
             raise click.BadParameter("must be positive", param_hint="--max-wall")
-    paths = list(props_paths) or project_props(config)
+    from mlctool.verify.report import ProjectPropsError, project_props, run_files
+
+    try:
+        paths = list(props_paths) or project_props(config)
+    except ProjectPropsError as e:
+        raise MlcError(diag(*config.locate("verify", "properties"), "E110", str(e)), 2) from None
     if not paths:
         raise click.UsageError("no property file: give --props FILE, or name them in mlc.toml "
                                "([verify] properties = [\"tests/*.props\"])")
@@ -103,8 +107,6 @@ def verify_cmd(target_name, config_path, props_paths, engine, max_states, max_wa
     if image is None:
         show([d for d in diags if d.severity == "error"], lines)
         sys.exit(2)
-    from mlctool.verify.report import run_files
-
     outcome = run_files(image, target, paths, engine, max_states, seconds, out_dir)
     if outcome.errors:
         show(outcome.errors, {**lines, **outcome.lines})
@@ -126,20 +128,3 @@ def verify_cmd(target_name, config_path, props_paths, engine, max_states, max_wa
         files[junit_path] = outcome.junit(" ".join(paths))
     write_outputs(plan, files)
     sys.exit(outcome.exit_code)
-
-
-def project_props(config) -> list[str]:
-    """The property files mlc.toml `[verify] properties` names (globs, from the project's folder)."""
-    table = config.data.get("verify") or {}
-    found: list[str] = []
-    root = str(config.root) if config.root is not None else "."
-    for pattern in table.get("properties", []):
-        full = os.path.join(root, pattern)
-        hits = sorted(glob.glob(full)) if glob.has_magic(full) else [full]
-        if not hits:
-            where = config.locate("verify", "properties")
-            raise click.UsageError(f"mlc.toml [verify] properties: {pattern!r} names no file "
-                                   f"({where[0]}:{where[1].line})")
-        found += [os.path.relpath(h) for h in hits]
-    return found
-

@@ -91,6 +91,27 @@ def _finding_message(v: Verdict, files) -> str:
     return f"{v.prop.name} is undecided: {v.reason or v.method}"
 
 
+class ProjectPropsError(ValueError):
+    """mlc.toml `[verify] properties` names no file (E110 at the key)."""
+
+
+def project_props(config) -> list[str]:
+    """The property files mlc.toml `[verify] properties` names (globs, from the project's
+    folder), relative to the current folder."""
+    import glob
+
+    table = config.data.get("verify") or {}
+    found: list[str] = []
+    root = str(config.root) if config.root is not None else "."
+    for pattern in table.get("properties", []):
+        full = os.path.join(root, pattern)
+        hits = sorted(glob.glob(full)) if glob.has_magic(full) else [full] if os.path.isfile(full) else []
+        if not hits:
+            raise ProjectPropsError(f"mlc.toml [verify] properties: {pattern!r} names no file")
+        found += [os.path.relpath(h) for h in hits]
+    return found
+
+
 def run_files(image: Image, target: Target, paths: list[str], engine: str, max_states: int,
               seconds: float | None, out_dir: str) -> Outcome:
     import time

@@ -12,7 +12,7 @@ from mlctool.sim.scan import load_program
 from mlctool.sim.state import DeviceView
 from mlctool.targetapi.model import Target
 from mlctool.verify.explicit import Budget, index_modified, search
-from mlctool.verify.props import Props
+from mlctool.verify.props import Props, views_of
 from mlctool.verify.results import UNKNOWN, Verdict
 from mlctool.verify.space import Space, SpaceError, input_space
 
@@ -45,8 +45,14 @@ def program_inputs(image: Image, target: Target) -> list[DeviceView]:
 
 def prepare(image: Image, target: Target, props: Props) -> tuple[Space, int]:
     """The input space and the scan time. Raises VerifyError (E702, E703)."""
+    named = []  # input bits a property names are free too (the program may not read them)
+    for prop in props.properties:
+        for view in views_of(prop.expr) + (views_of(prop.response) if prop.response is not None else []):
+            dev = target.devices.get(view.kind)
+            if view.view == "bit" and dev is not None and dev.input:
+                named.append(view)
     try:
-        space = input_space(props, program_inputs(image, target))
+        space = input_space(props, sorted(set(program_inputs(image, target)) | set(named), key=DeviceView.sort_key))
     except SpaceError as e:
         raise VerifyError([e.diagnostic]) from None
     return space, props.scan_us or DEFAULT_SCAN_US

@@ -115,8 +115,6 @@ def model_of(image: Image, target: Target, space: Space, period_us: int) -> Mode
     lp = _SymbolicProgram(prog, target, period_us)
     if not lp.ok:
         raise Unmodelled("the symbolic engine does not model " + (lp.refused or "this program's flow (no END last)"))
-    if space.holds:
-        raise Unmodelled("the symbolic engine does not model `assume hold`")
     for view in space.views:
         if view.view != "bit":
             raise Unmodelled(f"the symbolic engine does not model the word input {view.name}")
@@ -199,9 +197,24 @@ class _Unrolling:
         if k > 0 and space.constant:
             before = self.states[k - 1]["in"]
             self.solver.add(*[ins[j] == before[j] for j in space.constant])
+        ages = []
+        if space.holds:  # a held input changes only when it has kept its value long enough
+            last, before_ages = prev.get("in"), prev.get("ages")
+            for h, (j, n) in enumerate(space.holds):
+                if last is None:  # before the first scan: power-on, or (induction) anything
+                    if self.free_start:
+                        old, age = z3.Bool(f"h0_{j}"), z3.Int(f"a0_{j}")
+                        self.solver.add(age >= 1, age <= n)
+                    else:
+                        old, age = z3.BoolVal(bool(space.start[j])), z3.IntVal(n)
+                else:
+                    old, age = last[j], before_ages[h]
+                changed = ins[j] != old
+                self.solver.add(z3.Implies(changed, age >= n))
+                ages.append(z3.If(changed, 1, z3.If(age < n, age + 1, age)))
         m.scan(S, E_list, z3.BoolVal(True))
         E = {i: E_list[i] for i in prev["E"]}
-        return {"S": S, "E": E, "in": ins}
+        return {"S": S, "E": E, "in": ins, "ages": ages}
 
     def value(self, view: DeviceView, k: int):
         """A bit device's term after scan k (its power-on value where the program has no slot)."""
@@ -334,6 +347,10 @@ def _distinct(u: _Unrolling, mon: _Monitor, i: int, j: int):
     for key in a["E"]:
         x, y = a["E"][key], b["E"][key]
         diffs += [p != q for p, q in zip(x, y, strict=True)] if isinstance(x, tuple) else [x != y]
+    space = u.model.space
+    kept = sorted(set(space.constant) | {k for k, _ in space.holds})  # inputs that carry state
+    diffs += [a["in"][k] != b["in"][k] for k in kept]
+    diffs += [x != y for x, y in zip(a["ages"], b["ages"], strict=True)]
     h1, h2 = mon.history(i), mon.history(j)
     if isinstance(h1, tuple):
         diffs += [h1[0] != h2[0], h1[1] != h2[1]]
