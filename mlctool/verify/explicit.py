@@ -178,7 +178,7 @@ class Stepper:
 
 
 def search(image: Image, target: Target, props: list[Property], space: Space, period_us: int, budget: Budget,
-           engine: str | None = None) -> list[Verdict]:
+           engine: str | None = None, bitsliced: bool = True) -> list[Verdict]:
     """Breadth-first search for a violation of each property (a witness, for `reachable`).
     Properties without history (always, never, reachable) share one search; a response or
     stability property has its own (its monitor's state is part of the search's)."""
@@ -188,6 +188,16 @@ def search(image: Image, target: Target, props: list[Property], space: Space, pe
     for group in groups:
         more: set[tuple[str, int]] = set()
         started = time.perf_counter()
+        if bitsliced:  # a bit-logic program: a layer a call (lanes.py)
+            from mlctool.verify.lanes import Bitsliced
+            from mlctool.verify.lanes import search as lane_search
+
+            b = Bitsliced(image, target, space, group)
+            if b.ok:
+                verdicts = lane_search(b, budget, started, lambda p, vecs: replay_trace(
+                    image, target, p, space, period_us, vecs, engine))
+                out.update({id(v.prop): v for v in verdicts})
+                continue
         for _ in range(8):  # each round adds the devices written outside the state
             views = [v for p in group for v in _prop_views(p)]
             stepper = Stepper(image, target, period_us, space, views, engine, more)
