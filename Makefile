@@ -51,7 +51,8 @@ demo: $(RUN_STAMP)
 # the benchmarks run in their own venv: the simulator's peers (awlsim, pyrung) are not test
 # dependencies, and pyrung's pyclickplc pins an older pymodbus than mlctool needs; mlctool
 # goes in with its cluster extra (bench/batch_speed.py's Dask LocalCluster figures) and its
-# native extra (Cython: bench/sim_speed.py's native engine row)
+# native extra (Cython: bench/sim_speed.py's native engine row) and its verify extra (z3:
+# bench/verify_speed.py's symbolic engine, against pyrung's prover)
 BENCH_VENV := .venv-bench
 BENCH_BIN := $(BENCH_VENV)/bin
 BENCH_STAMP := $(BENCH_VENV)/.installed
@@ -60,7 +61,7 @@ $(BENCH_STAMP): pyproject.toml
 	$(PY) -m venv $(BENCH_VENV)
 	$(BENCH_BIN)/pip install --quiet --upgrade pip
 	$(BENCH_BIN)/pip install --quiet awlsim pyrung
-	$(BENCH_BIN)/pip install --quiet -e '.[cluster,native]'
+	$(BENCH_BIN)/pip install --quiet -e '.[cluster,native,verify]'
 	touch $(BENCH_STAMP)
 
 bench: $(BENCH_STAMP)
@@ -70,6 +71,7 @@ bench: $(BENCH_STAMP)
 	$(BENCH_BIN)/python bench/sim_speed.py
 	$(BENCH_BIN)/python bench/batch_speed.py
 	$(BENCH_BIN)/python bench/start_memory.py
+	$(BENCH_BIN)/python bench/verify_speed.py
 
 clean:
 	rm -rf $(VENV) $(BENCH_VENV) out .pytest_cache

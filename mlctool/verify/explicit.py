@@ -179,25 +179,27 @@ class Stepper:
 
 def search(image: Image, target: Target, props: list[Property], space: Space, period_us: int, budget: Budget,
            engine: str | None = None, bitsliced: bool = True) -> list[Verdict]:
-    """Breadth-first search for a violation of each property (a witness, for `reachable`).
-    Properties without history (always, never, reachable) share one search; a response or
-    stability property has its own (its monitor's state is part of the search's)."""
+    """Breadth-first search for a violation of each property (a witness, for `reachable`),
+    all properties in one search (bit-sliced for those without history where it applies)."""
     out: dict[int, Verdict] = {}
     plain = [p for p in props if p.kind in ("always", "never", "reachable")]
-    groups = ([plain] if plain else []) + [[p] for p in props if p not in plain]
-    for group in groups:
+    rest = list(props)
+    if bitsliced and plain:  # a bit-logic program: a layer a call (lanes.py)
+        from mlctool.verify.lanes import Bitsliced
+        from mlctool.verify.lanes import search as lane_search
+
+        b = Bitsliced(image, target, space, plain)
+        if b.ok:
+            verdicts = lane_search(b, budget, time.perf_counter(), lambda p, vecs: replay_trace(
+                image, target, p, space, period_us, vecs, engine))
+            out.update({id(v.prop): v for v in verdicts})
+            rest = [p for p in props if p not in plain]
+    # the others in one search on the compiled engine: its state carries every monitor (a
+    # response's pending count, a stability's value and age: small, so the product stays near
+    # the program's own reachable set)
+    for group in [rest] if rest else []:
         more: set[tuple[str, int]] = set()
         started = time.perf_counter()
-        if bitsliced:  # a bit-logic program: a layer a call (lanes.py)
-            from mlctool.verify.lanes import Bitsliced
-            from mlctool.verify.lanes import search as lane_search
-
-            b = Bitsliced(image, target, space, group)
-            if b.ok:
-                verdicts = lane_search(b, budget, started, lambda p, vecs: replay_trace(
-                    image, target, p, space, period_us, vecs, engine))
-                out.update({id(v.prop): v for v in verdicts})
-                continue
         for _ in range(8):  # each round adds the devices written outside the state
             views = [v for p in group for v in _prop_views(p)]
             stepper = Stepper(image, target, period_us, space, views, engine, more)
@@ -256,7 +258,9 @@ def _bfs(st: Stepper, props: list[Property], space: Space, budget: Budget, start
                     return rest(UNKNOWN, "explicit search", f"the program faults in a reachable state: {f.message} "
                                 "(the stimulus replays it)", node, f"the program faults in this scan: {f.message}")
                 stats.transitions += 1
-                stepped = [mon.step(state, st.read) for mon, state in zip(monitors, mons, strict=True)]
+                # (a decided property's monitor stops: its history would only multiply the states)
+                stepped = [(None, False) if k in decided else mon.step(state, st.read)
+                           for k, (mon, state) in enumerate(zip(monitors, mons, strict=True))]
                 node = (after, vec if tracked_inputs else None, space.next_ages(prev, vec, ages),
                         tuple(x[0] for x in stepped))
                 for k, (_, bad) in enumerate(stepped):

@@ -15,6 +15,7 @@ from mlctool.verify.explicit import Budget, index_modified, search
 from mlctool.verify.props import Props, views_of
 from mlctool.verify.results import UNKNOWN, Verdict
 from mlctool.verify.space import Space, SpaceError, input_space
+from mlctool.verify.symbolic import Unmodelled
 
 ENGINES = ("auto", "explicit", "symbolic")
 
@@ -65,7 +66,7 @@ def verify(image: Image, target: Target, props: Props, engine: str = "auto", max
     budget = Budget(max_states, max_seconds)
     symbolic_model = None
     if engine in ("auto", "symbolic"):
-        from mlctool.verify.symbolic import Unmodelled, model_of
+        from mlctool.verify.symbolic import model_of
 
         try:
             symbolic_model = model_of(image, target, space, period)
@@ -80,18 +81,38 @@ def verify(image: Image, target: Target, props: Props, engine: str = "auto", max
                                     f"{where[0]}: an index-modified operand reaches any device, so the explicit "
                                     "search has no finite state to hash" + (f" ({len(where)} such instructions)"
                                                                             if len(where) > 1 else ""))])
-    if engine == "symbolic":
-        from mlctool.verify.symbolic import prove
+    if symbolic_model is None:
+        return search(image, target, props.properties, space, period, budget, sim_engine), space, period
+    from mlctool.verify.symbolic import QUICK_DEPTH, prove
 
-        return [prove(symbolic_model, prop, budget) for prop in props.properties], space, period
-    out = search(image, target, props.properties, space, period, budget, sim_engine)
-    if symbolic_model is not None:  # auto: what the explicit search could not decide, symbolically
-        from mlctool.verify.symbolic import prove
-
-        for k, verdict in enumerate(out):
-            if verdict.status == UNKNOWN and verdict.trace is None:
-                tried = prove(symbolic_model, verdict.prop, Budget(max_states, max_seconds))
+    decided: dict[int, Verdict] = {}
+    for k, prop in enumerate(props.properties):
+        try:
+            if engine == "symbolic":
+                decided[k] = prove(symbolic_model, prop, budget)
+            else:  # auto: a short bounded check and induction first (often milliseconds), then the search
+                quick = prove(symbolic_model, prop, budget, depth=QUICK_DEPTH, induction=QUICK_DEPTH)
+                if quick.status != UNKNOWN:
+                    decided[k] = quick
+        except Unmodelled as e:
+            if engine == "symbolic":
+                raise VerifyError([diag(props.path, Span.at(prop.line, prop.col, len(prop.text)), "E703",
+                                        f"{e}; --engine explicit decides it")]) from None
+    left = [p for k, p in enumerate(props.properties) if k not in decided]
+    if left:
+        found = dict(zip([id(p) for p in left], search(image, target, left, space, period, budget, sim_engine),
+                         strict=True))
+        for k, prop in enumerate(props.properties):
+            verdict = found.get(id(prop))
+            if verdict is None:
+                continue
+            if verdict.status == UNKNOWN and verdict.trace is None:  # the search ran out: the solver, in full
+                try:
+                    tried = prove(symbolic_model, prop, Budget(max_states, max_seconds))
+                except Unmodelled:
+                    tried = verdict
                 if tried.status != UNKNOWN:
                     tried.method += f" (the explicit search stopped: {verdict.reason})"
-                    out[k] = tried
-    return out, space, period
+                    verdict = tried
+            decided[k] = verdict
+    return [decided[k] for k in range(len(props.properties))], space, period

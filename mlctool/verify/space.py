@@ -148,7 +148,7 @@ class Monitor:
         if kind == "response":
             if self._second(read):
                 return 0, False
-            p = state + 1 if state else (1 if self._first(read) else 0)
+            p = min(state + 1, self.limit + 1) if state else (1 if self._first(read) else 0)
             return p, p > self.limit
         value = self._first(read)
         prev, age = state

@@ -29,6 +29,7 @@ from mlctool.verify.results import PROVEN, UNKNOWN, VIOLATED, Stats, Verdict
 from mlctool.verify.space import Space
 
 DEFAULT_DEPTH = 60  # scans the bounded check unrolls
+QUICK_DEPTH = 8  # --engine auto's first try, before the explicit search
 MAX_INDUCTION = 12  # the largest k of k-induction tried
 
 
