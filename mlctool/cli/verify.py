@@ -30,6 +30,7 @@ from mlctool.cli.common import (
 )
 from mlctool.diagnostics import MlcError, diag
 from mlctool.sim.quantities import StimError, parse_time
+from mlctool.verify.builtin import CHECKS
 from mlctool.verify.run import ENGINES
 
 ARTIFACT_DIR = "mlc-verify-out"
@@ -59,10 +60,13 @@ ARTIFACT_DIR = "mlc-verify-out"
               help="write SARIF 2.1.0: a violated or undecided property is a result at its line")
 @click.option("--junit", "junit_path", default=None, type=click.Path(dir_okay=False),
               help="write JUnit XML, one test case per property")
+@click.option("--check", "checks", multiple=True, type=click.Choice(CHECKS), metavar="NAME",
+              help="a built-in check too (repeatable): " + ", ".join(CHECKS) + " (docs/verify.md; default: "
+                   "mlc.toml [verify] checks)")
 @quiet_option
 @click.argument("program", nargs=-1, type=click.Path(), metavar="[FILE]...")
 def verify_cmd(target_name, config_path, props_paths, engine, max_states, max_wall, out_dir, as_json,
-               sarif_path, junit_path, program):
+               sarif_path, junit_path, checks, program):
     """Prove the properties of a property file on the program of FILE... (sources, objects or
     a linked image), or show the scan sequence that breaks them.
 
@@ -83,15 +87,16 @@ def verify_cmd(target_name, config_path, props_paths, engine, max_states, max_wa
             raise click.BadParameter(e.message, param_hint="--max-wall") from None
         if seconds <= 0:
             raise click.BadParameter("must be positive", param_hint="--max-wall")
-    from mlctool.verify.report import ProjectPropsError, project_props, run_files
+    from mlctool.verify.report import ProjectPropsError, project_checks, project_props, run_files
 
     try:
         paths = list(props_paths) or project_props(config)
+        wanted = [(c, "<command line>", 1) for c in checks] or project_checks(config)
     except ProjectPropsError as e:
-        raise MlcError(diag(*config.locate("verify", "properties"), "E110", str(e)), 2) from None
-    if not paths:
-        raise click.UsageError("no property file: give --props FILE, or name them in mlc.toml "
-                               "([verify] properties = [\"tests/*.props\"])")
+        raise MlcError(diag(*config.locate("verify", e.key), "E110", str(e)), 2) from None
+    if not paths and not wanted:
+        raise click.UsageError("no property file: give --props FILE or --check NAME, or name them in mlc.toml "
+                               "([verify] properties = [\"tests/*.props\"], checks = [...])")
     out_dir = out_dir or ARTIFACT_DIR
     plan = output_plan([*scope.files, *paths], config)
     for path, what, formats in ((sarif_path, "--sarif", {".sarif": "SARIF", ".json": "SARIF"}),
@@ -107,7 +112,7 @@ def verify_cmd(target_name, config_path, props_paths, engine, max_states, max_wa
     if image is None:
         show([d for d in diags if d.severity == "error"], lines)
         sys.exit(2)
-    outcome = run_files(image, target, paths, engine, max_states, seconds, out_dir)
+    outcome = run_files(image, target, paths, engine, max_states, seconds, out_dir, wanted)
     if outcome.errors:
         show(outcome.errors, {**lines, **outcome.lines})
         sys.exit(2)

@@ -24,7 +24,7 @@ from mlctool.sim.state import DeviceView
 from mlctool.sim.stimulus import Stimulus
 from mlctool.targetapi.model import Target
 from mlctool.verify.props import Property, views_of
-from mlctool.verify.results import PROVEN, UNKNOWN, VIOLATED, Stats, Trace, Verdict
+from mlctool.verify.results import PROVEN, UNKNOWN, VIOLATED, WITNESSED, Stats, Trace, Verdict
 from mlctool.verify.space import Monitor, Space, explain
 
 DEFAULT_MAX_STATES = 2_000_000
@@ -235,7 +235,7 @@ def _bfs(st: Stepper, props: list[Property], space: Space, budget: Budget, start
         for k, p in enumerate(props):
             if k not in decided:
                 if status == "exhausted":
-                    if p.kind == "reachable":
+                    if p.kind in WITNESSED:
                         decide(k, VIOLATED, "explicit search: reachable set exhausted, no state satisfies it")
                     else:
                         decide(k, PROVEN, "explicit search: reachable set exhausted")
@@ -268,7 +268,7 @@ def _bfs(st: Stepper, props: list[Property], space: Space, budget: Budget, start
                         # a node of its own: `node` may be an ancestor reached without failing
                         end = ("bad", k, node)
                         parent[end] = (key, j)
-                        if props[k].kind == "reachable":
+                        if props[k].kind in WITNESSED:
                             decide(k, PROVEN, "explicit search: witness found", end)
                         else:
                             decide(k, VIOLATED, "explicit search: shortest counterexample", end)
@@ -331,7 +331,7 @@ def _replayed(st: Stepper, vecs: list[tuple], prop: Property, space: Space, moni
     if not note:
         if prop.kind in ("always", "never"):
             checks = explain(prop.bad_expr(), st.read)
-        elif prop.kind == "reachable":
+        elif prop.kind in WITNESSED:  # (`left`: the step Off now, as the state has it)
             checks = explain(prop.expr, st.read)
         elif prop.kind == "response":  # the response is false; the expect line needs it true
             checks = explain(prop.response, st.read)

@@ -18,6 +18,7 @@ from mlctool.sim.junit import classname
 from mlctool.sim.run import Simulation, plan_scans
 from mlctool.sim.stimulus import parse_stimulus_text
 from mlctool.targetapi.model import Target
+from mlctool.verify.builtin import check_props
 from mlctool.verify.props import load_props
 from mlctool.verify.results import PROVEN, UNKNOWN, VIOLATED, Verdict, describe, stim_text, to_dict
 from mlctool.verify.run import VerifyError, verify
@@ -92,7 +93,28 @@ def _finding_message(v: Verdict, files) -> str:
 
 
 class ProjectPropsError(ValueError):
-    """mlc.toml `[verify] properties` names no file (E110 at the key)."""
+    """mlc.toml `[verify]` names no file or an unknown check (E110 at the key)."""
+
+    def __init__(self, message: str, key: str = "properties"):
+        super().__init__(message)
+        self.key = key
+
+
+def project_checks(config) -> list[tuple[str, str, int]]:
+    """The built-in checks mlc.toml `[verify] checks` asks for, with where it asks."""
+    from mlctool.verify.builtin import CHECKS
+
+    names = (config.data.get("verify") or {}).get("checks", [])
+    if not names:
+        return []
+    path, span = config.locate("verify", "checks")
+    for name in names:
+        if name not in CHECKS:
+            from mlctool.suggest import did_you_mean
+
+            raise ProjectPropsError(f"mlc.toml [verify] checks: unknown check {name!r}"
+                                    + (did_you_mean(name, CHECKS, "'") or f"; checks: {', '.join(CHECKS)}"), "checks")
+    return [(name, os.path.relpath(path) if os.path.isabs(path) else path, span.line) for name in names]
 
 
 def project_props(config) -> list[str]:
@@ -113,11 +135,14 @@ def project_props(config) -> list[str]:
 
 
 def run_files(image: Image, target: Target, paths: list[str], engine: str, max_states: int,
-              seconds: float | None, out_dir: str) -> Outcome:
+              seconds: float | None, out_dir: str, checks: list[tuple[str, str, int]] = ()) -> Outcome:
+    """Every property of the files `paths`, then the built-in checks `checks` ((name, where
+    they were asked for: a path and its line)), verified and reported."""
     import time
 
     outcome = Outcome()
     deadline = None if seconds is None else time.monotonic() + seconds
+    jobs = []
     for path in paths:
         props, diags = load_props(path, target, image.symbols)
         if props is not None:
@@ -125,6 +150,12 @@ def run_files(image: Image, target: Target, paths: list[str], engine: str, max_s
         if props is None or any(d.severity == "error" for d in diags):
             outcome.errors += diags
             continue
+        jobs.append((path, props, os.path.splitext(os.path.basename(path))[0], True))
+    for name, where, line in checks:
+        props = check_props(image, target, name, where, line)
+        if props.properties:
+            jobs.append((where, props, name, False))  # (a built-in check's witnesses are not written)
+    for path, props, stem, witnesses in jobs:
         left = None if deadline is None else max(0.0, deadline - time.monotonic())
         try:
             verdicts, _space, period = verify(image, target, props, engine, max_states, left)
@@ -134,8 +165,8 @@ def run_files(image: Image, target: Target, paths: list[str], engine: str, max_s
         for v in verdicts:
             outcome.verdicts.append((path, v))
             files = None
-            if v.trace is not None:
-                files = _artifacts(image, target, path, v, period, out_dir, outcome)
+            if v.trace is not None and (witnesses or v.status == VIOLATED):
+                files = _artifacts(image, target, path, stem, v, period, out_dir, outcome)
             if v.status != PROVEN:
                 code = "E704" if v.status == VIOLATED else "W705"
                 outcome.findings.append(diag(path, Span.at(v.prop.line, v.prop.col, len(v.prop.text)), code,
@@ -143,9 +174,8 @@ def run_files(image: Image, target: Target, paths: list[str], engine: str, max_s
     return outcome
 
 
-def _artifacts(image: Image, target: Target, path: str, v: Verdict, period: int, out_dir: str,
+def _artifacts(image: Image, target: Target, path: str, stem: str, v: Verdict, period: int, out_dir: str,
                outcome: Outcome) -> tuple[str, str]:
-    stem = os.path.splitext(os.path.basename(path))[0]
     name = re.sub(r"[^A-Za-z0-9_.-]+", "_", v.prop.name).strip("_") or "property"
     base = os.path.join(out_dir, f"{stem}.{name}")
     stim_path, vcd_path = base + ".stim", base + ".vcd"

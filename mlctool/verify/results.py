@@ -11,6 +11,9 @@ from mlctool.sim.state import DeviceView
 from mlctool.verify.props import Atom, Property, show
 
 PROVEN, VIOLATED, UNKNOWN = "PROVEN", "VIOLATED", "UNKNOWN"
+# kinds proven by a witness (a run that shows it), violated when the reachable set has none;
+# `left` is the built-in stl-exit check's (verify/builtin.py)
+WITNESSED = ("reachable", "left")
 
 
 @dataclass

@@ -129,6 +129,8 @@ class Monitor:
 
     def start(self, read=None):
         """The state at power-on (a stability property's value then counts as settled)."""
+        if self.kind == "left":  # whether the expression has held yet
+            return False
         if self.kind == "stable":
             return (self._first(read), self.limit)
         return 0 if self.kind == "response" else None
@@ -145,6 +147,9 @@ class Monitor:
         kind = self.kind
         if kind in ("always", "never", "reachable"):
             return None, self._first(read)
+        if kind == "left":  # the witness: On after some scan, Off after a later one
+            now = self._first(read)
+            return (state or now), bool(state and not now)
         if kind == "response":
             if self._second(read):
                 return 0, False

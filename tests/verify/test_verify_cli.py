@@ -124,3 +124,32 @@ def test_a_missing_project_property_file_is_e110(press):
                                     "utf-8")
     r = run_mlc("verify", cwd=press)
     assert r.code == 2 and "E110" in r.err and "no/*.props" in r.err
+
+
+def test_builtin_checks(tmp_path):
+    (tmp_path / "blink.il").write_text("LD X0\nANI Y0\nOUT Y0\nLD X1\nTMR T200 K5\nLD X1\nANI X1\nTMR T201 K5\n"
+                                       "END\n", "utf-8")
+    r = run_mlc("verify", "blink.il", "--check", "no-chatter", "--check", "timers-finish", "--json", "--out", "cx",
+                cwd=tmp_path)
+    assert r.code == 1, r.err
+    got = {x["property"]: (x["status"], x["file"]) for x in json.loads(r.out)["results"]}
+    # Y0 toggles every scan while X0 (held constant) is On; T201's rung is never On
+    assert got == {"no-chatter Y0": ("VIOLATED", "<command line>"), "timers-finish T200": ("PROVEN", "<command line>"),
+                   "timers-finish T201": ("VIOLATED", "<command line>")}
+    assert (tmp_path / "cx" / "no-chatter.no-chatter_Y0.stim").is_file()
+    assert not (tmp_path / "cx" / "timers-finish.timers-finish_T200.stim").exists()  # no witness files
+
+
+def test_stl_exit_and_project_checks(tmp_path):
+    (tmp_path / "s.il").write_text("LD X0\nSET S10\nSTL S10\nOUT Y0\nLD X1\nSET S11\nSTL S11\nOUT Y1\nRET\nEND\n",
+                                   "utf-8")
+    (tmp_path / "mlc.toml").write_text('target = "vs"\nsources = ["s.il"]\n[verify]\nchecks = ["stl-exit"]\n', "utf-8")
+    r = run_mlc("verify", "--json", cwd=tmp_path)
+    assert r.code == 1, r.err
+    got = {x["property"]: x["status"] for x in json.loads(r.out)["results"]}
+    assert got == {"stl-exit S10": "PROVEN", "stl-exit S11": "VIOLATED"}  # S11 has no way out
+    assert "mlc.toml:4:" in r.err and "E704" in r.err
+    (tmp_path / "mlc.toml").write_text('target = "vs"\nsources = ["s.il"]\n[verify]\nchecks = ["stl-exits"]\n',
+                                       "utf-8")
+    r = run_mlc("verify", cwd=tmp_path)
+    assert r.code == 2 and "E110" in r.err and "did you mean 'stl-exit'" in r.err
