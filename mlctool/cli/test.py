@@ -164,7 +164,7 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
             props_paths, checks = project_props(config), project_checks(config)
         except ProjectPropsError as e:
             raise MlcError(diag(*config.locate("verify", e.key), "E110", str(e)), 2) from None
-        verified = run_files(image, target, props_paths, "auto", 2_000_000, None, out_dir, checks)
+        verified = run_files(image, target, props_paths, "auto", 2_000_000, None, out_dir, checks, lines)
         if verified.errors:
             show(verified.errors, {**lines, **verified.lines})
             sys.exit(2)

@@ -112,7 +112,7 @@ def verify_cmd(target_name, config_path, props_paths, engine, max_states, max_wa
     if image is None:
         show([d for d in diags if d.severity == "error"], lines)
         sys.exit(2)
-    outcome = run_files(image, target, paths, engine, max_states, seconds, out_dir, wanted)
+    outcome = run_files(image, target, paths, engine, max_states, seconds, out_dir, wanted, lines)
     if outcome.errors:
         show(outcome.errors, {**lines, **outcome.lines})
         sys.exit(2)

@@ -46,7 +46,8 @@ class Outcome:
             files = self.artifacts.get((path, v.prop.name))
             if files:
                 what = "counterexample" if v.status == VIOLATED else "witness"
-                out.append(f"         {what}: {files[0]} ({v.trace.scan + 1} scans), waveform {files[1]}")
+                out.append(f"         {what}: {files[0]} ({v.trace.scan + 1} scans), waveform {files[1]}"
+                           + (f", report {files[2]}" if len(files) > 2 else ""))
         counts = {s: sum(v.status == s for _, v in self.verdicts) for s in (PROVEN, VIOLATED, UNKNOWN)}
         out.append(f"{len(self.verdicts)} properties: {counts[PROVEN]} proven, {counts[VIOLATED]} violated, "
                    f"{counts[UNKNOWN]} unknown")
@@ -135,9 +136,11 @@ def project_props(config) -> list[str]:
 
 
 def run_files(image: Image, target: Target, paths: list[str], engine: str, max_states: int,
-              seconds: float | None, out_dir: str, checks: list[tuple[str, str, int]] = ()) -> Outcome:
+              seconds: float | None, out_dir: str, checks: list[tuple[str, str, int]] = (),
+              sources: dict[str, list[str]] | None = None) -> Outcome:
     """Every property of the files `paths`, then the built-in checks `checks` ((name, where
-    they were asked for: a path and its line)), verified and reported."""
+    they were asked for: a path and its line)), verified and reported. With the program's
+    source lines (`sources`), each counterexample gets a report page too (docs/ladder.md)."""
     import time
 
     outcome = Outcome()
@@ -166,7 +169,7 @@ def run_files(image: Image, target: Target, paths: list[str], engine: str, max_s
             outcome.verdicts.append((path, v))
             files = None
             if v.trace is not None and (witnesses or v.status == VIOLATED):
-                files = _artifacts(image, target, path, stem, v, period, out_dir, outcome)
+                files = _artifacts(image, target, path, stem, v, period, out_dir, outcome, sources)
             if v.status != PROVEN:
                 code = "E704" if v.status == VIOLATED else "W705"
                 outcome.findings.append(diag(path, Span.at(v.prop.line, v.prop.col, len(v.prop.text)), code,
@@ -175,29 +178,35 @@ def run_files(image: Image, target: Target, paths: list[str], engine: str, max_s
 
 
 def _artifacts(image: Image, target: Target, path: str, stem: str, v: Verdict, period: int, out_dir: str,
-               outcome: Outcome) -> tuple[str, str]:
+               outcome: Outcome, sources: dict[str, list[str]] | None) -> tuple[str, ...]:
     name = re.sub(r"[^A-Za-z0-9_.-]+", "_", v.prop.name).strip("_") or "property"
     base = os.path.join(out_dir, f"{stem}.{name}")
     stim_path, vcd_path = base + ".stim", base + ".vcd"
     values = replay_values(image, target, v, period)
     text = stim_text(v, period, path, lambda view: values.get(view.name, 0))
-    result, sim = replay(image, target, stim_path, text)
+    st, diags = parse_stimulus_text(stim_path, text, target)
+    if any(d.severity == "error" for d in diags):  # pragma: no cover - our own text
+        raise VerifyError(diags)
+    sim = Simulation(image, target, st, [], st.scan_us, [], trace=True)
+    lamps = None
+    if sources is not None:  # the report page: the ladder lit scan by scan up to the failure
+        from mlctool.ladder.report import ScanLamps
+
+        lamps = ScanLamps(sim, sources)
+    result = sim.run(plan_scans(st, st.scan_us, None, None))
     from mlctool.sim.vcd import to_vcd
 
     outcome.files[stim_path] = text
     outcome.files[vcd_path] = to_vcd(result, image, target)
-    outcome.artifacts[(path, v.prop.name)] = (stim_path, vcd_path)
-    return stim_path, vcd_path
+    found = (stim_path, vcd_path)
+    if lamps is not None:
+        from mlctool.ladder.report import report_html
 
-
-def replay(image: Image, target: Target, stim_path: str, text: str):
-    """Run a counterexample's stimulus text as `mlc sim` would."""
-    st, diags = parse_stimulus_text(stim_path, text, target)
-    if any(d.severity == "error" for d in diags):  # pragma: no cover - our own text
-        raise VerifyError(diags)
-    period = st.scan_us
-    sim = Simulation(image, target, st, [], period, [], trace=True)
-    return sim.run(plan_scans(st, period, None, None)), sim
+        html_path = base + ".html"
+        outcome.files[html_path] = report_html(sim, result, lamps, [], f"{v.prop.name}: {v.prop.text}")
+        found += (html_path,)
+    outcome.artifacts[(path, v.prop.name)] = found
+    return found
 
 
 def replay_values(image: Image, target: Target, v: Verdict, period: int) -> dict[str, int | float]:

@@ -32,6 +32,8 @@ def test_json_sarif_junit_of_a_violation(press):
     by = {x["property"]: x for x in body["results"]}
     assert by["guard"]["status"] == "PROVEN" and by["estop"]["status"] == "VIOLATED" and not body["ok"]
     assert by["estop"]["trace"]["stimulus"] == "cx/p.estop.stim" and (press / "cx" / "p.estop.vcd").is_file()
+    page = (press / "cx" / "p.estop.html").read_text("utf-8")  # the report page: the ladder lit to the failure
+    assert "estop" in page and "<svg" in page
     assert by["estop"]["line"] == 3 and by["estop"]["trace"]["scans"] == 2
     sarif = json.loads((press / "v.sarif").read_text("utf-8"))
     results = sarif["runs"][0]["results"]
