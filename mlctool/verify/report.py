@@ -45,7 +45,7 @@ class Outcome:
             out.append(describe(v).replace(f"{v.prop.name}:", f"{path}:{v.prop.line} {v.prop.name}:", 1))
             files = self.artifacts.get((path, v.prop.name))
             if files:
-                what = "counterexample" if v.status == VIOLATED else "witness"
+                what = {VIOLATED: "counterexample", UNKNOWN: "the fault"}.get(v.status, "witness")
                 out.append(f"         {what}: {files[0]} ({v.trace.scan + 1} scans), waveform {files[1]}"
                            + (f", report {files[2]}" if len(files) > 2 else ""))
         counts = {s: sum(v.status == s for _, v in self.verdicts) for s in (PROVEN, VIOLATED, UNKNOWN)}

@@ -105,7 +105,9 @@ def stim_text(verdict: Verdict, period_us: int, source: str, actual_of) -> str:
     last as the property needs it (that one fails); for a witness every check holds."""
     t = verdict.trace
     prop = verdict.prop
-    out = [f"# {'counterexample' if verdict.status == VIOLATED else 'witness'} of {source}:{prop.line}: {prop.text}",
+    what = {VIOLATED: "counterexample", UNKNOWN: "the program's fault"}.get(verdict.status, "witness")
+    out = [f"# {what} on the way to {source}:{prop.line}: {prop.text}" if verdict.status == UNKNOWN
+           else f"# {what} of {source}:{prop.line}: {prop.text}",
            "# written by mlc verify; replay: mlc sim PROGRAM --stimulus THIS_FILE",
            f"scan {period_us}us" if period_us % 1000 else f"scan {period_us // 1000}ms"]
     if t.note:
@@ -127,7 +129,8 @@ def stim_text(verdict: Verdict, period_us: int, source: str, actual_of) -> str:
         atom, truth = checks[-1]
         checks[-1] = (atom, not truth)
     what = "the property fails here" if verdict.status == VIOLATED else "the state the property asks for"
-    out.append(f"#{t.scan} expect " + " ".join(check_text(a, b, actual_of) for a, b in checks) + f"   # {what}")
+    if checks:  # (none when the program faults in the last scan: the replay stops there, E604)
+        out.append(f"#{t.scan} expect " + " ".join(check_text(a, b, actual_of) for a, b in checks) + f"   # {what}")
     out.append(f"run #{t.scan + 1}")
     return "\n".join(out) + "\n"
 

@@ -9,6 +9,7 @@ from mlctool.program import Image
 from mlctool.sim.decode import program_devices
 from mlctool.sim.run import DEFAULT_SCAN_US
 from mlctool.sim.scan import load_program
+from mlctool.sim.signals import SIGNAL
 from mlctool.sim.state import DeviceView
 from mlctool.targetapi.model import Target
 from mlctool.verify.explicit import Budget, index_modified, search
@@ -49,6 +50,10 @@ def prepare(image: Image, target: Target, props: Props) -> tuple[Space, int]:
     named = []  # input bits a property names are free too (the program may not read them)
     for prop in props.properties:
         for view in views_of(prop.expr) + (views_of(prop.response) if prop.response is not None else []):
+            if view.kind.startswith(SIGNAL):
+                raise VerifyError([diag(props.path, Span.at(prop.line, prop.col, len(prop.text)), "E703",
+                                        f"{view.name}: device models (`model` lines of a stimulus) are not part of "
+                                        "a search; properties are over the PLC's devices")])
             dev = target.devices.get(view.kind)
             if view.view == "bit" and dev is not None and dev.input:
                 named.append(view)

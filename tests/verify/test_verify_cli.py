@@ -155,3 +155,21 @@ def test_stl_exit_and_project_checks(tmp_path):
                                        "utf-8")
     r = run_mlc("verify", cwd=tmp_path)
     assert r.code == 2 and "E110" in r.err and "did you mean 'stl-exit'" in r.err
+
+
+def test_model_signals_are_refused(press):
+    (press / "p.props").write_text("never RAM and XC1.alarm\n", "utf-8")
+    r = run_mlc("verify", "press.il", "--props", "p.props", cwd=press)
+    assert r.code == 2 and "p.props:1:1: error[E703]" in r.err and "device models" in r.err
+
+
+def test_a_fault_in_a_reachable_state_is_unknown_with_its_replay(tmp_path):
+    (tmp_path / "loop.il").write_text("P0\nLD X0\nCJ P0\nLD X1\nOUT Y0\nEND\n", "utf-8")  # X0 On: a runaway loop
+    (tmp_path / "p.props").write_text("never Y0 and X0\n", "utf-8")
+    r = run_mlc("verify", "loop.il", "--props", "p.props", "--engine", "explicit", "--out", "cx", "--json",
+                cwd=tmp_path)
+    assert r.code == 1
+    result = json.loads(r.out)["results"][0]
+    assert result["status"] == "UNKNOWN" and "scan watchdog" in result["reason"]
+    sim = run_mlc("sim", "loop.il", "--stimulus", result["trace"]["stimulus"], cwd=tmp_path)
+    assert sim.code == 1 and "E604" in sim.err and "watchdog" in sim.err
