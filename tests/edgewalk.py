@@ -528,3 +528,61 @@ def _described(e: BaseException) -> str:
     import traceback
 
     return "".join(traceback.format_exception_only(e)).strip()
+
+
+# ---------------------------------------------------------------------------- program flow
+
+# forms the walk leaves to their own tests: they need tables beside the program (Q tables of
+# the VS serial and positioning instructions, tests/targets/vs/) or a positioning program
+# and several input blocks (FBs FUN140/147, tests/targets/fbs/)
+NOT_WALKED = {"vs": {"CPUL", "LINK", "MBUS", "DTRD", "DTRDP", "DTBL"}, "fbs": {"HSPSO", "MHSPO"}}
+
+
+def flow_programs(t: Target) -> list[str]:
+    """Small whole programs for the forms that need the program around them: labels at the
+    last pointer, jumps and calls index-modified to it, one past it, -1 and the extremes, FOR
+    counts at their extremes (a constant, a register, an index), nesting one past the limit,
+    the block and stack operators, and on VS master control, a step ladder at the last step
+    relay, interrupts. Those of a target's forms only (the checker may refuse some: fine)."""
+    has = set(t.instructions)
+    p_hi = max(n for n in range(t.devices["P"].hi + 1) if n not in t.end_labels)
+    stack = "LD X0\nMPS\nAND X1\nOUT M1\nMRD\nOUT M2\nMPP\nOUT M3\n" if "MPS" in has else ""
+    out = [stack + "LD X0\nLD X1\nANB\nLD X2\nORB\n" + ("INV\n" if "INV" in has else "") + "OUT M4\n"
+           + ("NOP\n" if "NOP" in has else "") + "END\n",
+           f"LD X0\nOUT M1\nP{p_hi}:\nEND\n"]
+    if "CJ" not in has:
+        return out
+    out += [f"LD X0\nCJ P{p_hi}\nLD X0\nMOV K1 D0\nP{p_hi}:\nEND\n",
+            f"LD X0\nCALL P{p_hi}\nFEND\nP{p_hi}:\nLD X0\nMOV K1 D0\nSRET\nEND\n"]
+    for v in (p_hi, p_hi + 1, -1, 32767, -32768):
+        out += [f"LD X0\nMOV K{v} Z1\nCJ P0Z1\nP0:\nLD X0\nMOV K1 D0\nP{p_hi}:\nEND\n",
+                f"LD X0\nMOV K{v} Z1\nCALL P0Z1\nFEND\nP0:\nSRET\nP{p_hi}:\nSRET\nEND\n"]
+        if "CJP" in has:
+            out.append(f"LD X0\nMOV K{v} Z1\nCJP P0Z1\nCALLP P{p_hi}\nFEND\nP0:\nSRET\nP{p_hi}:\nSRET\nEND\n")
+    for v in (32767, -32768, 0, 1):
+        out += [f"FOR K{v}\nLD X0\nINC D0\nNEXT\nEND\n", f"LD X0\nMOV K{v} D9\nFOR D9\nLD X0\nINC D0\nNEXT\nEND\n"]
+    depth = t.settings["for_depth"]
+    out.append("FOR K2\n" * depth + "LD X0\nINC D0\n" + "NEXT\n" * depth + "END\n")
+    calls = t.settings["call_depth"]
+    out.append("LD X0\nCALL P1\nFEND\n" + "".join(f"P{k}:\nLD X0\nCALL P{k + 1}\nSRET\n" for k in range(1, calls))
+               + f"P{calls}:\nSRET\nEND\n")
+    if "MC" in has:
+        n_hi = t.devices["N"].hi
+        out.append("".join(f"LD X0\nMC N{n}\n" for n in range(n_hi + 1)) + "LD X1\nOUT M1\nMCR N0\nEND\n")
+    if "STL" in has:
+        stl = t.instructions["STL"].operands[0]
+        s_hi = (stl.allowed("S") or ((0, t.devices["S"].hi),))[-1][1]
+        out.append(f"LD X0\nSET S{s_hi}\nSTL S{s_hi}\nLD X1\nOUT M1\nRET\nEND\n")
+    if "EI" in has:
+        out.append("EI\nLD X0\nOUT M1\nDI\nWDT\nWDTP\nFEND\nITA10:\nLD X0\nMOV K1 D0\nIRET\n"
+                   "IX0P:\nLD X0\nINC D1\nIRET\nEND\n")
+    return out
+
+
+def flow_forms(t: Target, text: str) -> set[str]:
+    """The forms a flow program writes: its mnemonics, and P / I for its label lines."""
+    out = set()
+    for line in text.splitlines():
+        word = line.split()[0]
+        out.add(("P" if word[0] == "P" else "I") if word.endswith(":") else word)
+    return out

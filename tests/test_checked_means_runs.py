@@ -184,3 +184,35 @@ def test_the_native_engine_runs_or_faults_at_the_edges(tmp_path, name):
         ran = edgewalk.run_program(p, "native", [set(range(len(p.snippets))) - failing, failing])
         crashes += [f"{p.snippets[i].line} after {p.snippets[i].setup}: {msg}" for i, msg in ran.crashes.items()]
     assert not crashes, "\n".join(crashes)
+
+
+@pytest.mark.parametrize("name", ["nc5", "vs", "fbs"])
+def test_program_flow_at_the_edges_runs_or_faults(tmp_path, name):
+    """The forms the line walk leaves out (labels, jumps, calls, loops, stack and block
+    operators, master control, step ladder, interrupts), in small whole programs: every such
+    form is in one the checker accepts, and each of those runs or faults on both engines."""
+    from mlctool.asm import program_from_paths
+    from mlctool.sim.run import Simulation
+    from mlctool.sim.scan import Fault
+    from mlctool.sim.stimulus import parse_stimulus_text
+
+    target = load_target(name)
+    covered, crashes = set(), []
+    for k, text in enumerate(edgewalk.flow_programs(target)):
+        path = tmp_path / f"flow{k}.il"
+        path.write_text(text, "utf-8")
+        image, diags, _ = program_from_paths([str(path)], target)
+        if image is None or any(d.severity == "error" for d in diags):
+            continue
+        covered |= edgewalk.flow_forms(target, text)
+        st, _ = parse_stimulus_text("s.stim", "0ms X0=1 X1=1\n", target)
+        for engine in ("interp", "compiled"):
+            try:
+                Simulation(image, target, st, [], 10_000, [], False, engine=engine).run(3)
+            except Fault:
+                pass
+            except Exception as e:  # noqa: BLE001 - what the walk looks for
+                crashes.append(f"{engine}: {text!r}: {type(e).__name__}: {e}")
+    left = {f.mnemonic for f in edgewalk.forms(target) if not edgewalk.walked(f)}
+    assert left - covered - edgewalk.NOT_WALKED.get(name, set()) == set()
+    assert not crashes, "\n".join(crashes)
