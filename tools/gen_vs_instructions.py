@@ -146,7 +146,9 @@ OPERANDS = {
     "MBUS": [op("S1", "Q"), op("S2", "D R", "rw"), n(lo=1, hi=5, kinds="K H")],
     "DBRD": [op("S", WS, range=[0, 655359], words=[2, 2]), op("D", "D R", "w"), n(lo=1, hi=32767)],
     "DBWR": [op("S", "D R"), op("D", WS, range=[0, 655359], words=[2, 2]), n(lo=1, hi=32767)],
-    "TPID": [op("S1", "D R"), op("S2", "D R"), op("S3", "D R"), op("S4", "D R", "rw"), n(lo=1, hi=16, kinds="K H")],
+    # n loops: S1/S2 n set and present values, S3 10 common + 10 a loop, S4 6 a loop (6-11)
+    "TPID": [op("S1", "D R", span="n"), op("S2", "D R", span="n"), op("S3", "D R", words=[10, 10], span="n+1"),
+             op("S4", "D R", "rw", words=[6, 6], span="n"), n(lo=1, hi=16, kinds="K H")],
     "DTRD": [op("S1", "Q"), op("S2", WS), op("D", WD, "w"), n()],
     # D: the nesting count, then 16 registers a level (Z0-Z7, V0-V7) (6-12 FNC 102/103)
     "ZPUSH": [op("D", "D R", "rw", words=[17, 17])], "ZPOP": [op("D", "D R", "rw", words=[17, 17])],
