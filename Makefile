@@ -26,10 +26,11 @@ test: $(TEST_STAMP)
 	$(BIN)/pytest
 
 # the fuzz targets of the suite with a larger budget and fresh randomness (the suite runs
-# them derandomized in CI); FUZZ_EXAMPLES per target
+# them derandomized in CI); FUZZ_EXAMPLES per target; the edge-operand walk of every
+# instruction form then takes every edge and random combinations of them
 FUZZ_EXAMPLES ?= 2000
 fuzz: $(TEST_STAMP)
-	env -u CI MLC_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(BIN)/pytest -q tests/test_fuzz_inputs.py
+	env -u CI MLC_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(BIN)/pytest -q tests/test_fuzz_inputs.py tests/test_checked_means_runs.py
 
 lint: $(TEST_STAMP)
 	$(BIN)/ruff check mlctool tests bench

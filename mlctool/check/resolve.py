@@ -429,7 +429,7 @@ class _Resolver:
         if plain is None:
             plain = self.plain_forms[id(spec)] = not (
                 spec.table or spec.constraints
-                or any(o.word_range_of or "P" in o.kinds or "I" in o.kinds for o in spec.operands))
+                or any(o.word_range_of or o.span or "P" in o.kinds or "I" in o.kinds for o in spec.operands))
         return plain
 
     def plainly_resolved(self, spec: InstrSpec, texts: tuple[str, ...]) -> tuple[Operand, ...] | None:
@@ -542,7 +542,9 @@ class _Resolver:
             if not 1 <= op.digits <= maxn:
                 self.report(w, "E207", f"K{op.digits}{op.device}: n must be 1-{maxn} in a {width}-bit instruction")
                 return False
-            last = op.number + 4 * op.digits - 1
+            # a group standing for several registers (MUL D, SER D) is as many groups in a row
+            words = o.words[1] if width == 32 else o.words[0]
+            last = op.number + 4 * op.digits * max(1, words // (width // 16)) - 1
             first = op.number
         else:
             first = op.number
@@ -644,11 +646,49 @@ class _Resolver:
         if dev.kind in ("bit",) or op.is_bit_of_word or spec.cls in ("load", "and", "or") and dev.kind in ("timer", "counter") \
                 and spec.api is None:
             return o.bits
-        if dev.kind == "pointer" or (dev.kind == "counter" and self.t.is_counter32(op.number)):
+        words = o.words[1] if spec.width == 32 else o.words[0]
+        if dev.kind == "pointer":
             return 1
-        if op.kind in ("V", "Z") or spec.api is None:
-            return 1
-        return o.words[1] if spec.width == 32 else o.words[0]
+        if dev.kind == "counter" and self.t.is_counter32(op.number):
+            return max(1, words // 2)  # C200-C255 / C64-C79 hold 32 bits each (DMUL D: 4 words, 2 counters)
+        if op.kind in ("V", "Z"):
+            # a 32-bit V/Z operand is one index register (its pair); a result longer than the
+            # form's width (MUL D: 2 words, DMUL D: 4) goes into consecutive registers
+            return 1 if words <= spec.width // 16 else words
+        return words
+
+    def check_span(self, spec: InstrSpec, o: OperandSpec, ops: list[Operand], w: _Arg, k: int) -> bool:
+        """An operand that covers as many elements as another operand counts (`span`: DECO D
+        2^n bits): when the count is a constant and the operand a device as written, its last
+        element must exist (E208). A count in a register or an index-modified operand is the
+        run time's (the engine's fault, E604)."""
+        role, rule = o.span
+        c = next((i for i, s in enumerate(spec.operands) if s.role == role), None)
+        op = ops[k]
+        if c is None or c >= len(ops) or op.is_const or op.index or op.unit or op.is_bit_of_word:
+            return True
+        count = ops[c]
+        dev = self.t.devices.get(op.device)
+        if dev is None or count.kind not in ("K", "H") or count.index or not isinstance(count.value, int):
+            return True
+        if o.span_kinds == "bit" and (dev.kind != "bit" or op.is_group):
+            return True
+        if count.value < 1 or count.value > 1 << 20:
+            return True  # (its own range check says what is wrong with it)
+        n = o.span_count(count.value) if rule != "2^n" or count.value <= 16 else 1 << 17
+        if op.is_group:
+            size = n * 4 * op.digits
+        elif op.kind in ("V", "Z"):  # a block of index registers is consecutive registers
+            size = n * (o.words[1] if spec.width == 32 else o.words[0])
+        else:
+            size = n * self.extent(spec, o, op)
+        last = op.number + size - 1
+        if last <= dev.hi:
+            return True
+        what = f"{role} = {count.value}" + (f", {rule.replace('n', role)} = {n}" if rule != "n" else "")
+        self.report(w, "E208", f"{w.text} would occupy {dev.name_of(op.number)}-{dev.name_of(last)}, past "
+                    f"{dev.name_of(dev.hi)}: {what} (the instruction covers that many, {spec.section})")
+        return False
 
     def check_const(self, w, spec, o: OperandSpec, op: Operand, all_ops) -> bool:
         if op.is_float:
@@ -694,6 +734,10 @@ class _Resolver:
 
     def check_constraints(self, spec: InstrSpec, ops: list[Operand], args: list[_Arg]) -> bool:
         ok = True
+        if len(ops) == len(args):
+            for k, o in enumerate(spec.operands):
+                if o.span is not None and k < len(ops):
+                    ok = self.check_span(spec, o, ops, args[k], k) and ok
         if len(ops) == len(args):
             for k, code, msg in constraint_problems(self.t, spec, ops, [a.text for a in args]):
                 self.report(args[k], code, msg)

@@ -257,9 +257,14 @@ def _drive(m: Machine, s, begin, replan=None) -> None:
     if not memo:
         if not m.acc:
             return
-        if not begin(m, s, memo, axis):
+        # the start fills a memo of its own, kept only once it has started: a start that
+        # faults half-way (an operand out of range) leaves no half-made move behind
+        started: dict = {}
+        if not begin(m, s, started, axis):
+            memo.update(started)
             memo.setdefault("refused", True)
             return
+        memo.update(started)
     if memo.get("refused"):
         if not m.acc:
             memo.clear()

@@ -87,9 +87,12 @@ def mpg(m: Machine, s) -> None:
     if not memo:
         if not m.acc:
             return
-        if not _mpg_begin(m, s, memo, y.addr(m)):
+        started: dict = {}  # kept only once the output has started (as moves._drive)
+        if not _mpg_begin(m, s, started, y.addr(m)):
+            memo.update(started)
             memo["refused"] = True
             return
+        memo.update(started)
     if memo.get("refused"):
         if not m.acc:
             memo.clear()

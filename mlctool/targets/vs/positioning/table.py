@@ -207,10 +207,11 @@ def dtbl(m: Machine, s) -> None:
     if not memo:
         if not m.acc:
             return
-        if not _table_begin(m, s, memo, axis):
-            memo.clear()
+        started: dict = {}  # kept only once the table has started (as moves._drive)
+        if not _table_begin(m, s, started, axis):
             memo["refused"] = True  # not executed until the condition goes Off and On again
             return
+        memo.update(started)
     if memo.get("refused"):
         if not m.acc:
             memo.clear()
