@@ -16,7 +16,7 @@ import click
 
 from mlctool.config import Config, load_config
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
-from mlctool.fileio import Outputs
+from mlctool.fileio import begin_command
 from mlctool.report import render_text
 from mlctool.targetapi import Target, available_targets, load_target
 from mlctool.targetapi.model import UnknownModel
@@ -72,6 +72,7 @@ def _interrupted() -> int:
 def run_guarded(group: click.Group, argv: list[str] | None) -> int:
     """Run the click group; turn every failure into a message and an exit code."""
     _WALL.update(timer=None, hit=False, text="")
+    begin_command()  # no input read, no output planned (mlctool/fileio.py)
     try:
         return _run_guarded(group, argv)
     finally:
@@ -157,16 +158,6 @@ def encoding_option(fn):
     return click.option("--encoding", default=None, metavar="NAME", expose_value=False, callback=_remember_encoding,
                         help="encoding of sources that are not UTF-8 (cp950, gb18030, cp932...; default: "
                              "mlc.toml `encoding`, else UTF-8, with a guess for other bytes)")(fn)
-
-
-def output_plan(inputs, config: Config | None = None) -> Outputs:
-    """The outputs of a command reading `inputs` (and its configuration file): mlctool/fileio.py."""
-    plan = Outputs(inputs)
-    if config is not None and config.root is not None:
-        for name in ("mlc.toml", "pyproject.toml"):
-            if os.path.isfile(config.root / name):
-                plan.add_input(str(config.root / name))
-    return plan
 
 
 def expand_sources(args: list[str] | tuple[str, ...], pattern: str = "*.il") -> list[str]:

@@ -13,11 +13,11 @@ from mlctool.cli.common import (
     examples,
     get_config,
     get_target,
-    output_plan,
     show,
     target_option,
 )
 from mlctool.diagnostics import unreadable
+from mlctool.fileio import Outputs
 from mlctool.ladder import sheets_from_files
 from mlctool.report import summary_line
 
@@ -50,7 +50,7 @@ def ladder_cmd(target_name, config_path, out_path, term, title, files):
         if kind is None:
             raise click.BadParameter("the output must end in .svg or .html", param_hint="-o")
     config = get_config(config_path)
-    plan = output_plan(files, config)
+    plan = Outputs()
     if out_path is not None:
         plan.add(out_path, "-o")
         plan.validate()

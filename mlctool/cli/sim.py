@@ -22,12 +22,12 @@ from mlctool.cli.common import (
     get_config,
     get_target,
     max_wall_option,
-    output_plan,
     show,
     target_option,
 )
 from mlctool.cli.sim_batch import batch_cmd, is_batch
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
+from mlctool.fileio import Outputs
 from mlctool.sim.decode import unsimulated
 from mlctool.sim.engine import ENGINE_ENV, ENGINES
 from mlctool.sim.output import json_value, run_diagnostics, summary, to_json
@@ -120,8 +120,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     config = get_config(config_path)
     # every output is checked against the inputs and the other outputs, and its folder, before
     # anything runs (mlctool/fileio.py); all are written at the end, or none
-    plan = output_plan([*program, *(p for p in [stim_path] if p and not is_batch(p)),
-                        *(_table_file(t) for t in tables)], config)
+    plan = Outputs()
     keep_gtkw = None
     if vcd_path:
         from mlctool.sim.vcd import gtkw_is_ours, gtkw_path

@@ -17,13 +17,13 @@ from mlctool.cli.common import (
     examples,
     get_target,
     max_wall_option,
-    output_plan,
     show,
     target_option,
     with_cli_encoding,
 )
 from mlctool.config import load_config
 from mlctool.diagnostics import MlcError, Span, diag
+from mlctool.fileio import Outputs
 from mlctool.sim import coverage as cov
 from mlctool.sim.cluster import ClusterError, cluster_diagnostic
 from mlctool.sim.junit import to_junit
@@ -97,7 +97,7 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
         show(problems, {})
         sys.exit(2)
     stims = _selected(stims, keywords)
-    plan = output_plan([*sources, *stims], config)
+    plan = Outputs()
     if junit_path:
         plan.add(junit_path, "--junit")
     out_dir = out_dir or (os.path.dirname(junit_path) or "." if junit_path else ARTIFACT_DIR)

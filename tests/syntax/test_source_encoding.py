@@ -109,7 +109,8 @@ def test_read_input_reads_what_the_file_holds_up_to_the_limit(tmp_path, monkeypa
     for limit in (1, 50, 100, 101, 1000):
         assert fileio.read_input(str(path), limit) == bytes(range(100))[:limit]
     real = os.fstat
-    monkeypatch.setattr(fileio.os, "fstat", lambda fd: SimpleNamespace(st_size=10, st_mode=real(fd).st_mode))
+    monkeypatch.setattr(fileio.os, "fstat", lambda fd: SimpleNamespace(
+        st_size=10, st_mode=real(fd).st_mode, st_dev=real(fd).st_dev, st_ino=real(fd).st_ino))
     for limit in (5, 11, 12, 60, 101, 1000):
         assert fileio.read_input(str(path), limit) == bytes(range(100))[:limit]
     monkeypatch.undo()
