@@ -146,10 +146,10 @@ _ENCODING_KEY = "mlc.encoding"
 
 def _remember_encoding(ctx: click.Context, _param, value: str | None) -> None:
     if value:
-        from mlctool.syntax.source import known_encoding
+        from mlctool.syntax.source import encoding_refusal, known_encoding
 
         if known_encoding(value) is None:
-            raise click.BadParameter(f"unknown encoding {value!r} (e.g. cp950, big5, gb18030, cp932, utf-8)")
+            raise click.BadParameter(encoding_refusal(value))
         ctx.meta[_ENCODING_KEY] = value
 
 
