@@ -27,6 +27,7 @@ from mlctool.asm.objfile import ObjectFile, encode
 from mlctool.asm.project import project_build
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    collector_paused,
     config_option,
     encoding_option,
     examples,
@@ -146,7 +147,8 @@ def build_cmd(target_name, config_path, output, compile_only, listing_path, map_
     root = str(config.root) if config.root else os.getcwd()
     # objects compile separately: a CALL into another module is the linker's to resolve
     separate = compile_only or output.lower().endswith(".mlo") or any(is_object(s) for s in sources)
-    inputs = load_inputs(list(sources), target, config, root, separate)
+    with collector_paused():
+        inputs = load_inputs(list(sources), target, config, root, separate)
     _report(inputs.diagnostics, inputs.lines)
     _exit_for(inputs.diagnostics)
     if inputs.programs:

@@ -238,8 +238,9 @@ def collector_paused():
     accessors, which form no cycles and live to the end), then those objects frozen
     (gc.freeze: still freed by reference counting, skipped by the collector), so that its
     next collections do not walk them all again. About 0.4 s of the 64k-step program's start
-    under load (issue 19). What an earlier block froze is thawed first (as check_texts does),
-    so in a process that runs many commands (the tests) frozen garbage does not pile up."""
+    under load (issue 19). What an earlier block froze is thawed first, so in a process that
+    runs many commands (the tests) frozen garbage does not pile up. Not for a long-lived
+    process that loads again and again (mlc lsp): frozen objects' cycles are never collected."""
     paused = gc.isenabled()
     gc.disable()
     gc.unfreeze()

@@ -13,6 +13,7 @@ import click
 from mlctool.asm import program_from_paths
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    collector_paused,
     encoding_option,
     examples,
     get_target,
@@ -109,7 +110,8 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
         for name in COVERAGE_FILES:
             plan.add(os.path.join(coverage_dir, name), "--coverage")
     plan.validate()
-    image, diags, lines = program_from_paths(sources, target, config)
+    with collector_paused():
+        image, diags, lines = program_from_paths(sources, target, config)
     if image is None:
         show([d for d in diags if d.severity == "error"], lines)
         sys.exit(2)
