@@ -17,6 +17,7 @@ import click
 from mlctool.config import Config, load_config
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
 from mlctool.fileio import begin_command
+from mlctool.limits import integer
 from mlctool.report import render_text
 from mlctool.targetapi import Target, available_targets, load_target
 from mlctool.targetapi.model import UnknownModel
@@ -227,6 +228,21 @@ def target_option(fn):
                       help="model of the target family (e.g. VS1; default: from mlc.toml, else the target's default)")(fn)
     return click.option("--target", "target_name", default=None, metavar="NAME",
                         help="target PLC (default: from mlc.toml, else nc5)")(fn)
+class Integer(click.IntRange):
+    """An integer option (within a range), read as every number is: ASCII digits only
+    (mlctool/limits.py; click's own reading, int(), takes "٣" as 3)."""
+
+    name = "integer"
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str):
+            try:
+                integer(value.strip())
+            except ValueError as e:
+                self.fail(str(e), param, ctx)
+        return super().convert(value, param, ctx)
+
+
 config_option = click.option("--config", "config_path", default=None, type=click.Path(dir_okay=False),
                              help="configuration file (default: mlc.toml or pyproject.toml found upward)")
 

@@ -15,6 +15,7 @@ import click
 from mlctool.asm import program_from_paths
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    Integer,
     collector_paused,
     config_option,
     encoding_option,
@@ -78,21 +79,21 @@ def _errors(diags: list[Diagnostic]) -> bool:
               help="stimulus file (docs/stimulus.md)")
 @click.option("--scan-time", default=None, metavar="TIME", help="scan period (default 10ms)")
 @click.option("--until", default=None, metavar="TIME", help="run the scans that start before TIME")
-@click.option("--scans", type=click.IntRange(0, MAX_SCANS), default=None, help="run N scans")
+@click.option("--scans", type=Integer(0, MAX_SCANS), default=None, help="run N scans")
 @click.option("--vcd", "vcd_path", default=None, type=click.Path(dir_okay=False),
               help="write a VCD waveform (and a .gtkw save file beside it)")
 @click.option("--watch", multiple=True, metavar="DEV,...", help="devices to report and show")
 @click.option("--json", "as_json", is_flag=True, help="print the result as JSON on stdout")
 @click.option("--junit", "junit_path", default=None, type=click.Path(dir_okay=False),
               help="write JUnit XML, one test case per expectation line")
-@click.option("--watchdog", type=click.IntRange(1), default=DEFAULT_WATCHDOG, show_default=True,
+@click.option("--watchdog", type=Integer(1), default=DEFAULT_WATCHDOG, show_default=True,
               help="steps one scan may execute before it is stopped as a runaway")
 @click.option("--report", "report_path", default=None, type=click.Path(dir_okay=False),
               help="write an HTML page: the ladder lit by scan, and waveforms (docs/ladder.md)")
 @click.option("--engine", type=click.Choice(ENGINES), default=None, envvar=ENGINE_ENV,
               help="compiled (default), native (compiled to C: needs Cython and a C compiler) or "
                    "interp, the reference interpreter (docs/simulator.md)")
-@click.option("--jobs", "-j", type=click.IntRange(1, 64), default=1, show_default=True,
+@click.option("--jobs", "-j", type=Integer(1, 64), default=1, show_default=True,
               help="worker processes for a batch (--stimulus 'tests/*.stim')")
 @click.option("--cluster", default=None, metavar="tcp://HOST:PORT",
               help="run a batch's scenarios on this Dask scheduler's workers (docs/scale.md)")

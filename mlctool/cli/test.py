@@ -13,6 +13,7 @@ import click
 from mlctool.asm import program_from_paths
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    Integer,
     collector_paused,
     encoding_option,
     examples,
@@ -68,7 +69,7 @@ def _enter_project(path: str | None):
 @target_option
 @encoding_option
 @max_wall_option
-@click.option("--jobs", "-j", type=click.IntRange(1, 64), default=1, show_default=True,
+@click.option("--jobs", "-j", type=Integer(1, 64), default=1, show_default=True,
               help="run scenarios in N worker processes")
 @click.option("--cluster", default=None, metavar="tcp://HOST:PORT",
               help="run the scenarios on this Dask scheduler's workers (docs/scale.md)")
