@@ -410,8 +410,8 @@ def _overwrite_in_place(real: str, data: bytes, path: str) -> None:
         raise _cannot_write(path, e.strerror or e) from e
     plan = Outputs(make_dirs=False)
     tmp, fd = plan._temp(real)  # the saved copy of the old bytes
-    _fill(fd, old, path)
-    try:
+    try:  # (a full disk fails here already: the empty copy is removed below)
+        _fill(fd, old, path)
         with open(real, "r+b") as f:
             try:
                 f.write(data)

@@ -102,7 +102,9 @@ def serve_cmd(kind, tcp, serial, framing, ascii_flag, rtu_flag, station, baud, d
     stations = station or (1,)
     if len(set(stations)) != len(stations):
         raise _fail("E801", f"--station {stations}: a station number may be used once on a line")
-    address = parse_tcp(tcp) if tcp else None
+    if serial is not None and not serial.strip():
+        raise _fail("E801", "--serial '': give the serial device, e.g. /dev/ttyUSB0 or COM3")
+    address = parse_tcp(tcp) if tcp is not None else None  # --tcp "" is a bad address, not no address
     seconds = None
     if duration is not None:
         try:

@@ -74,6 +74,8 @@ def map_chunks(address: str, fn: Callable, shared, items: Sequence, per_thread: 
             parts = client.gather(futures)
         except (OSError, TimeoutError) as e:
             raise ClusterError(f"the Dask cluster at {address} failed: {e}") from e
+        except MemoryError as e:
+            raise ClusterError(f"the Dask cluster at {address} sent a message too large to hold ({e})") from e
         except Exception as e:  # noqa: BLE001 - a worker's failure, re-raised by gather
             raise ClusterError(f"a worker of {address} failed: {type(e).__name__}: {e}") from e
     finally:
@@ -123,5 +125,8 @@ def _handshake(address: str, security) -> None:
         raise ClusterError(f"the Dask scheduler at {address} did not answer within {CONNECT_TIMEOUT_S} s") from e
     except (OSError, ValueError, TypeError, EOFError) as e:
         raise ClusterError(f"cannot reach the Dask scheduler at {address}: {e}") from e
+    except MemoryError as e:  # its first message announced a size no memory holds (not "out of memory")
+        raise ClusterError(f"{address} did not answer as a Dask scheduler: it announced a message too large "
+                           f"to hold ({e})") from e
     except Exception as e:  # noqa: BLE001 - whatever the peer sent that is no Dask handshake
         raise ClusterError(f"{address} did not answer as a Dask scheduler: {type(e).__name__}: {e}") from e

@@ -148,6 +148,32 @@ def test_an_address_dask_cannot_use_is_E118_at_once_and_quietly(batch_project):
             cluster.map_chunks(address, len, None, [1])
 
 
+def test_a_fake_scheduler_announcing_a_huge_message_is_E118_not_out_of_memory(monkeypatch):
+    """A peer whose first frame announces 10^12 bytes: Dask's reader asks for that much memory;
+    that is the peer's fault, said as such (before: "mlc: error: out of memory on this input")."""
+    monkeypatch.setattr(cluster, "CONNECT_TIMEOUT_S", 2)
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(4)
+
+    def serve():
+        try:
+            conn = server.accept()[0]
+        except OSError:
+            return
+        with conn:
+            conn.sendall((10**12).to_bytes(8, "little"))
+            conn.recv(1)
+
+    threading.Thread(target=serve, daemon=True).start()
+    try:
+        with pytest.raises(cluster.ClusterError, match="did not answer as a Dask scheduler: it announced a message "
+                                                       "too large to hold"):
+            cluster.map_chunks(f"tcp://127.0.0.1:{server.getsockname()[1]}", len, None, [1])
+    finally:
+        server.close()
+
+
 def test_cluster_takes_a_batch(batch_project, scheduler):
     r = run_mlc("sim", "p.il", "--stimulus", "tests/a_pass.stim", "--cluster", scheduler.scheduler_address, cwd=batch_project)
     assert r.code == 2 and "--cluster runs a batch" in r.err
