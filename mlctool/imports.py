@@ -27,6 +27,7 @@ import io
 import re
 
 from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.limits import is_decimal
 from mlctool.syntax.operands import OperandSyntaxError, format_operand, parse_operand
 from mlctool.syntax.source import decode, read_source
 from mlctool.targetapi.model import Target
@@ -177,9 +178,19 @@ class _Writer:
         name = text.rstrip(":：").upper()
         if _FX_POINTER.fullmatch(name):
             name = self.pointer(name, row)
-        if step.isdigit():
+        if self.step_number(step, row) is not None:
             self.steps[len(self.lines)] = (row, int(step))
         self.lines.append(f"{name}:")
+
+    def step_number(self, step: str, row: int) -> int | None:
+        """The step field of a row: empty, or ASCII digits (mlctool/limits.py); anything else
+        ("0²", "٣") is E907 at the row."""
+        if not step:
+            return None
+        if not is_decimal(step):
+            self.error(row, f"step {step}", f"row {row}: step number {step!r} is not a number (ASCII digits)")
+            return None
+        return int(step)
 
     def pointer(self, text: str, row: int) -> str:
         """FX interrupt pointer I001 / I610 / I010 (I0 = I000) -> the target's name (IX0P,
@@ -233,7 +244,7 @@ class _Writer:
         self.flush()
         self.referenced.update(o.upper() for o in operands)
         self.pending = [self.mnemonic(mnemonic, row), *(self.operand(o, row) for o in operands if o)]
-        if step.isdigit():
+        if self.step_number(step, row) is not None:
             self.pending_step = (row, int(step))
         if note:
             self.pending.append(f"; {note}")

@@ -89,6 +89,22 @@ def test_switched_off_or_unsafe_folder_is_not_used(folder, monkeypatch):
         assert cache.load("t", k) == 1
 
 
+def test_a_relative_cache_folder_is_refused_with_w612(tmp_path, monkeypatch):
+    """A relative MLC_CACHE_DIR lies in whatever folder the command runs in (a cloned
+    project's): refused, W612 once, the run goes on without the cache (issue 30, What to
+    build 2)."""
+    (tmp_path / "p.il").write_text(SOURCE)
+    assert run_mlc("build", "p.il", "-o", "p.mlx", cwd=tmp_path).code == 0
+    monkeypatch.setenv(cache.ENV_DIR, "mlc-cache")
+    monkeypatch.delenv(cache.ENV_SWITCH, raising=False)
+    monkeypatch.setattr(cache, "_said", set())
+    codecache._MEMO.clear()
+    r = run_mlc("sim", "p.mlx", "--scans", "30", "--json", cwd=tmp_path)
+    assert r.code == 0 and r.err.count("warning[W612]") == 1 and "'mlc-cache' is not an absolute path" in r.err, r.err
+    assert not (tmp_path / "mlc-cache").exists()
+    assert not cache.store("t", cache.key("t"), 1)
+
+
 def _sim(d, *extra):
     r = run_mlc("sim", str(d / "p.mlx"), "--scans", "30", "--json", *extra, cwd=d)
     assert r.code == 0, r.err

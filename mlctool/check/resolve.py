@@ -18,6 +18,7 @@ from mlctool.syntax.operands import (
     CJK_CHAR,
     CONSTANT_KINDS,
     DEFAULT_SYNTAX,
+    INDEX_REGISTERS,
     Operand,
     OperandSyntax,
     OperandSyntaxError,
@@ -490,6 +491,9 @@ class _Resolver:
         # index modification
         if op.index:
             ix, ixn = op.index
+            if ix not in INDEX_REGISTERS or ix not in t.devices:  # only an object can say another (crafted)
+                self.report(w, "E209", f"{w.text}: {ix!s:.10} is not an index register of target {t.name}")
+                return False
             if not spec.index or not o.index or op.kind not in t.indexable:
                 self.report(w, "E209", f"{w.text}: {spec.mnemonic} operand {o.role} cannot be index-modified")
                 return False

@@ -9,6 +9,7 @@ import click
 
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    Integer,
     command_scope,
     config_option,
     encoding_option,
@@ -36,15 +37,15 @@ from mlctool.sim.stimulus import StimError, parse_time
 @click.option("--scan-time", default=None, metavar="TIME", help="scan period (default 10ms)")
 @click.option("--engine", type=click.Choice(ENGINES), default=None, envvar=ENGINE_ENV,
               help="engine of whole scans: compiled (default), native or interp (docs/simulator.md)")
-@click.option("--checkpoint-every", type=click.IntRange(1), default=100, show_default=True,
+@click.option("--checkpoint-every", type=Integer(1), default=100, show_default=True,
               help="scans between time-travel checkpoints (at most 64 kept)")
 @click.option("--dap", is_flag=True, help="serve the Debug Adapter Protocol on stdin/stdout")
-@click.option("--dap-port", type=click.IntRange(1, 65535), default=None, metavar="N",
+@click.option("--dap-port", type=Integer(1, 65535), default=None, metavar="N",
               help="serve the Debug Adapter Protocol on 127.0.0.1:N (one client, which gives the printed "
                    "token in its launch request)")
 @click.option("--web", is_flag=True,
               help="serve the live ladder monitor (power flow, values, force by clicking) on 127.0.0.1")
-@click.option("--port", type=click.IntRange(0, 65535), default=None, metavar="N",
+@click.option("--port", type=Integer(0, 65535), default=None, metavar="N",
               help="the --web monitor's port (default: a free one; the URL is printed)")
 @click.argument("program", nargs=-1, type=click.Path(), metavar="[FILE]...")
 def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint_every, dap, dap_port, web, port,

@@ -13,13 +13,13 @@ from mlctool.cli.common import (
     examples,
     get_config,
     get_target,
-    output_plan,
     quiet_option,
     show,
     target_option,
     write_outputs,
 )
 from mlctool.diagnostics import unreadable
+from mlctool.fileio import Outputs
 from mlctool.imports import DIALECT_TARGET, FORMATS, detect, import_text, read_comments, read_export
 from mlctool.syntax.source import source_encoding
 
@@ -49,7 +49,7 @@ def import_cmd(target_name, config_path, fmt, output, comments_file, file):
     Exit 0: converted; 1: rows that cannot be placed; 2: unreadable input or not an export.
     """
     config = get_config(config_path)
-    plan = output_plan([file], config)
+    plan = Outputs()
     if output:
         plan.add(output, "-o")
         plan.validate()

@@ -15,14 +15,13 @@ from mlctool.cli.common import (
     get_config,
     get_target,
     output_format,
-    output_plan,
     quiet_option,
     show,
     target_option,
     write_outputs,
 )
 from mlctool.diagnostics import unreadable
-from mlctool.fileio import same_file
+from mlctool.fileio import Outputs, same_file
 from mlctool.ladder import sheets_from_files
 from mlctool.report import summary_line
 
@@ -57,7 +56,7 @@ def ladder_cmd(target_name, config_path, out_path, term, title, width, comments,
     kind = output_format(out_path, "-o", WRITERS) if out_path is not None else None
     config = get_config(config_path)
     scope = command_scope(files, config, "sources to draw")
-    plan = output_plan(scope.files, config)
+    plan = Outputs()
     if out_path is not None:
         plan.add(out_path, "-o")
         plan.validate()

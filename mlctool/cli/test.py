@@ -11,15 +11,16 @@ from pathlib import Path
 import click
 
 from mlctool.asm import program_from_paths
-from mlctool.asm.project import project_tables, table_file
+from mlctool.asm.project import project_tables
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    Integer,
+    collector_paused,
     encoding_option,
     examples,
     get_target,
     load_tables,
     max_wall_option,
-    output_plan,
     quiet_option,
     said_written,
     show,
@@ -28,6 +29,7 @@ from mlctool.cli.common import (
 )
 from mlctool.config import load_config
 from mlctool.diagnostics import MlcError, Span, diag
+from mlctool.fileio import Outputs
 from mlctool.sim import coverage as cov
 from mlctool.sim.cluster import ClusterError, cluster_diagnostic
 from mlctool.sim.junit import to_junit
@@ -79,7 +81,7 @@ def _enter_project(path: str | None):
 @target_option
 @encoding_option
 @max_wall_option
-@click.option("--jobs", "-j", type=click.IntRange(1, 64), default=1, show_default=True,
+@click.option("--jobs", "-j", type=Integer(1, 64), default=1, show_default=True,
               help="run scenarios in N worker processes")
 @click.option("--cluster", default=None, metavar="tcp://HOST:PORT",
               help="run the scenarios on this Dask scheduler's workers (docs/scale.md)")
@@ -121,7 +123,7 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
         sys.exit(2)
     stims = _selected(_inside(inside, sources, stims), keywords)
     tables = project_tables(config)
-    plan = output_plan([*sources, *stims, *map(table_file, tables)], config)
+    plan = Outputs()
     if junit_path:
         plan.add(junit_path, "--junit")
     out_dir = out_dir or (os.path.dirname(junit_path) or "." if junit_path else ARTIFACT_DIR)
@@ -134,7 +136,8 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
             plan.add(os.path.join(coverage_dir, name), "--coverage")
     plan.validate()
     preload = load_tables((), tables, target, config)
-    image, diags, lines = program_from_paths(sources, target, config)
+    with collector_paused():
+        image, diags, lines = program_from_paths(sources, target, config)
     if image is None:
         show([d for d in diags if d.severity == "error"], lines)
         sys.exit(2)

@@ -14,7 +14,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from mlctool.limits import is_decimal
+from mlctool.limits import integer, is_decimal
 from mlctool.sim.quantities import StimError, parse_time
 from mlctool.sim.seriallink import PORT_NAMES, LineSettings
 
@@ -46,7 +46,7 @@ def port_name(text: str, offset: int) -> str:
 def _byte(text: str, offset: int, what: str) -> int:
     u = text.upper()
     try:
-        v = int(u[1:], 16) if u.startswith("H") else int(u[1:] if u.startswith("K") else u, 10)
+        v = integer(u[1:], 16) if u.startswith("H") else integer(u[1:] if u.startswith("K") else u)
     except ValueError:
         raise StimError(f"{what} {text!r}: expected a byte (H41, K65 or 65)", offset) from None
     if not 0 <= v <= 255:

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.limits import long_number, too_long_message
+from mlctool.limits import integer, long_number, real, too_long_message
 from mlctool.sim.quantities import (
     MAX_SCANS,
     MAX_TIME_US,
@@ -138,7 +138,7 @@ def parse_value(text: str, view: DeviceView) -> int | float:
         return 1 if u == "ON" else 0
     try:
         if u.startswith("H"):
-            raw = int(u[1:], 16)
+            raw = integer(u[1:], 16)
             bits = view.width
             if raw >= 1 << bits:
                 raise StimError(f"{t} does not fit {bits} bits")
@@ -148,9 +148,9 @@ def parse_value(text: str, view: DeviceView) -> int | float:
             signed = view.view in ("w", "d") and view.kind in "DVZ" or view.kind == "C" and view.view == "d"
             return raw - (1 << bits) if signed and raw >> (bits - 1) else raw
         if view.is_float:
-            x = float(t[1:] if u.startswith("F") else t)
+            x = real(t[1:] if u.startswith("F") else t, finite=False)  # expect D0:f=inf
             return to_f32(x)
-        v = int(u[1:] if u.startswith("K") else u, 10)
+        v = integer(u[1:] if u.startswith("K") else u)
     except ValueError:
         kind = "a float" if view.is_float else "an integer (decimal, K10 or H0F)"
         raise StimError(f"{t!r} is not {kind} for {view.name}") from None

@@ -17,6 +17,7 @@ from functools import lru_cache
 from mlctool.asm import program_from_paths
 from mlctool.config import Config, load_config
 from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.fileio import note_input
 from mlctool.program import Image
 from mlctool.sim.coverage import Probe
 from mlctool.sim.output import run_diagnostics
@@ -143,6 +144,8 @@ def run_all(image: Image, target: Target, stims: list[str], sources: list[str], 
         return [sc for part in parts for sc in part]
     if jobs <= 1 or len(stims) <= 1:
         return [run_scenario(image, target, s, coverage, preload=preload) for s in stims]
+    for s in stims:  # read by the worker processes: inputs of this command all the same (E606)
+        note_input(s)
     args = [(tuple(sources), target.name, os.getcwd(), s, coverage, list(preload)) for s in stims]
     with ProcessPoolExecutor(max_workers=jobs) as pool:
         return list(pool.map(_run_in_worker, args))

@@ -136,7 +136,7 @@ def gtkw_is_ours(path: str) -> bool:
     """True when `path` is missing or was written by mlc sim (its first line is GTKW_HEADER):
     mlc sim replaces only its own save file; a user's, with their own view, is kept."""
     try:
-        with open_input(path) as f:
+        with open_input(path, note=False) as f:  # a peek at an output, not an input
             first = f.readline(len(GTKW_HEADER) + 2)
     except FileNotFoundError:
         return True

@@ -5,11 +5,14 @@ from __future__ import annotations
 
 import shutil
 import socket
+import subprocess
+import threading
+import time
 
 import pytest
 from test_sim_batch import PROGRAM, STIMULI
 
-from conftest import ROOT, run_mlc, without_times
+from conftest import MLC_COMMAND, ROOT, run_mlc, without_times
 from mlctool.sim import cluster
 
 distributed = pytest.importorskip("distributed")
@@ -90,6 +93,85 @@ def test_unreachable_scheduler_is_E118(batch_project, monkeypatch):
                 cwd=batch_project)
     assert r.code == 2 and "E118" in r.err and "Traceback" not in r.err + r.out
     assert not (batch_project / "j.xml").exists()
+
+
+def _silent_peer():
+    """A local socket that accepts connections and never says a word (issue 30.13)."""
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(8)
+    held = []
+
+    def accept():
+        while True:
+            try:
+                held.append(server.accept()[0])
+            except OSError:  # closed: the test is over
+                return
+
+    threading.Thread(target=accept, daemon=True).start()
+    return server, held
+
+
+def test_a_peer_that_accepts_and_never_answers_is_E118_in_time(batch_project, monkeypatch):
+    """Dask's Client waited without limit for the handshake; the docs promise E118 within
+    CONNECT_TIMEOUT_S (10 s; 1 s here)."""
+    monkeypatch.setattr(cluster, "CONNECT_TIMEOUT_S", 1)
+    server, held = _silent_peer()
+    try:
+        started = time.monotonic()
+        r = run_mlc("sim", "p.il", "--stimulus", "tests/*.stim", "--junit", "j.xml", "--cluster",
+                    f"tcp://127.0.0.1:{server.getsockname()[1]}", cwd=batch_project)
+        elapsed = time.monotonic() - started
+    finally:
+        server.close()
+        for c in held:
+            c.close()
+    assert r.code == 2 and "E118" in r.err and "did not answer within 1 s" in r.err, r.err
+    assert elapsed < 5, elapsed
+    assert not (batch_project / "j.xml").exists()
+
+
+def test_an_address_dask_cannot_use_is_E118_at_once_and_quietly(batch_project):
+    """tls:// without Dask's TLS settings was exit 3 (a TypeError from the Client), then 20 s
+    and an "Exception ignored in Client.__del__" traceback while the failed client closed:
+    a subprocess, to see what is printed when the interpreter ends."""
+    started = time.monotonic()
+    r = subprocess.run([*MLC_COMMAND, "sim", "p.il", "--stimulus", "tests/*.stim", "--cluster", "tls://127.0.0.1:1"],
+                       cwd=batch_project, capture_output=True, text=True, timeout=60)
+    elapsed = time.monotonic() - started
+    assert r.returncode == 2 and "E118" in r.stderr and "tls:// needs the TLS settings" in r.stderr, r.stderr
+    assert "Exception ignored" not in r.stderr and "Traceback" not in r.stderr
+    assert elapsed < 10, elapsed
+    for address in ("ucx://127.0.0.1:1", "tcp://", "inproc://x"):
+        with pytest.raises(cluster.ClusterError, match="takes tcp://HOST:PORT or tls://HOST:PORT"):
+            cluster.map_chunks(address, len, None, [1])
+
+
+def test_a_fake_scheduler_announcing_a_huge_message_is_E118_not_out_of_memory(monkeypatch):
+    """A peer whose first frame announces 10^12 bytes: Dask's reader asks for that much memory;
+    that is the peer's fault, said as such (before: "mlc: error: out of memory on this input")."""
+    monkeypatch.setattr(cluster, "CONNECT_TIMEOUT_S", 2)
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(4)
+
+    def serve():
+        try:
+            conn = server.accept()[0]
+        except OSError:
+            return
+        with conn:
+            conn.sendall((10**12).to_bytes(8, "little"))
+            conn.recv(1)
+
+    threading.Thread(target=serve, daemon=True).start()
+    try:
+        with pytest.raises(cluster.ClusterError, match="did not answer as a Dask scheduler: it announced a message "
+                                                       "too large to hold"):
+            cluster.map_chunks(f"tcp://127.0.0.1:{server.getsockname()[1]}", len, None, [1])
+    finally:
+        server.close()
 
 
 def test_cluster_takes_a_batch(batch_project, scheduler):
