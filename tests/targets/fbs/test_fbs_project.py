@@ -4,6 +4,7 @@ empty table warns W330 (naming the table and the error code) instead of only set
 
 from __future__ import annotations
 
+import io
 import json
 import shutil
 from pathlib import Path
@@ -49,6 +50,26 @@ def test_mlc_sim_without_file_runs_the_project_with_its_tables(mlc, project):
     r = mlc("sim", "--stimulus", "home_and_run.stim", cwd=project / "tests")
     assert r.code == 0, r.err
     assert "expectations: 6 passed, 0 failed" in r.out
+
+
+def test_mlc_debug_loads_the_projects_tables(mlc, project, monkeypatch):
+    """`mlc debug` in the project runs HSPSO on its mlc.toml tables (it loaded none: W330, every
+    expectation of the homing failed); without them the session says W330 once."""
+    script = "continue\nprint R4088:d M1996\nquit\n"
+    monkeypatch.setattr("sys.stdin", io.StringIO(script))
+    r = mlc("debug", "--stimulus", "tests/home_and_run.stim", cwd=project)
+    assert r.code == 0, r.err
+    assert "W330" not in r.out + r.err and "expect failed" not in r.out
+    assert "the stimulus ends here: scan 850" in r.out and "M1996 = 1" in r.out  # the run table ended
+    (project / "mlc.toml").write_text(TOML.replace('tables = ["R5000=tables/home.pos", "R5100=tables/run.pos"]',
+                                                   'tables = ["R5100=tables/run.pos"]'))
+    monkeypatch.setattr("sys.stdin", io.StringIO(script))
+    r = mlc("debug", "--stimulus", "tests/home_and_run.stim", "--table", "R5000=tables/home.pos", cwd=project)
+    assert r.code == 0 and "W330" not in r.out and "M1996 = 1" in r.out, r.out + r.err  # --table too
+    monkeypatch.setattr("sys.stdin", io.StringIO(script))
+    r = mlc("debug", "--stimulus", "tests/home_and_run.stim", cwd=project)
+    assert r.out.count("W330") == 1 and "HSPSO K0 R5000 R2100 started on an empty table at R5000" in r.out
+    assert "expect failed" in r.out and "M1996 = 0" in r.out
 
 
 def test_hspso_on_an_empty_table_warns_w330_with_the_table_and_code(mlc, project):
