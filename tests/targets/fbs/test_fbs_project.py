@@ -112,3 +112,21 @@ def test_a_table_the_target_cannot_load_is_e121_at_its_line(mlc, project, toml, 
     r = mlc("sim", "--stimulus", "tests/home_and_run.stim", cwd=project)
     assert r.code == 2 and "E121" in r.err and message in r.err
     assert "mlc.toml:3:1:" in r.err
+
+
+def test_mlc_test_coverage_in_workers_keeps_the_projects_pulse_modes(mlc, project):
+    """`mlc test --coverage -j 2`: each worker loaded the target again by its name, so the
+    project's mlc.toml `pulse_modes` (and `model`) were lost there: P/R axes ran as U/D."""
+    (project / "mlc.toml").write_text(TOML + 'pulse_modes = ["P/R"]\n')
+    stim = project / "tests" / "home_and_run.stim"
+    # P/R homing backwards: pulses on Y0, Y1 (the direction) Off; U/D would pulse Y1
+    pr = stim.read_text().replace("expect M1992=0 Y0=0 Y1=1", "expect M1992=0 Y0=1 Y1=0")
+    assert pr != stim.read_text()
+    stim.write_text(pr)
+    (project / "tests" / "again.stim").write_text(pr)
+    one = mlc("test", "--coverage", "-j", "1", "--json", cwd=project)
+    coverage = (project / "coverage.json").read_text()
+    two = mlc("test", "--coverage", "-j", "2", "--json", cwd=project)
+    assert one.code == 0 and two.code == 0, two.out + two.err
+    assert json.loads(one.out)["scenarios"] == json.loads(two.out)["scenarios"]
+    assert (project / "coverage.json").read_text() == coverage
