@@ -133,7 +133,7 @@ class DebugSession:
         self.failed_expects: dict[tuple[int, int], str] = {}
         # run-time warnings (W330 ...): each said once per instruction and message, as mlc sim
         # reports them; `_warnings_seen` counts the machine's list (shorter after going back)
-        self._warned: set[tuple[int, str, str]] = set()
+        self._warned: set[tuple[object, str, str]] = set()
         self._warnings_seen = 0
         self.stops: list[tuple[Position, dict[str, int | float]]] = []  # watched values at stops
         # called between the scans of every long move (run, goto's replay, reverse-continue's
@@ -319,8 +319,8 @@ class DebugSession:
         for _, pc, code, message in warnings[self._warnings_seen:]:
             if (pc, code, message) not in self._warned:
                 self._warned.add((pc, code, message))
-                ins = self.steps[pc].ins
-                self.output(f"warning: {ins.file}:{ins.line}: {code} {message}")
+                _, path, line = self.sim.warned_at(pc)
+                self.output(f"warning: {path}:{line}: {code} {message}")
         self._warnings_seen = len(warnings)
 
     def _faulted(self, f: Fault) -> None:
