@@ -47,7 +47,9 @@ from mlctool.sim.stimulus import StimError, parse_time
               help="serve the Debug Adapter Protocol on 127.0.0.1:N (one client, which gives the printed "
                    "token in its launch request)")
 @click.option("--web", is_flag=True,
-              help="serve the live ladder monitor (power flow, values, force by clicking) on 127.0.0.1")
+              help="serve the live ladder monitor on 127.0.0.1: contacts and coils lit by their devices' "
+                   "values (docs/ladder.md \"Lighting\"), a device table to watch, set and force values, "
+                   "force by clicking")
 @click.option("--port", type=click.IntRange(0, 65535), default=None, metavar="N",
               help="the --web monitor's port (default: a free one; the URL is printed)")
 @click.argument("program", nargs=-1, type=click.Path(), metavar="[FILE]...")
