@@ -143,7 +143,7 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
         sys.exit(2)
     try:
         if with_coverage:
-            scenarios = run_all(image, target, stims, sources, jobs, with_coverage, cluster, preload)
+            scenarios = run_all(image, target, stims, jobs, with_coverage, cluster, preload)
         else:  # a batch: bit-sliced or numpy lanes where the program and stimuli allow (same results)
             from mlctool.sim.batch import Options, run_batch
 

@@ -61,6 +61,12 @@ class ModelIO:
                     store[key] = v
         return put
 
+    def warn(self, model: DeviceModel, code: str, message: str) -> None:
+        """A run-time warning (a W code of codes.toml) of `model`, reported at its stimulus line
+        as the program's run-time warnings are at their instruction (sim/semantics.py warn):
+        once per message in a run; the run goes on."""
+        self._m.warnings.append((self._m.now_us, model.at, code, message))
+
     def set_pulse_mode(self, axis: int, mode: str) -> None:
         """The pulse output mode ("UD", "PR", "AB") of pulse axis `axis` for this run, over the
         project's setting; a target with pulse axes reads Machine.ext["pulse_modes"]."""
@@ -79,6 +85,7 @@ class DeviceModel:
 
     kind = ""
     name = ""  # set by models that publish signals (sim/signals.py): `XC1` of `XC1.pos`
+    at: tuple[str, int] = ("<model>", 1)  # its stimulus file and line (build_models): where it warns
 
     def __init__(self, params: dict[str, str], target: Target):
         self.params = params

@@ -86,9 +86,9 @@ def summary(r: RunResult) -> str:
 
 
 def run_warnings(r: RunResult) -> list[Diagnostic]:
-    """The run-time warnings (W330 ...) at their instructions."""
-    return [diag(w.file, Span.at(w.line), w.code, f"at {w.time_us / 1000:g} ms (scan {w.scan}), step {w.addr}: "
-                 f"{w.message}") for w in r.warnings]
+    """The run-time warnings (W330 ...) at their instructions, the models' (W345) at their lines."""
+    return [diag(w.file, Span.at(w.line), w.code, f"at {w.time_us / 1000:g} ms (scan {w.scan})"
+                 + (f", step {w.addr}" if w.addr is not None else "") + f": {w.message}") for w in r.warnings]
 
 
 def run_diagnostics(r: RunResult, stim_path: str) -> list[Diagnostic]:

@@ -88,13 +88,14 @@ class AlarmReport:
 
 @dataclass
 class WarningReport:
-    """A run-time warning (sim/semantics.py warn) at its instruction."""
+    """A run-time warning at its instruction (sim/semantics.py warn), or a device model's at
+    its stimulus line (ModelIO.warn: addr None)."""
 
     time_us: int
     scan: int
     code: str
     message: str
-    addr: int
+    addr: int | None
     file: str
     line: int
 
@@ -177,7 +178,9 @@ def build_models(st: Stimulus, target: Target, watch: Sequence[DeviceView] = ()
                                                                         or f"; models: {', '.join(sorted(kinds))}")))
             continue
         try:
-            models.append(cls.build({k: v for k, (v, _) in spec.params.items()}, target, folder))
+            model = cls.build({k: v for k, (v, _) in spec.params.items()}, target, folder)
+            model.at = (st.path, spec.line)
+            models.append(model)
             built.append(spec)
         except ParamError as e:
             col = spec.params.get(e.key, ("", spec.col))[1]
@@ -386,6 +389,14 @@ class Simulation:
         return (f"every output is Off while {self.target.device_name('M', off['relay'])} is On "
                 f"(manual {off['section']}); the program's image is kept")
 
+    def warned_at(self, where: int | tuple[str, int]) -> tuple[int | None, str, int]:
+        """(step address, file, line) of a run-time warning's place: an instruction's index
+        (sim/semantics.py warn), or a device model's stimulus line (ModelIO.warn; no step)."""
+        if isinstance(where, tuple):
+            return (None, *where)
+        ins = self.prog.steps[where].ins
+        return ins.addr, ins.file, ins.line
+
     def catch_up(self, k: int) -> None:
         """Virtual time moves to scan k: the target's hardware and the device models catch up
         to it, before the new inputs."""
@@ -440,9 +451,7 @@ class Simulation:
                                           a[2] in self.alarm_names))
             seen_alarms = len(m.alarms)
             for t, pc, code, message in m.warnings[seen_warnings:]:
-                ins = self.prog.steps[pc].ins
-                warnings.setdefault((pc, code, message), WarningReport(t, k, code, message, ins.addr, ins.file,
-                                                                       ins.line))
+                warnings.setdefault((pc, code, message), WarningReport(t, k, code, message, *self.warned_at(pc)))
             seen_warnings = len(m.warnings)
             outputs = self.irq.outputs if self.irq is not None else []
             if self.tracing and outputs:

@@ -107,7 +107,7 @@ class Machine:
         self.fors: list[list[int]] = []  # [FOR index, NEXT index, iterations left]
         self.alarms: list[tuple[int, int, str, str]] = []  # (time us, instr index, alarm, message)
         # run-time warnings (sim/semantics.py warn): (time us, instr index, code, message)
-        self.warnings: list[tuple[int, int, str, str]] = []
+        self.warnings: list[tuple[int, int | tuple[str, int], str, str]] = []
         self.servo_limit: dict[int, int] = {}  # WRTL: station -> torque limit
         self.servo_at_limit: dict[int, int] = {}  # RDTL input, driven by stimulus/models
         # power rail of the rung being evaluated: Off inside an MC block whose condition is

@@ -9,13 +9,12 @@ from __future__ import annotations
 
 import glob
 import os
+import pickle
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
-from functools import lru_cache
 
-from mlctool.asm import program_from_paths
-from mlctool.config import Config, load_config
+from mlctool.config import Config
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.fileio import note_input
 from mlctool.program import Image
@@ -30,7 +29,7 @@ from mlctool.sim.run import (
     plan_scans,
 )
 from mlctool.sim.stimulus import load_stimulus
-from mlctool.targetapi import Target, load_target
+from mlctool.targetapi import Target
 
 
 @dataclass
@@ -110,18 +109,18 @@ def _run_scenario(image: Image, target: Target, stim_path: str, coverage: bool, 
     return Scenario(stim_path, result, run_diagnostics(result, stim_path), st.lines, probe)
 
 
-@lru_cache(maxsize=4)
-def _worker_image(sources: tuple[str, ...], target_name: str, root: str):
-    """Each worker process builds the program once."""
-    os.chdir(root)
-    target = load_target(target_name)
-    image, _, _ = program_from_paths(list(sources), target, load_config())
-    return image, target
+_WORKER: dict = {}
 
 
-def _run_in_worker(args) -> Scenario:
-    sources, target_name, root, stim, coverage, preload = args
-    image, target = _worker_image(sources, target_name, root)
+def _init_worker(blob: bytes) -> None:
+    """A worker process takes the program and the target as the parent built them: a target
+    loaded again by its name lost the project's model and mlc.toml `pulse_modes`."""
+    root, _WORKER["args"] = pickle.loads(blob)
+    os.chdir(root)  # the scenarios' paths are relative to the parent's folder
+
+
+def _run_in_worker(stim: str) -> Scenario:
+    image, target, coverage, preload = _WORKER["args"]
     return run_scenario(image, target, stim, coverage, preload=preload)
 
 
@@ -131,7 +130,7 @@ def _run_chunk(shared, chunk: list[tuple[str, tuple]]) -> list[Scenario]:
     return [run_scenario(image, target, stim, coverage, loaded, preload) for stim, loaded in chunk]
 
 
-def run_all(image: Image, target: Target, stims: list[str], sources: list[str], jobs: int = 1,
+def run_all(image: Image, target: Target, stims: list[str], jobs: int = 1,
             coverage: bool = False, cluster: str | None = None, preload: list = ()) -> list[Scenario]:
     """The scenarios' outcomes in the order of `stims`: here, in `jobs` processes, or on the
     Dask scheduler at `cluster` (ClusterError when it cannot be used). (`mlc test` without
@@ -146,9 +145,9 @@ def run_all(image: Image, target: Target, stims: list[str], sources: list[str], 
         return [run_scenario(image, target, s, coverage, preload=preload) for s in stims]
     for s in stims:  # read by the worker processes: inputs of this command all the same (E606)
         note_input(s)
-    args = [(tuple(sources), target.name, os.getcwd(), s, coverage, list(preload)) for s in stims]
-    with ProcessPoolExecutor(max_workers=jobs) as pool:
-        return list(pool.map(_run_in_worker, args))
+    blob = pickle.dumps((os.getcwd(), (image, target, coverage, list(preload))))
+    with ProcessPoolExecutor(max_workers=jobs, initializer=_init_worker, initargs=(blob,)) as pool:
+        return list(pool.map(_run_in_worker, stims))
 
 
 def merged_probe(n_steps: int, scenarios: list[Scenario]) -> Probe:

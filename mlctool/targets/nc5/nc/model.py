@@ -32,6 +32,7 @@ from mlctool.targets.nc5.nc.program import MAX_BYTES, Block, PartProgram, parse
 
 AUTO, EDIT, MDI, MPG, JOG, RAPID, INC, HOME = range(8)  # D2x000 values (5.2.2, 6.1)
 IDLE, RUNNING, HOLD, BLOCK_STOP, MST_WAIT, PROGRAM_STOP, END, ALARM = range(8)  # published.STATES
+NO_PROGRAM = "W345"  # codes.toml: cycle start on a model nc5 line without program=
 SOFT_LIMIT, HARD_LIMIT, NO_MAGAZINE = 1, 2, 3  # published.ALARMS
 
 # (key, default, lo, hi, unit): numeric parameters; docs/nc5.md "Parameters" is this table
@@ -271,7 +272,7 @@ class NcModel(DeviceModel):
 
     def step(self, io: ModelIO, t_us: int, period_us: int) -> None:
         mb, dw = io.memory("M"), io.memory("D")
-        self._mb = mb
+        self._mb, self._io = mb, io
         dt = 0 if self.last_t is None else t_us - self.last_t
         changed_at = t_us if self.last_t is None else self.last_t  # when the last scan wrote
         self.last_t = t_us
@@ -341,6 +342,9 @@ class NcModel(DeviceModel):
             if self.state in (IDLE, END):
                 self.ptr, self.phase, self.ends, self.cycle_us = 0, 0, (0, 0, 0), 0
                 self.state = RUNNING
+                if not self.path:  # DECISION (docs/nc5.md): a run-time warning, not an error
+                    self._io.warn(self, NO_PROGRAM, f"{self.name}: cycle start with no part program (this "
+                                  "model line has no program=...): an empty program ran, the cycle ended at once")
             elif self.state in (HOLD, BLOCK_STOP, PROGRAM_STOP):
                 self.state, self.hold_by_mode = (MST_WAIT if self.phase == 2 else RUNNING), False
         if self.state in (RUNNING, MST_WAIT):
