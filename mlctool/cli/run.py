@@ -76,10 +76,9 @@ def parse_allow(items: tuple[str, ...], target) -> list[tuple[str, int, int]] | 
 
 
 @main_group.command("run", epilog=examples(
-    "mlc run samples/conveyor.il --serve modbus-tcp://127.0.0.1:5502",
+    "mlc run samples/nc5/conveyor.il --serve modbus-tcp://127.0.0.1:5502",
     "mlc run prog.il --stimulus plant.stim --speed 10x --duration 10min",
     "mlc run prog.il --serve rtu+tcp://127.0.0.1:5503 --station 2 --map fx --allow M0-M99",
-    "mlc run prog.il --serve opc.tcp://127.0.0.1:4840 --read-only",
 ))
 @target_option
 @encoding_option
@@ -235,7 +234,8 @@ def _start_servers(endpoints, live, target, image, mapping, perms, station, max_
         failed = servers[len(net.servers)].endpoint  # the first one not started
         raise _fail(f"cannot open {failed.url}: {e}", "E751") from None
     for s in servers:
-        click.echo(f"serving {s.endpoint.url} ({_what(s)})", err=True)
+        where = f" on port {s.bound_port}" if s.endpoint.port == 0 else ""
+        click.echo(f"serving {s.endpoint.url}{where} ({_what(s)})", err=True)
     return net
 
 

@@ -83,7 +83,7 @@ def parse_endpoint(text: str, listen: str | None) -> Endpoint:
             raise EndpointError(f"--serve {text[:80]!r}: name the serial device ({scheme}:/dev/ttyUSB0)")
         return Endpoint(text, scheme, device=device, baud=baud)
     mt = re.fullmatch(r"//(\[[0-9a-fA-F:.]+\]|[A-Za-z0-9.\-]*):([0-9]{1,5})/?", rest)
-    if not mt or not 0 < int(mt[2]) < 65536:
+    if not mt or not 0 <= int(mt[2]) < 65536:  # 0: the system chooses (printed when serving)
         raise EndpointError(f"--serve {text[:80]!r}: expected {scheme}://HOST:PORT, e.g. {scheme}://127.0.0.1:5502")
     host = mt[1].strip("[]") or listen or "127.0.0.1"
     if host not in LOOPBACK and host != listen:
@@ -223,6 +223,8 @@ class ModbusServer:
             stats.dropped += 1
         except (ConnectionError, OSError, asyncio.IncompleteReadError):
             pass  # the connection ends; the server and the other connections go on
+        except asyncio.CancelledError:
+            pass  # the server stops (asyncio's stream callback would log a cancelled handler)
         finally:
             stats.clients.discard(client)
             self._tasks.discard(task)
