@@ -1,11 +1,12 @@
 """A simulated PLC running in real time on a thread, with its servers: for the tests of
-mlctool/commission/ (the CLI's own run is tests/cli-level: test_commission_run.py)."""
+mlctool/commission/ (the CLI: tests/cli/test_cli_run.py)."""
 
 from __future__ import annotations
 
 import contextlib
 import threading
 
+import vskit
 from mlctool.commission.exchange import Exchange
 from mlctool.commission.modbus_map import Permissions, load_map
 from mlctool.commission.net import ModbusServer, NetThread, Slave, parse_endpoint
@@ -13,8 +14,6 @@ from mlctool.commission.realtime import LiveRun
 from mlctool.sim.run import Simulation
 from mlctool.sim.stimulus import parse_stimulus_text
 from mlctool.targetapi import load_target
-
-import vskit
 
 
 @contextlib.contextmanager
