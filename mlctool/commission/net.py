@@ -17,6 +17,8 @@ is sent when the scan loop has run it. Security (docs/reliability.md, "Threat mo
 from __future__ import annotations
 
 import asyncio
+import contextlib
+import os
 import re
 import threading
 from dataclasses import dataclass, field
@@ -35,6 +37,7 @@ REPLY_TIMEOUT_S = 2.0  # the scan loop did not run the job in time: exception 06
 SERVER_FAILURE = 0x04
 GATEWAY_NO_RESPONSE = 0x0B
 DEFAULT_MAX_CLIENTS = 256
+NET_NICENESS = 10
 SCHEMES = {"modbus-tcp": "tcp", "rtu+tcp": "rtu", "ascii+tcp": "ascii", "rtu": "rtu", "ascii": "ascii",
            "opc.tcp": None}
 BAUDS = (300, 600, 1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200)  # 003 7-3-5
@@ -284,6 +287,10 @@ class NetThread:
         self.servers: list = []
 
     def _main(self) -> None:
+        # below the scan thread for the system's scheduler (raising a thread's niceness needs
+        # no privilege); the interpreter's switch interval is lowered by LiveRun
+        with contextlib.suppress(AttributeError, OSError):
+            os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), NET_NICENESS)
         asyncio.set_event_loop(self.loop)
         self.loop.run_forever()
 

@@ -15,6 +15,7 @@ missed scans back to back; each such restart is a `slip`.
 
 from __future__ import annotations
 
+import sys
 import threading
 import time
 from collections.abc import Callable
@@ -26,6 +27,9 @@ from mlctool.sim.scan import Fault
 
 SLIP_PERIODS = 10
 STATUS_EVERY_S = 0.5
+# the interpreter hands the GIL to a waiting thread after this long (CPython's default is 5 ms):
+# a scan due while the servers' thread runs Python waits at most this long for it
+SWITCH_INTERVAL_S = 0.0005
 
 
 @dataclass
@@ -80,6 +84,8 @@ class LiveRun:
         """Scans until `n_scans` are done (None: until stop is set), a fault, or Ctrl-C
         (KeyboardInterrupt ends the run cleanly: the scan in progress completes first)."""
         sim, st, clock, ex = self.sim, self.stats, self.clock, self.exchange
+        switch = sys.getswitchinterval()
+        sys.setswitchinterval(min(switch, SWITCH_INTERVAL_S))
         wall_period = sim.period / 1e6 / self.speed
         started = start = clock()
         next_status = started + STATUS_EVERY_S
@@ -98,6 +104,8 @@ class LiveRun:
                     late = 0.0
                 self._scan(k)
                 end = clock()
+                for hook in self.after_scan:
+                    hook(k + 1)
                 st.scans = k = k + 1
                 st.jitter_sum_s += late
                 st.jitter_worst_s = max(st.jitter_worst_s, late)
@@ -106,8 +114,6 @@ class LiveRun:
                     st.jitters.append(late)
                 if end > start + k * wall_period:
                     st.overruns += 1
-                for hook in self.after_scan:
-                    hook(k)
                 if self.fault is not None:
                     break
                 if status is not None and end >= next_status:
@@ -115,6 +121,8 @@ class LiveRun:
                     next_status = end + STATUS_EVERY_S
         except KeyboardInterrupt:
             pass  # Ctrl-C: a clean stop after the last whole scan
+        finally:
+            sys.setswitchinterval(switch)
         st.wall_s = clock() - started
         return st
 
