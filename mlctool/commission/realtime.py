@@ -98,10 +98,9 @@ class LiveRun:
                     break
                 now = clock()
                 late = now - due
-                if late > SLIP_PERIODS * wall_period:
+                if late > SLIP_PERIODS * wall_period:  # its lateness still counts as jitter
                     st.slips += 1
                     start = now - st.scans * wall_period
-                    late = 0.0
                 self._scan(k)
                 end = clock()
                 for hook in self.after_scan:
