@@ -81,7 +81,7 @@ CASES = {
 }
 # commands that write no file (fmt rewrites the files it reads, by design: docs/reliability.md
 # Outputs 5; debug's `save` is the debugger's own test, tests/debug)
-WRITE_NOTHING = {"check", "debug", "device", "explain", "fmt", "lsp", "targets"}
+WRITE_NOTHING = {"check", "debug", "device", "explain", "fmt", "lsp", "mcp", "run", "targets"}
 # commands that read no file of the user's and write only files that do not exist yet (init:
 # E122 for any file already there; tests/cli/test_cli_init.py)
 WRITE_NEW_ONLY = {"init"}

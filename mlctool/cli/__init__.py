@@ -29,6 +29,8 @@ COMMAND_MODULES = {
     "init": "mlctool.cli.init",
     "ladder": "mlctool.cli.ladder",
     "lsp": "mlctool.cli.lsp",
+    "mcp": "mlctool.cli.mcp",
+    "run": "mlctool.cli.run",
     "sim": "mlctool.cli.sim",
     "test": "mlctool.cli.test",
 }
@@ -48,8 +50,11 @@ COMMAND_SUMMARIES = {
     "ladder": "Draw the FILEs as ladder diagrams, one rung per IL rung, in program order.",
     "lsp": "Serve the Language Server Protocol over stdio for editors (docs/editor.md).",
     "link": "Link object modules (.mlo): one main module and its subroutine libraries.",
+    "mcp": "Serve check, explain, build, sim, ladder and a debugger to AI agents over MCP (stdio).",
     "objdump": "Show an object module (.mlo) or linked program (.mlx), or an FBs positioning "
                "register image (.json/.csv) as program text.",
+    "run": "Run the program of FILE... in real time, scans paced to the wall clock, optionally "
+           "serving its memory over Modbus or OPC UA (docs/commissioning.md).",
     "sim": "Simulate the program of FILE... (sources, objects or a linked image) on virtual time.",
     "targets": "List the targets and the manual each one follows.",
     "test": "Run the stimulus files of the project in DIR (default: the nearest mlc.toml at or above "

@@ -8,6 +8,7 @@ import click
 
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    Integer,
     command_scope,
     config_option,
     encoding_option,
@@ -40,7 +41,7 @@ WRITERS = {".svg": "SVG", ".html": "HTML", ".htm": "HTML"}
               help="write OUT.svg (rungs stacked) or OUT.html (self-contained page)")
 @click.option("--term", is_flag=True, help="print the ladder on the terminal (default without -o)")
 @click.option("--title", default="", help="title of the HTML page")
-@click.option("--width", type=click.IntRange(60, 1000), default=None, metavar="N",
+@click.option("--width", type=Integer(60, 1000), default=None, metavar="N",
               help="terminal ladder N characters wide (default: the terminal's; 100 when not a terminal)")
 @click.option("--comments", is_flag=True, help="show device comments (line and .define comments) under contacts")
 @quiet_option

@@ -442,7 +442,7 @@ class Simulation:
                 self.apply_inputs(k)
                 self.scan(self.watchdog)
             except Fault as f:
-                fault = self._fault(f, k)
+                fault = self.fault_report(f, k)
             self.apply_forces()
             scans_done = k + 1
             for a in m.alarms[seen_alarms:]:
@@ -499,7 +499,7 @@ class Simulation:
         return RunResult(self.period, scans_done, devices, self.views, outcomes, alarms, fault, trace.close(),
                          m.pin_window, list(warnings.values()))
 
-    def _fault(self, f: Fault, k: int) -> FaultReport:
+    def fault_report(self, f: Fault, k: int) -> FaultReport:
         if f.step is None:
             return FaultReport(k * self.period, k, f.message, None, self.image.modules[0][0]
                                if self.image.modules else "<program>", 1, "")

@@ -72,7 +72,7 @@ PLACEHOLDERS = {
     "OUT.svg": "out.svg", "OUT.html": "out.html", "DIR": "rebuilt", "CODE": "W401",
     "PATH": "/dev/null", ("--map", "F"): "build/other.map", ("--listing", "F"): "build/other.lst",
 }
-PARSE_ONLY = {("device", "serve"), ("lsp",), ("debug",)}  # serve until stopped; debug reads commands or DAP frames from stdin
+PARSE_ONLY = {("device", "serve"), ("lsp",), ("debug",), ("run",), ("mcp",)}  # serve until stopped; debug reads commands or DAP frames from stdin
 
 COMMAND = re.compile(r"^(?:\$ |- |run: )?(mlc (?:[a-z-]|--?[a-z]).*)$")
 
