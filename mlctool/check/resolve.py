@@ -72,6 +72,7 @@ class _Resolver:
         self.diags: list[Diagnostic] = list(parsed.diagnostics)
         self.module = Module(parsed.path, target.name, [])
         self.addr = 0
+        self.numbered: tuple[int, int, int] | None = None  # the last step number: (number, address, line)
         self.label_spec = next(s for s in target.instructions.values() if s.cls == "label")
         caches = ResolverCaches() if caches is None else caches
         self.cache = caches.lines  # (mnemonic, operand texts) -> resolution of the line
@@ -771,11 +772,27 @@ class _Resolver:
             return self.t.instr_steps(spec, ops)
         return spec.steps
 
+    def step_number(self, st: Statement) -> None:
+        """W107 where a leading step number disagrees: the first against the computed address,
+        each later one by its distance from the previous number (the steps of the lines between),
+        so one instruction counted otherwise is one warning, not one on every line after it."""
+        number = int(st.step.text)
+        last, self.numbered = self.numbered, (number, self.addr, st.line)
+        if last is None:
+            if number != self.addr:
+                self.err(st.line, st.step, "W107", f"step number {st.step.text} but the computed address is {self.addr}")
+            return
+        said, computed = number - last[0], self.addr - last[1]
+        if said != computed:
+            self.err(st.line, st.step, "W107", f"step number {st.step.text}: the lines from step {last[0]} (line "
+                     f"{last[2]}) are {said} steps by the numbering, {computed} by target {self.t.name}'s step "
+                     f"counts (computed address {self.addr})")
+
     def emit(self, st: Statement, spec: InstrSpec, ops, texts, table=(), steps: int | None = None) -> None:
         if steps is None:
             steps = self.steps(spec, ops)
-        if st.step is not None and int(st.step.text) != self.addr:
-            self.err(st.line, st.step, "W107", f"step number {st.step.text} but the computed address is {self.addr}")
+        if st.step is not None:
+            self.step_number(st)
         col = st.name.col
         self.module.instrs.append(Instr(spec, ops, texts, steps, self.addr, self.path, st.line, col, table))
         self.addr += steps
