@@ -132,11 +132,11 @@ class _Writer:
         self.lines: list[str] = []
         self.diags: list[Diagnostic] = []
         self.pending: list[str] | None = None  # the instruction whose operands may continue
-        self.pending_step: tuple[int, int] | None = None  # (row, export step) of the pending one
+        self.pending_step: tuple[int, int, str] | None = None  # (row, export step, row as written) of it
         self.kinds: list[str] = []  # of each diagnostic: rows of one kind are reported once
         self.referenced: set[str] = set()  # operands written, upper case: the labels jumped to
         self.maybe_labels: list[tuple[int, str, int]] = []  # (line index, name, row)
-        self.steps: dict[int, tuple[int, int]] = {}  # IL line index -> (row, the export's step)
+        self.steps: dict[int, tuple[int, int, str]] = {}  # IL line index -> (row, the export's step, its words)
         self.mapped: dict[str, dict[str, str]] = {}  # device kind -> {source: target (function)}
         self.unmapped: dict[str, list[int]] = {}  # source device -> rows
 
@@ -178,7 +178,7 @@ class _Writer:
         if _FX_POINTER.fullmatch(name):
             name = self.pointer(name, row)
         if step.isdigit():
-            self.steps[len(self.lines)] = (row, int(step))
+            self.steps[len(self.lines)] = (row, int(step), text)
         self.lines.append(f"{name}:")
 
     def pointer(self, text: str, row: int) -> str:
@@ -234,7 +234,7 @@ class _Writer:
         self.referenced.update(o.upper() for o in operands)
         self.pending = [self.mnemonic(mnemonic, row), *(self.operand(o, row) for o in operands if o)]
         if step.isdigit():
-            self.pending_step = (row, int(step))
+            self.pending_step = (row, int(step), " ".join([mnemonic, *operands]))
         if note:
             self.pending.append(f"; {note}")
 
@@ -243,6 +243,9 @@ class _Writer:
             self.error(row, "orphan", f"row {row}: operand {operand!r} without an instruction")
             return
         self.referenced.add(operand.upper())
+        if self.pending_step is not None:
+            row0, step, words = self.pending_step
+            self.pending_step = (row0, step, f"{words} {operand}")
         at = next((k for k, w in enumerate(self.pending) if w.startswith(";")), len(self.pending))
         self.pending.insert(at, self.operand(operand, row))
 
@@ -441,11 +444,12 @@ def import_text(path: str, text: str, target: Target, fmt: str | None = None,
     return out, fmt, diags
 
 
-def _step_check(path: str, text: str, target: Target, steps: dict[int, tuple[int, int]]
+def _step_check(path: str, text: str, target: Target, steps: dict[int, tuple[int, int, str]]
                 ) -> list[tuple[Diagnostic, str]]:
     """W107 at each export row whose instruction the export counts in other steps than the
     target's step convention does (the export's step column against the computed addresses:
-    the difference of consecutive step numbers is the row's own count)."""
+    the difference of consecutive step numbers is the row's own count). The message quotes
+    the row as the export writes it (M8000, not the M9000 it became; every operand)."""
     # the resolver alone (addresses), not mlctool.check: the checker imports this module
     from mlctool.check.labels import assign_named_labels, restrict_names
     from mlctool.check.resolve import resolve
@@ -458,12 +462,12 @@ def _step_check(path: str, text: str, target: Target, steps: dict[int, tuple[int
     by_line = {ins.line: ins for ins in module.instrs}
     rows = sorted(steps.items())
     out = []
-    for (index, (row, step)), (_next_index, (_, next_step)) in zip(rows, rows[1:], strict=False):
+    for (index, (row, step, words)), (_next_index, (_, next_step, _)) in zip(rows, rows[1:], strict=False):
         ins = by_line.get(index + 1)
         if ins is None:
             continue
         if next_step - step != ins.steps:
-            shown = " ".join([ins.spec.mnemonic, *ins.texts])
+            shown = words
             kind = f"steps {ins.spec.mnemonic} {ins.operands[0].kind if ins.operands else ''}"
             out.append((diag(path, Span.at(row), "W107", f"row {row}: {shown} is {next_step - step} steps in the "
                             f"export (step {step} to {next_step}), {ins.steps} by target {target.name}'s step "
