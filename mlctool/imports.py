@@ -139,6 +139,7 @@ class _Writer:
         self.steps: dict[int, tuple[int, int, str]] = {}  # IL line index -> (row, the export's step, its words)
         self.mapped: dict[str, dict[str, str]] = {}  # device kind -> {source: target (function)}
         self.unmapped: dict[str, list[int]] = {}  # source device -> rows
+        self.absent: dict[str, tuple[str, list[int]]] = {}  # source device the target lacks -> (area, rows)
 
     def error(self, row: int, kind: str, message: str, *notes: str) -> None:
         self.diags.append(diag(self.path, Span.at(row), "E907", message, *notes))
@@ -211,6 +212,12 @@ class _Writer:
                                        f"function: {shown}", "targets/" + self.t.name + "/specials.toml cites the "
                                        "manual's row of each"))
                 self.kinds.append(f"mapped {kind}")
+        for device, (area, rows) in self.absent.items():
+            self.diags.append(diag(self.path, Span.at(rows[0]), "E911", f"row {rows[0]}: {device} is a "
+                                   f"{self.family.title} special device that target {self.t.name} does not have "
+                                   f"({area}); `mlc check` refuses it too (E205)", *_absent_notes(device, self.t),
+                                   *((f"also in rows {', '.join(map(str, rows[1:11]))}",) if rows[1:] else ())))
+            self.kinds.append(f"absent {device}")
         for device, rows in self.unmapped.items():
             self.warn(rows[0], f"unmapped {device}", "W910", f"row {rows[0]}: {device} is a {self.family.title} special "
                       f"device with no counterpart known on target {self.t.name}; kept as {device}, an ordinary "
@@ -300,7 +307,14 @@ class _Writer:
             source = f"{op.kind}{op.number}"
             special = self.family.mapping.get((op.kind, op.number))
             if special is None:
-                self.unmapped.setdefault(source, []).append(row)
+                dev = self.t.devices.get(op.kind)
+                gap = next((a for a in dev.areas if a.write == "absent" and a.lo <= op.number <= a.hi),
+                           None) if dev is not None else None
+                if gap is not None:  # `mlc check` refuses it (E205): so does the import
+                    self.absent.setdefault(source, (f"{dev.name_of(gap.lo)}-{dev.name_of(gap.hi)}: {gap.name}",
+                                                    []))[1].append(row)
+                else:
+                    self.unmapped.setdefault(source, []).append(row)
                 return format_operand(op)
             self.mapped.setdefault(op.kind, {})[source] = f"{special.device} ({special.function})"
             mapped = parse_operand(special.device, self.t.operand_syntax)
@@ -308,6 +322,19 @@ class _Writer:
                 return f"{special.device}.{op.bit:X}"
             return format_operand(mapped)
         return format_operand(op) if not op.is_const or op.kind in ("K", "H") else text
+
+
+def _absent_notes(device: str, target: Target) -> tuple[str, ...]:
+    """What to do with an FX special the target has no device for."""
+    kind, number = _natural(device)
+    notes = ["FX3U/FX3G number the set-up relays of their extended functions M8192-M8511; rewrite "
+             f"that part of the program for target {target.name} (its specials: manual 2-14), or delete it"]
+    if kind == "M" and 8400 <= number <= 8439:
+        notes.insert(0, "M8400-M8439 set up the FX3U's serial ports (M8411: the Modbus-slave set-up rung "
+                     "`LD M8411 / MOV H.. D8400 ...`); on the VS a port's application, MODBUS Slave among "
+                     "them, and its parameters are set in Ladder Master S, not by the program (VS manual "
+                     "7-3-1, 7-3-5): delete the rung and set the port there")
+    return tuple(notes)
 
 
 def _natural(device: str) -> tuple[str, int]:

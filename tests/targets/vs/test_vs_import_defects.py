@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from conftest import run_mlc
 from mlctool.imports import import_text
 from mlctool.targetapi import load_target
 
@@ -22,3 +23,26 @@ def test_w107_quotes_the_row_as_the_export_writes_it():
     assert said == ["row 4: LD M8002 is 1 steps in the export (step 0 to 1), 2 by target vs's step convention",
                     "row 5: OUT T0 K10 is 1 steps in the export (step 1 to 2), 3 by target vs's step convention"]
     assert "LD M9002" in out
+
+
+MODBUS_RUNG = [["0", "", "LD", "M8411"], ["3", "", "MOV", "H1097"], ["", "", "", "D8400"], ["8", "", "MOV", "K1"],
+               ["", "", "", "D8401"], ["13", "", "END"]]
+
+
+def test_fx3u_modbus_slave_setup_is_refused_by_import_as_by_check(tmp_path):
+    """Before: W910 and exit 0 for M8411, then `mlc check` E205: the two disagreed."""
+    out, _, diags = import_text("m.csv", _gx(MODBUS_RUNG), VS)
+    assert out is None and [d.code for d in diags if d.severity == "error"] == ["E911"]
+    e911 = next(d for d in diags if d.code == "E911")
+    assert "M8411" in e911.message and "E205" in e911.message
+    assert any("MODBUS Slave" in n and "7-3-5" in n for n in e911.notes)
+    (tmp_path / "m.csv").write_text(_gx(MODBUS_RUNG), "utf-16")
+    r = run_mlc("import", "m.csv", "-o", "m.il", cwd=tmp_path)
+    assert r.code == 1 and "E911" in r.err and not (tmp_path / "m.il").exists()
+    (tmp_path / "h.il").write_text("LD M8411\nMOV H1097 D8400\nEND\n", "utf-8")
+    r = run_mlc("check", "--target", "vs", "h.il", cwd=tmp_path)
+    assert r.code == 1 and "E205" in r.err and "M8411" in r.err
+    # a special the VS has as an ordinary register (D8400) is still kept with W910
+    out, _, diags = import_text("d.csv", _gx([["0", "", "LD", "X000"], ["1", "", "MOV", "K1"], ["", "", "", "D8400"],
+                                              ["6", "", "END"]]), VS)
+    assert out is not None and "W910" in [d.code for d in diags]
