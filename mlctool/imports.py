@@ -139,6 +139,7 @@ class _Writer:
         self.steps: dict[int, tuple[int, int, str]] = {}  # IL line index -> (row, the export's step, its words)
         self.mapped: dict[str, dict[str, str]] = {}  # device kind -> {source: target (function)}
         self.unmapped: dict[str, list[int]] = {}  # source device -> rows
+        self.renamed: dict[str, str] = {}  # the family's mnemonic -> the target's (DRVI -> DRVR)
         self.absent: dict[str, tuple[str, list[int]]] = {}  # source device the target lacks -> (area, rows)
 
     def error(self, row: int, kind: str, message: str, *notes: str) -> None:
@@ -212,6 +213,12 @@ class _Writer:
                                        f"function: {shown}", "targets/" + self.t.name + "/specials.toml cites the "
                                        "manual's row of each"))
                 self.kinds.append(f"mapped {kind}")
+        if self.renamed:
+            shown = ", ".join(f"{a} -> {b}" for a, b in sorted(self.renamed.items()))
+            self.diags.append(diag(self.path, Span.at(1), "N911", f"{self.family.title} instructions written as "
+                                   f"target {self.t.name}'s of the same function and operands: {shown}",
+                                   f"targets/{self.t.name}/specials.toml cites the manual's section of each"))
+            self.kinds.append("renamed")
         for device, (area, rows) in self.absent.items():
             self.diags.append(diag(self.path, Span.at(rows[0]), "E911", f"row {rows[0]}: {device} is a "
                                    f"{self.family.title} special device that target {self.t.name} does not have "
@@ -275,6 +282,7 @@ class _Writer:
         # the family's own spellings (Delta DVP's TMR T0 K50, CNT C0 K10, DCNT C200 K10 are the
         # target's OUT T0 K50 / OUT C0 K10 / OUT C200 K10: specials.toml `mnemonics`)
         if self.family is not None and m in self.family.mnemonics:
+            self.renamed[m] = self.family.mnemonics[m]
             return self.family.mnemonics[m]
         # another vendor's spelling of a 32-bit comparison (DLD>= for LDD>=): the same FNC
         short = self.t.instructions.get(m[1:]) if m.startswith("D") else None

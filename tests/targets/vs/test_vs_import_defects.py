@@ -46,3 +46,18 @@ def test_fx3u_modbus_slave_setup_is_refused_by_import_as_by_check(tmp_path):
     out, _, diags = import_text("d.csv", _gx([["0", "", "LD", "X000"], ["1", "", "MOV", "K1"], ["", "", "", "D8400"],
                                               ["6", "", "END"]]), VS)
     assert out is not None and "W910" in [d.code for d in diags]
+
+
+def test_fx_drvi_is_the_vs_drvr_and_d8140_the_vs_pulse_count():
+    """Before: E907 `DDRVI` ("did you mean DDVIT?") and W910 for D8140 (no counterpart)."""
+    text = _gx([["0", "", "LD", "X000"], ["1", "", "DDRVI", "K1000"], ["", "", "", "K500"], ["", "", "", "Y000"],
+                ["", "", "", "Y004"], ["18", "", "LD", "X001"], ["19", "", "DRVI", "D10"], ["", "", "", "D20"],
+                ["", "", "", "Y001"], ["", "", "", "Y005"], ["28", "", "LD", "M8000"], ["30", "", "DMOV", "D8140"],
+                ["", "", "", "D100"], ["39", "", "DMOV", "D8142"], ["", "", "", "D102"], ["48", "", "END"]])
+    out, _, diags = import_text("p.csv", text, VS)
+    assert out is not None, [d.message for d in diags]
+    assert sorted(d.code for d in diags) == ["N910", "N910", "N911"], [d.message for d in diags]
+    lines = out.splitlines()
+    assert "DDRVR K1000 K500 Y0 Y4" in lines and "DRVR D10 D20 Y1 Y5" in lines
+    assert "DMOV D9352 D100" in lines and "DMOV D9372 D102" in lines
+    assert "DDRVI -> DDRVR, DRVI -> DRVR" in next(d.message for d in diags if d.code == "N911")

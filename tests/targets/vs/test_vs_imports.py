@@ -201,7 +201,7 @@ def test_headerless_and_delta_csv_and_delta_timers():
     delta = "Step,Instruction,Operand1,Operand2,Operand3\n0,LD,M1000,,\n1,TMR,T0,K10,\n5,CNT,C0,K3,\n9,END,,,\n"
     assert detect(delta) == "delta"
     out, _, diags = import_text("d.csv", delta, VS)
-    assert out == "LD M9000\nOUT T0 K10\nOUT C0 K3\nEND\n" and [d.code for d in diags] == ["N910"]
+    assert out == "LD M9000\nOUT T0 K10\nOUT C0 K3\nEND\n" and [d.code for d in diags] == ["N910", "N911"]
 
 
 @pytest.mark.parametrize("header", [
