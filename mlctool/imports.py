@@ -98,9 +98,33 @@ def detect(text: str) -> str:
             return "delta"
     if any(_STEP6.match(line) for line in head):
         return "wplsoft"
+    if _delta_rows(head):
+        return "delta"
     if _headerless(head):
         return "gxworks2" if any("\t" in line for line in head) else "gxdeveloper"
     return "il"
+
+
+_MNEMONIC = re.compile(r"[a-z][a-z0-9<>=]*")
+
+
+def _delta_rows(head: list[str]) -> bool:
+    """Delta rows without the `Step,Instruction,...` header: `0,LD,X0,,` (a step number, the
+    mnemonic in the second cell) or `LD,X0` (comma-separated IL, the mnemonic first), at least
+    two rows and every instruction row so. GX's headerless rows have the mnemonic in the third
+    cell, the second (the line statement) empty."""
+    rows = [_cells(line) for line in head if line.strip() and not line.lstrip().startswith((";", "//"))]
+    if len(rows) < 2 or any("\t" in line for line in head):
+        return False
+
+    def delta(r: list[str]) -> bool:
+        if len(r) < 2 and not (r and _MNEMONIC.fullmatch(r[0]) and r[0] in ("end", "fend", "mpp", "mps", "mrd",
+                                                                            "anb", "orb", "ret", "nop")):
+            return False
+        first = r[1:] if r[0].isdigit() else r
+        return bool(first) and bool(_MNEMONIC.fullmatch(first[0])) and not any(" " in c for c in first)
+
+    return all(delta(r) for r in rows)
 
 
 def _headerless(head: list[str]) -> bool:
@@ -423,22 +447,18 @@ def _delta_row(w: _Writer, k: int, rest: list[str]) -> None:
 
 def _delta(w: _Writer, text: str) -> None:
     """Delta's `Step,Instruction,Operand1,Operand2,Operand3` CSV: a header row, then one row per
-    instruction with its operands in their own cells; `;` rows are comments."""
-    header = False
+    instruction with its operands in their own cells; `;` rows are comments. The header row
+    is optional, and so is the step number (`0,LD,X0,,` and `LD,X0` rows)."""
     for k, row in enumerate(_rows(text, ","), 1):
         cells = [c for c in row if c != ""]
         if not cells:
             continue
-        if not header:
-            header = tuple(c.lower() for c in row[:3]) == _DELTA_HEADER
+        if k == 1 and tuple(c.lower() for c in row[:3]) == _DELTA_HEADER:
             continue
         if cells[0].startswith((";", "//")):
             w.comment(",".join(row).lstrip(";/ "))
             continue
-        if not re.fullmatch(r"[0-9]+", row[0].strip()):
-            w.error(k, "step", f"row {k}: expected a step number, got {row[0]!r}")
-            continue
-        _delta_row(w, k, [c for c in row[1:] if c != ""])
+        _delta_row(w, k, cells[1:] if cells[0].isdigit() else cells)
 
 
 def import_text(path: str, text: str, target: Target, fmt: str | None = None,
@@ -463,6 +483,10 @@ def import_text(path: str, text: str, target: Target, fmt: str | None = None,
     except _BadRow as e:
         return None, fmt, [diag(path, Span.at(e.line), "E907", e.message)]
     w.finish()
+    if not any(line and not line.startswith(";") and not line.endswith(":") for line in w.lines) \
+            and not any(d.severity == "error" for d in w.diags):
+        return None, fmt, [diag(path, Span.at(1), "E912", f"no instruction read from the file as a {fmt} export",
+                                "name the format with --from if it is another (docs/vs.md, Imports)")]
     lines = w.lines
     if w.comments:
         lines = [f"; {dev}  {text}" for dev, text in sorted(w.comments.items(), key=lambda x: _natural(x[0]))] + lines

@@ -838,6 +838,9 @@ def unknown_instruction_hint(t: Target, name: str) -> tuple[str, tuple[str, ...]
 
 
 def _unknown_instruction_hint(t: Target, name: str) -> tuple[str, tuple[str, ...]]:
+    family = _family_hint(t, name)
+    if family:
+        return "", family
     spelled = _spelling_hint(t, name)
     if spelled:
         return "", spelled
@@ -890,6 +893,18 @@ class OperandRules:
         if ok:
             r.check_constraints(spec, ops, args)
         return [msg for _idx, code, msg, _notes in r._problems if code.startswith("E")]
+
+
+def _family_hint(t: Target, name: str) -> tuple[str, ...]:
+    """Delta DVP's TMR T0 K10 (or FX's DRVI) in IL for the VS: the target's instruction of that
+    function (targets/<name>/specials.toml `mnemonics`), not the nearest spelling (TTMR)."""
+    from mlctool.targetapi.specials import families
+
+    for fam in families(t.name).values():
+        if name in fam.mnemonics:
+            return (f"{name} is {fam.title}'s; target {t.name} writes it {fam.mnemonics[name]} with the same operands "
+                    f"(`mlc import --from {'delta' if fam.name == 'dvp' else 'gxworks2'}` rewrites an export)",)
+    return ()
 
 
 def _spelling_hint(t: Target, name: str) -> tuple[str, ...]:

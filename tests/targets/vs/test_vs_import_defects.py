@@ -61,3 +61,29 @@ def test_fx_drvi_is_the_vs_drvr_and_d8140_the_vs_pulse_count():
     assert "DDRVR K1000 K500 Y0 Y4" in lines and "DRVR D10 D20 Y1 Y5" in lines
     assert "DMOV D9352 D100" in lines and "DMOV D9372 D102" in lines
     assert "DDRVI -> DDRVR, DRVI -> DRVR" in next(d.message for d in diags if d.code == "N911")
+
+
+DELTA_ROWS = {"stepped": "0,LD,X0,,\n1,TMR,T0,K10,\n5,LD,T0,,\n6,OUT,Y0,,\n7,END,,,\n",
+              "plain": "LD,X0\nTMR,T0,K10\nLD,T0\nOUT,Y0\nEND\n"}
+
+
+def test_headerless_delta_rows_are_read_never_a_1_byte_file(tmp_path):
+    """Before: `--from delta` on rows without the header wrote "\\n" with exit 0; without
+    --from, `0,LD,X0,,` read as GX rows (E907 'X0') and `LD,X0` as plain IL (TMR unmapped)."""
+    for name, rows in DELTA_ROWS.items():
+        (tmp_path / f"{name}.csv").write_text(rows, "ascii")
+        for fmt in (["--from", "delta"], []):
+            r = run_mlc("import", "--target", "vs", *fmt, f"{name}.csv", "-o", f"{name}.il", cwd=tmp_path)
+            assert r.code == 0, r.err
+            assert (tmp_path / f"{name}.il").read_text("utf-8").endswith("LD X0\nOUT T0 K10\nLD T0\nOUT Y0\nEND\n")
+    # a file with no instruction row is an error: nothing written
+    (tmp_path / "empty.csv").write_text("Step,Instruction,Operand1,Operand2,Operand3\n", "ascii")
+    r = run_mlc("import", "--from", "delta", "empty.csv", "-o", "empty.il", cwd=tmp_path)
+    assert r.code == 2 and "E912" in r.err and not (tmp_path / "empty.il").exists()
+
+
+def test_check_names_the_vs_instruction_for_a_delta_tmr(tmp_path):
+    """Before: E201 TMR 'did you mean TTMR?' (a teaching timer)."""
+    (tmp_path / "d.il").write_text(DELTA_ROWS["plain"], "ascii")
+    r = run_mlc("check", "--target", "vs", "d.il", cwd=tmp_path)
+    assert r.code == 1 and "TMR is Delta DVP's; target vs writes it OUT" in r.err and "TTMR" not in r.err
