@@ -50,6 +50,8 @@ _DELTA_HEADER = ("step", "instruction", "operand1")  # Step,Instruction,Operand1
 _STEP6 = re.compile(r"\s*[0-9]{6}\s*[,\t]")
 _LABEL = re.compile(r"[PI][0-9]+", re.IGNORECASE)
 _FX_POINTER = re.compile(r"I([0-9]{1,3})", re.IGNORECASE)
+# an X/Y written with a number: in an FX export octal, so X58 and X5B are no device (E913)
+_IO_NUMBER = re.compile(r"[XY][0-9][0-9A-F]*", re.IGNORECASE)
 # the family of each export's special devices (targets/<name>/specials.toml)
 SOURCE_FAMILY = {"gxworks2": "fx", "gxdeveloper": "fx", "wplsoft": "dvp", "delta": "dvp"}
 
@@ -332,7 +334,11 @@ class _Writer:
             return self.pointer(text.upper(), row)  # DHSCS K100 C235 I010
         try:
             op = parse_operand(text, self.t.operand_syntax)
-        except OperandSyntaxError:
+        except OperandSyntaxError as e:
+            if _IO_NUMBER.fullmatch(text):  # the rule of the device-comment rows too (read_comments)
+                self.diags.append(diag(self.path, Span.at(row), "E913", f"row {row}: {_octal_reason(text, e)}",
+                                       _OCTAL_NOTE))
+                self.kinds.append(f"octal {text.upper()}")
             return text  # a symbol, a label name, or an error `mlc check` reports
         if self.family is not None and not op.is_const and not op.is_group and not op.index \
                 and self.family.is_special(op.kind, op.number):
@@ -354,6 +360,17 @@ class _Writer:
                 return f"{special.device}.{op.bit:X}"
             return format_operand(mapped)
         return format_operand(op) if not op.is_const or op.kind in ("K", "H") else text
+
+
+_OCTAL_NOTE = ("FX numbers X and Y in octal; a hexadecimal X/Y (X5B) comes from a Q/L CPU's export, "
+               "whose program the target cannot run (E910)")
+
+
+def _octal_reason(text: str, e: OperandSyntaxError) -> str:
+    reason = str(e)
+    if "octal" not in reason:
+        reason = f"{text!r}: {text[0].upper()} devices are numbered in octal; {text!r} is no octal number"
+    return reason
 
 
 def _absent_notes(device: str, target: Target) -> tuple[str, ...]:
@@ -607,7 +624,10 @@ def read_comments(path: str, target: Target, encoding: str | None = None
             continue
         try:
             op = parse_operand(row[cols[0]], target.operand_syntax)
-        except OperandSyntaxError:
+        except OperandSyntaxError as e:
+            if _IO_NUMBER.fullmatch(row[cols[0]]):  # one rule with the program's rows (_Writer.operand)
+                return None, [diag(path, Span.at(k), "E913", f"row {k}: {_octal_reason(row[cols[0]], e)}",
+                                   _OCTAL_NOTE)]
             return None, [diag(path, Span.at(k), "E907", f"row {k}: {row[cols[0]]!r} is no device of target "
                                f"{target.name}")]
         out[format_operand(op)] = " ".join(row[cols[1]].split())

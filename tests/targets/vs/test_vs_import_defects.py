@@ -87,3 +87,20 @@ def test_check_names_the_vs_instruction_for_a_delta_tmr(tmp_path):
     (tmp_path / "d.il").write_text(DELTA_ROWS["plain"], "ascii")
     r = run_mlc("check", "--target", "vs", "d.il", cwd=tmp_path)
     assert r.code == 1 and "TMR is Delta DVP's; target vs writes it OUT" in r.err and "TTMR" not in r.err
+
+
+def test_octal_x_one_rule_for_the_program_and_its_comments(tmp_path):
+    """Before: the program row X058 passed through (exit 0, `mlc check` failing later) while the
+    comment row X058 aborted the import with E907: one rule now, E913 for both."""
+    (tmp_path / "p.csv").write_text(_gx([["0", "", "LD", "X058"], ["1", "", "OUT", "Y000"], ["2", "", "END"]]),
+                                    "utf-16")
+    (tmp_path / "c.csv").write_text('"COMMENT"\n"Device Name"\t"Comment"\n"X5B"\t"a"\n', "utf-16")
+    (tmp_path / "good.csv").write_text('"COMMENT"\n"Device Name"\t"Comment"\n"X010"\t"a"\n', "utf-16")
+    r = run_mlc("import", "p.csv", "-o", "p.il", cwd=tmp_path)
+    assert r.code == 1 and "E913" in r.err and "'X058': X devices are numbered in octal" in r.err
+    r = run_mlc("import", "--comments", "c.csv", "p.csv", cwd=tmp_path)
+    assert r.code == 1 and "E913" in r.err and "X5B" in r.err
+    fixed = _gx([["0", "", "LD", "X010"], ["1", "", "OUT", "Y000"], ["2", "", "END"]])
+    (tmp_path / "p.csv").write_text(fixed, "utf-16")
+    r = run_mlc("import", "--comments", "good.csv", "p.csv", cwd=tmp_path)
+    assert r.code == 0 and "LD X10 ; X10 a" in r.out
