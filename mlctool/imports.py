@@ -56,6 +56,47 @@ _IO_NUMBER = re.compile(r"[XY][0-9][0-9A-F]*", re.IGNORECASE)
 SOURCE_FAMILY = {"gxworks2": "fx", "gxdeveloper": "fx", "wplsoft": "dvp", "delta": "dvp"}
 
 
+# the CPU row of a GX export: GX Works2 `"PLC Information:"<TAB>"FXCPU FX3U/FX3UC"` (Japanese
+# `PC情報:`, Simplified Chinese `PLC信息:`, Traditional `PLC資訊:`), GX Developer `"PLC Type:FX3U(C)"`
+_CPU_ROW = re.compile(r"(plc information|plc type|pc情報|pcタイプ|plc信息|plc資訊|plc类型|plc類型)\s*[:：]\s*(.*)",
+                      re.IGNORECASE)
+# FX0-FX3 (FX0S, FX1N, FX2N(C), FX3G, FX3U/FX3UC, FX3S ...): the dialect the VS follows
+_FX_CPU = re.compile(r"FX\s*(0|1|2|3)", re.IGNORECASE)
+# the MELSEC series whose programs the VS cannot run: hexadecimal X/Y, SM/SD, other steps
+_OTHER_CPU = re.compile(r"\b(L\s*CPU|Q\s*CPU|QnA|QCPU|A\s*CPU|R\s*CPU|LCPU|Q[0-9]{2}|L[0-9]{2}|R[0-9]{2}|"
+                        r"A[0-9][A-Z]|iQ-R)", re.IGNORECASE)
+
+
+def export_cpu(text: str) -> str | None:
+    """The CPU an export names in its first rows (GX Works2 / GX Developer), None if none."""
+    for line in text.splitlines()[:4]:
+        cells = [c.strip().strip('"').strip() for c in re.split(r"[\t,]", line)]
+        for k, cell in enumerate(cells):
+            m = _CPU_ROW.fullmatch(cell)
+            if m:
+                named = m[2].strip() or next((c for c in cells[k + 1:] if c), "")
+                return named or None
+    return None
+
+
+def cpu_problem(path: str, cpu: str, target: Target) -> Diagnostic | None:
+    """E910 for a CPU whose programs the target cannot run, W911 for one the importer does not
+    know as an FX0-FX3; None for an FX0-FX3."""
+    if _FX_CPU.search(cpu):
+        return None
+    if _OTHER_CPU.search(cpu):
+        return diag(path, Span.at(2), "E910", f"the export is from a {cpu}, not an FX CPU: its X/Y are hexadecimal "
+                    f"(X62 is input 0x62, not the octal X62 of target {target.name}), its specials SM/SD, its "
+                    "interrupts IMASK/IC*, and its steps count line statements and notes",
+                    f"rewrite the program for target {target.name} (or an FX CPU, then export that): its X/Y "
+                    "numbers, SM/SD specials and interrupt instructions have no one-to-one FX counterpart, so "
+                    "nothing is converted (docs/formats.md, CPU and dialect)")
+    return diag(path, Span.at(2), "W911", f"the export names CPU {cpu!r}, not one of FX0-FX3 whose dialect "
+                f"target {target.name} follows: its rows are read as FX ones",
+                f"check the result with `mlc check --target {target.name}`; an FX5 (iQ-F) program uses SM/SD "
+                "specials the target does not have (docs/formats.md, CPU and dialect)")
+
+
 def decode_export(path: str, data: bytes, encoding: str | None = None) -> tuple[str | None, list[Diagnostic]]:
     """Bytes -> text, line ends normalised, as sources are read (mlctool/syntax/source.py): a BOM
     (GX Works2 writes UTF-16), else `encoding`, else UTF-8, else a guess with a note (N108;
@@ -489,7 +530,14 @@ def import_text(path: str, text: str, target: Target, fmt: str | None = None,
                                    "name the format with --from if it is one (docs/vs.md, Imports)")]
     if fmt == "il":
         return (text if text.endswith("\n") else text + "\n"), fmt, []
+    cpu = export_cpu(text) if fmt in ("gxworks2", "gxdeveloper") else None
+    said = cpu_problem(path, cpu, target) if cpu else None
+    if said is not None and said.severity == "error":
+        return None, fmt, [said]
     w = _Writer(path, target, SOURCE_FAMILY.get(fmt, ""), comments)
+    if said is not None:
+        w.diags.append(said)
+        w.kinds.append("cpu")
     try:
         if fmt in ("gxworks2", "gxdeveloper"):
             _gx(w, text, "\t" if fmt == "gxworks2" or "\t" in text.split("\n", 3)[-1] else ",")

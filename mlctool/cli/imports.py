@@ -66,7 +66,7 @@ def import_cmd(target_name, config_path, fmt, output, comments_file, file):
         diags = diags + converted
     show(diags, {})
     if text is None:
-        sys.exit(2 if unreadable(diags) or any(d.code in ("E909", "E912") for d in diags) else 1)
+        sys.exit(2 if unreadable(diags) or any(d.code in ("E909", "E910", "E912") for d in diags) else 1)
     how = (f"target {target.name}, the dialect of a {found_fmt} export; --target chooses another"
            if dialect else f"target {target.name}")
     if output:

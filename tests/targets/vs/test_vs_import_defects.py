@@ -104,3 +104,22 @@ def test_octal_x_one_rule_for_the_program_and_its_comments(tmp_path):
     (tmp_path / "p.csv").write_text(fixed, "utf-16")
     r = run_mlc("import", "--comments", "good.csv", "p.csv", cwd=tmp_path)
     assert r.code == 0 and "LD X10 ; X10 a" in r.out
+
+
+def test_an_l_series_export_is_refused_saying_what_to_do(tmp_path):
+    """Before: "PC情報: LCPU L26-BT" imported with exit 0, hexadecimal X62 written as the octal
+    VS input X62 (another input)."""
+    rows = [["0", "", "LD", "X62"], ["1", "", "OUT", "Y70"], ["2", "", "LD", "SM400"], ["3", "", "END"]]
+    (tmp_path / "l.csv").write_text(_gx(rows, "LCPU L26-BT", "PC情報:"), "utf-16")
+    r = run_mlc("import", "l.csv", "-o", "l.il", cwd=tmp_path)
+    assert r.code == 2 and "E910" in r.err and "LCPU L26-BT" in r.err and "hexadecimal" in r.err
+    assert "rewrite the program" in r.err and not (tmp_path / "l.il").exists()
+    for cpu in ("QCPU(Q mode) Q06UDH", "RCPU R04"):
+        out, _, diags = import_text("q.csv", _gx(rows, cpu), VS)
+        assert out is None and [d.code for d in diags] == ["E910"]
+    # GX Developer's one-cell form, an FX CPU: read as ever; an FX5 or an unknown name: W911
+    fx = _gx([["0", "", "LD", "X000"], ["1", "", "OUT", "Y000"], ["2", "", "END"]])
+    assert import_text("f.csv", fx.replace('"PLC Information:"\t"FXCPU FX3U/FX3UC"', '"PLC Type:FX2N(C)"'),
+                       VS)[2] == []
+    out, _, diags = import_text("f.csv", fx.replace("FXCPU FX3U/FX3UC", "FX5UCPU"), VS)
+    assert out is not None and [d.code for d in diags] == ["W911"]
