@@ -81,8 +81,8 @@ def export_cpu(text: str) -> str | None:
 
 def cpu_problem(path: str, cpu: str, target: Target) -> Diagnostic | None:
     """E910 for a CPU whose programs the target cannot run, W911 for one the importer does not
-    know as an FX0-FX3; None for an FX0-FX3."""
-    if _FX_CPU.search(cpu):
+    know as an FX0-FX3; None for an FX0-FX3 or a model of the target itself (VS3)."""
+    if _FX_CPU.search(cpu) or any(re.search(rf"\b{re.escape(m)}\b", cpu, re.IGNORECASE) for m in target.models):
         return None
     if _OTHER_CPU.search(cpu):
         return diag(path, Span.at(2), "E910", f"the export is from a {cpu}, not an FX CPU: its X/Y are hexadecimal "
@@ -552,11 +552,11 @@ def import_text(path: str, text: str, target: Target, fmt: str | None = None,
             and not any(d.severity == "error" for d in w.diags):
         return None, fmt, [diag(path, Span.at(1), "E912", f"no instruction read from the file as a {fmt} export",
                                 "name the format with --from if it is another (docs/vs.md, Imports)")]
-    lines = w.lines
-    if w.comments:
-        lines = [f"; {dev}  {text}" for dev, text in sorted(w.comments.items(), key=lambda x: _natural(x[0]))] + lines
-        offset = len(w.comments)
-        w.steps = {k + offset: v for k, v in w.steps.items()}
+    head = [f"; {dev}  {text}" for dev, text in sorted(w.comments.items(), key=lambda x: _natural(x[0]))]
+    if w.family is not None:  # the dialect of origin, for the checker's W217 (docs/formats.md)
+        head.insert(0, f".dialect {w.family.name}")
+    lines = head + w.lines
+    w.steps = {k + len(head): v for k, v in w.steps.items()}
     out = "\n".join(lines) + "\n"
     if SOURCE_FAMILY.get(fmt) == "fx" and w.steps and not any(d.severity == "error" for d in w.diags):
         for d, kind in _step_check(path, out, target, w.steps):

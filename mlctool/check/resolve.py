@@ -177,6 +177,8 @@ class _Resolver:
                     self.err(st.line, w, "E105", f".export takes P labels, not {w.text!r}")
         elif name == ".library" and not ops:
             self.module.library = True
+        elif name == ".dialect" and len(ops) == 1:
+            self.dialect(st, ops[0])
         elif name == ".table" and _table_kinds(self.t):  # a communication-table row (check/tables.py)
             from mlctool.check.tables import parse_row
 
@@ -184,7 +186,19 @@ class _Resolver:
                 self.err(st.line, st.name if p.index < 0 else ops[p.index], p.code, p.message)
         else:
             self.err(st.line, st.name, "E105", f"unknown or malformed directive {st.name.text!r}",
-                     "directives: .define NAME OPERAND, .export P10, .library")
+                     "directives: .define NAME OPERAND, .export P10, .library, .dialect fx")
+
+    def dialect(self, st: Statement, w: Word) -> None:
+        """`.dialect fx`: the program comes from that family (`mlc import` writes it); its specials
+        decide W217, another family's numbers are ordinary devices (check/specials.py)."""
+        from mlctool.targetapi.specials import families
+
+        known = families(self.t.name)
+        if w.text.lower() not in known:
+            self.err(st.line, w, "E105", f".dialect {w.text}: target {self.t.name} knows "
+                     + (f"the dialects {', '.join(sorted(known))}" if known else "no other family's dialect"))
+        else:
+            self.module.dialect = w.text.lower()
 
     def wide_name_over(self, text: str) -> int | None:
         """The counted length of a `.define` name with Chinese characters past the target's name

@@ -123,3 +123,23 @@ def test_an_l_series_export_is_refused_saying_what_to_do(tmp_path):
                        VS)[2] == []
     out, _, diags = import_text("f.csv", fx.replace("FXCPU FX3U/FX3UC", "FX5UCPU"), VS)
     assert out is not None and [d.code for d in diags] == ["W911"]
+
+
+def test_the_dialect_of_origin_decides_w217(tmp_path):
+    """Before: an FX program's M1000 (an ordinary relay, here set by an HMI) was W217 "Delta
+    special" after import; the import now writes `.dialect fx` and the checker reads it."""
+    text = _gx([["0", "", "LD", "M1000"], ["1", "", "OUT", "Y000"], ["2", "", "LD", "M8005"], ["4", "", "OUT", "Y001"],
+                ["5", "", "END"]])
+    (tmp_path / "p.csv").write_text(text, "utf-16")
+    r = run_mlc("import", "p.csv", "-o", "p.il", cwd=tmp_path)
+    il = (tmp_path / "p.il").read_text("utf-8")
+    assert r.code == 0 and il.startswith(".dialect fx\n"), r.err
+    r = run_mlc("check", "--target", "vs", "p.il", cwd=tmp_path)
+    assert "M1000" not in r.err and "W217" in r.err and "M8005" in r.err  # the FX special still warned
+    # the same lines without the directive: M1000 taken for Delta's RUN monitor
+    (tmp_path / "bare.il").write_text(il.removeprefix(".dialect fx\n"), "utf-8")
+    r = run_mlc("check", "--target", "vs", "bare.il", cwd=tmp_path)
+    assert "W217" in r.err and "M1000" in r.err
+    (tmp_path / "bad.il").write_text(".dialect s7\nLD X0\nOUT Y0\nEND\n", "utf-8")
+    r = run_mlc("check", "--target", "vs", "bad.il", cwd=tmp_path)
+    assert r.code == 1 and "E105" in r.err and "dvp, fx" in r.err
