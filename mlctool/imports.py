@@ -691,6 +691,43 @@ def read_comments(path: str, target: Target, encoding: str | None = None
 DIALECT_TARGET = {"gxworks2": "vs", "gxdeveloper": "vs", "wplsoft": "vs", "delta": "vs"}
 
 
+# Vendor project files (binary): what each is and what the public record holds about it
+# (docs/formats.md). None is read: their program bodies are not publicly described well
+# enough to decode reliably, and a guess is never written (E914 says what to do instead).
+PROJECT_FILES = {
+    ".gxw": ("GX Works2 project", "an OLE2 compound file; its program streams are undocumented"),
+    ".gx2": ("GX Works2 project", "an OLE2 compound file; its program streams are undocumented"),
+    ".gx3": ("GX Works3 project", "undocumented"),
+    ".wpg": ("GX Developer program", "undocumented container around the FX program body"),
+    ".dvp": ("WPLSoft project", "undocumented"),
+    ".isp": ("ISPSoft project", "undocumented"),
+    ".pdw": ("FATEK WinProladder project", "undocumented"),
+}
+_OLE2 = b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1"
+_TEXT_EXPORT = {"GX Works2 project": "in GX Works2, Edit > Write to CSV File (the MAIN program, and the device "
+                "comments), then `mlc import` that CSV",
+                "GX Developer program": "open it in GX Developer or GX Works2 and write the program as CSV, then "
+                "`mlc import` that CSV"}
+
+
+def project_file(path: str, head: bytes) -> Diagnostic | None:
+    """E914 for a vendor's binary project file (by its name or an OLE2 header), None otherwise."""
+    import os
+
+    ext = os.path.splitext(path)[1].lower()
+    what = PROJECT_FILES.get(ext) or (("an OLE2 compound file (GX Works2 saves its projects so)", "undocumented")
+                                      if head.startswith(_OLE2) else None)
+    if what is None:
+        return None
+    name, facts = what
+    found = "an OLE2 compound file" if head.startswith(_OLE2) else f"{len(head)} bytes starting {head[:8].hex(' ')}"
+    return diag(path, Span.at(1), "E914", f"offset 0: a {name}: {found}; mlctool reads no vendor project file "
+                f"({facts} in public sources: docs/formats.md)",
+                "export the program as text from the vendor's tool and import that: "
+                + _TEXT_EXPORT.get(name, "its instruction-list or CSV export (WPLSoft and ISPSoft: the instruction "
+                                   "list as text; WinProladder: the ladder as text)"))
+
+
 def import_file(path: str, target: Target, fmt: str | None = None) -> tuple[str | None, str, list[Diagnostic]]:
     text, diags = read_export(path)
     if text is None:

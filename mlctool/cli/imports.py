@@ -18,7 +18,15 @@ from mlctool.cli.common import (
     target_option,
 )
 from mlctool.diagnostics import unreadable
-from mlctool.imports import DIALECT_TARGET, FORMATS, detect, import_text, read_comments, read_export
+from mlctool.imports import (
+    DIALECT_TARGET,
+    FORMATS,
+    detect,
+    import_text,
+    project_file,
+    read_comments,
+    read_export,
+)
 from mlctool.syntax.source import source_encoding
 
 
@@ -50,6 +58,10 @@ def import_cmd(target_name, config_path, fmt, output, comments_file, file):
     if output:
         plan.add(output, "-o")
         plan.validate()
+    project = project_file(file, _head(file))
+    if project is not None:
+        show([project], {})
+        sys.exit(2)
     text, diags = read_export(file, source_encoding(config)[0])
     found_fmt = fmt or (detect(text) if text is not None else "")
     # an FX-dialect export is a VS program unless the command line says otherwise
@@ -77,3 +89,13 @@ def import_cmd(target_name, config_path, fmt, output, comments_file, file):
         sys.stdout.write(text)
         if dialect:
             click.echo(f"{file}: {found_fmt} ({how}); check it with `mlc check --target {target.name}`", err=True)
+
+
+def _head(path: str) -> bytes:
+    """The first bytes of the file (b"" if it cannot be read: read_export reports why)."""
+    from mlctool.fileio import read_input
+
+    try:
+        return read_input(path, 16)
+    except OSError:
+        return b""

@@ -143,3 +143,14 @@ def test_the_dialect_of_origin_decides_w217(tmp_path):
     (tmp_path / "bad.il").write_text(".dialect s7\nLD X0\nOUT Y0\nEND\n", "utf-8")
     r = run_mlc("check", "--target", "vs", "bad.il", cwd=tmp_path)
     assert r.code == 1 and "E105" in r.err and "dvp, fx" in r.err
+
+
+def test_a_vendor_project_file_is_refused_saying_what_to_do(tmp_path):
+    """Binary project files are read by no public description reliable enough: E914, never a guess."""
+    (tmp_path / "p.gxw").write_bytes(b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1" + bytes(504))
+    (tmp_path / "p.bin").write_bytes(b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1" + bytes(504))  # by its header too
+    (tmp_path / "p.wpg").write_bytes(b"\x00\x01\x02\x03LD X0")
+    for name in ("p.gxw", "p.bin", "p.wpg"):
+        r = run_mlc("import", name, "-o", "p.il", cwd=tmp_path)
+        assert r.code == 2 and "E914" in r.err and "offset 0" in r.err and "CSV" in r.err, (name, r.err)
+        assert not (tmp_path / "p.il").exists()
