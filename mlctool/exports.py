@@ -39,6 +39,20 @@ _CPU = {"fx": "FXCPU FX3U/FX3UC"}
 
 def export_text(path: str, text: str, target: Target, fmt: str) -> tuple[bytes | None, list[Diagnostic]]:
     """IL text -> the export's bytes, or None with the checker's errors."""
+    rows, dialect, errors = family_rows(path, text, target, FORMAT_FAMILY[fmt])
+    if rows is None:
+        return None, errors
+    return (_gx(rows, dialect) if fmt == "gxworks2" else _wplsoft(rows)), []
+
+
+Row = tuple[int, str, str, list[str], str]  # (step, line statement, instruction, operands, note)
+
+
+def family_rows(path: str, text: str, target: Target, default_dialect: str
+                ) -> tuple[list[Row] | None, str, list[Diagnostic]]:
+    """IL text -> its rows in the spelling of its `.dialect` (else `default_dialect`): each
+    instruction at the address the target's step convention computes, with the family's
+    mnemonic and operands; comment lines as line statements. None with the checker's errors."""
     from mlctool.check import check_texts
     from mlctool.syntax.source import SourceText
     from mlctool.targetapi.specials import families
@@ -47,17 +61,17 @@ def export_text(path: str, text: str, target: Target, fmt: str) -> tuple[bytes |
     result = check_texts([src], target)
     errors = [d for d in result.diagnostics if d.severity == "error"]
     if errors:
-        return None, errors
+        return None, "", errors
     module = next(m for m in result.modules if m.path == path)
     lines = src.text.split("\n")
-    dialect = next((m[1].lower() for line in lines if (m := _DIALECT.match(line))), FORMAT_FAMILY[fmt])
+    dialect = next((m[1].lower() for line in lines if (m := _DIALECT.match(line))), default_dialect)
     family = families(target.name).get(dialect)
     if family is None:
-        return None, [diag(path, Span.at(1), "E105", f".dialect {dialect}: target {target.name} has no such family")]
+        return None, "", [diag(path, Span.at(1), "E105", f".dialect {dialect}: target {target.name} has no such family")]
     back = {(s.device): f"{kind}{number}" for (kind, number), s in family.mapping.items()}
     spelled = {v: k for k, v in family.mnemonics.items() if v != "OUT"}
     by_line = {ins.line: ins for ins in module.instrs}
-    rows: list[tuple[int, str, str, list[str], str]] = []  # (step, statement, instruction, operands, note)
+    rows: list[Row] = []
     end = max((ins.addr + ins.steps for ins in module.instrs), default=0)
     for k, line in enumerate(lines, 1):
         code, _, note = line.partition(";")
@@ -84,7 +98,7 @@ def export_text(path: str, text: str, target: Target, fmt: str) -> tuple[bytes |
             words.append(m[2])
             note = _MC_NOTE.sub("", note).strip()
         rows.append((ins.addr, "", mnemonic, words, note))
-    return (_gx(rows, dialect) if fmt == "gxworks2" else _wplsoft(rows)), []
+    return rows, dialect, []
 
 
 def _next_addr(instrs: list[Instr], line: int, end: int) -> int:

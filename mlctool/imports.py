@@ -53,7 +53,7 @@ _FX_POINTER = re.compile(r"I([0-9]{1,3})", re.IGNORECASE)
 # an X/Y written with a number: in an FX export octal, so X58 and X5B are no device (E913)
 _IO_NUMBER = re.compile(r"[XY][0-9][0-9A-F]*", re.IGNORECASE)
 # the family of each export's special devices (targets/<name>/specials.toml)
-SOURCE_FAMILY = {"gxworks2": "fx", "gxdeveloper": "fx", "wplsoft": "dvp", "delta": "dvp"}
+SOURCE_FAMILY = {"gxworks2": "fx", "gxdeveloper": "fx", "wplsoft": "dvp", "delta": "dvp", "gxw": "fx"}
 
 
 # the CPU row of a GX export: GX Works2 `"PLC Information:"<TAB>"FXCPU FX3U/FX3UC"` (Japanese
@@ -184,10 +184,14 @@ def _headerless(head: list[str]) -> bool:
 class _Writer:
     """Collects IL lines; rewrites mnemonics and operands as the target writes them."""
 
-    def __init__(self, path: str, target: Target, family: str = "", comments: dict[str, str] | None = None):
+    def __init__(self, path: str, target: Target, family: str = "", comments: dict[str, str] | None = None,
+                 places: dict[int, str] | None = None):
         from mlctool.targetapi.specials import families
 
         self.path, self.t = path, target
+        # row -> where it is in a binary file (a .gxw's POU and offset); there the row is the
+        # instruction's number, the line of its diagnostics
+        self.places = places
         self.family = families(target.name).get(family)  # the source's special devices
         self.comments = dict(comments or {})  # device as the target writes it -> its comment
         if self.family is not None:  # a comment on M8000 is one on the M9000 it becomes
@@ -208,6 +212,10 @@ class _Writer:
         self.unmapped: dict[str, list[int]] = {}  # source device -> rows
         self.renamed: dict[str, str] = {}  # the family's mnemonic -> the target's (DRVI -> DRVR)
         self.absent: dict[str, tuple[str, list[int]]] = {}  # source device the target lacks -> (area, rows)
+
+    def at(self, row: int) -> str:
+        """Where a row is, as messages say it: `row 5`, or a .gxw's `MAIN.Program.pou offset 0x5A`."""
+        return f"row {row}" if self.places is None else self.places.get(row, f"instruction {row}")
 
     def error(self, row: int, kind: str, message: str, *notes: str) -> None:
         self.diags.append(diag(self.path, Span.at(row), "E907", message, *notes))
@@ -259,7 +267,7 @@ class _Writer:
             return text
         p = pointer_numbered(int(text[1:]), self.t)
         if p is None:
-            self.error(row, f"pointer {text}", f"row {row}: interrupt pointer {text} has no counterpart on target "
+            self.error(row, f"pointer {text}", f"{self.at(row)}: interrupt pointer {text} has no counterpart on target "
                        f"{self.t.name}", "the target's pointers are IX0P-IX7P/IX0F-IX7F (FX I001-I701/I000-I700), "
                        "ITA01-ITC99 (I601-I899), IHC0-IHC7 (I010-I080), IHHC1/IHHC2; rewrite the routine "
                        "for one of them (docs/vs.md, Interrupts)")
@@ -287,15 +295,15 @@ class _Writer:
                                    f"targets/{self.t.name}/specials.toml cites the manual's section of each"))
             self.kinds.append("renamed")
         for device, (area, rows) in self.absent.items():
-            self.diags.append(diag(self.path, Span.at(rows[0]), "E911", f"row {rows[0]}: {device} is a "
+            self.diags.append(diag(self.path, Span.at(rows[0]), "E911", f"{self.at(rows[0])}: {device} is a "
                                    f"{self.family.title} special device that target {self.t.name} does not have "
                                    f"({area}); `mlc check` refuses it too (E205)", *_absent_notes(device, self.t),
-                                   *((f"also in rows {', '.join(map(str, rows[1:11]))}",) if rows[1:] else ())))
+                                   *((f"also at {', '.join(map(self.at, rows[1:11]))}",) if rows[1:] else ())))
             self.kinds.append(f"absent {device}")
         for device, rows in self.unmapped.items():
-            self.warn(rows[0], f"unmapped {device}", "W910", f"row {rows[0]}: {device} is a {self.family.title} special "
+            self.warn(rows[0], f"unmapped {device}", "W910", f"{self.at(rows[0])}: {device} is a {self.family.title} special "
                       f"device with no counterpart known on target {self.t.name}; kept as {device}, an ordinary "
-                      "device there", *((f"also in rows {', '.join(map(str, rows[1:11]))}",) if rows[1:] else ()))
+                      "device there", *((f"also at {', '.join(map(self.at, rows[1:11]))}",) if rows[1:] else ()))
 
     def is_label(self, text: str) -> bool:
         """A label written alone in the instruction cell: P10 / I001, or on a target with named
@@ -321,7 +329,7 @@ class _Writer:
 
     def more(self, operand: str, row: int) -> None:
         if self.pending is None:
-            self.error(row, "orphan", f"row {row}: operand {operand!r} without an instruction")
+            self.error(row, "orphan", f"{self.at(row)}: operand {operand!r} without an instruction")
             return
         self.referenced.add(operand.upper())
         if self.pending_step is not None:
@@ -365,7 +373,7 @@ class _Writer:
         from mlctool.check.resolve import unknown_instruction_hint
 
         suggestion, notes = unknown_instruction_hint(self.t, mnemonic)
-        self.error(row, f"unknown {mnemonic}", f"row {row}: unknown instruction {mnemonic!r} for target "
+        self.error(row, f"unknown {mnemonic}", f"{self.at(row)}: unknown instruction {mnemonic!r} for target "
                    f"{self.t.name}{suggestion}", *notes)
 
     def operand(self, text: str, row: int = 0) -> str:
@@ -377,7 +385,7 @@ class _Writer:
             op = parse_operand(text, self.t.operand_syntax)
         except OperandSyntaxError as e:
             if _IO_NUMBER.fullmatch(text):  # the rule of the device-comment rows too (read_comments)
-                self.diags.append(diag(self.path, Span.at(row), "E913", f"row {row}: {_octal_reason(text, e)}",
+                self.diags.append(diag(self.path, Span.at(row), "E913", f"{self.at(row)}: {_octal_reason(text, e)}",
                                        _OCTAL_NOTE))
                 self.kinds.append(f"octal {text.upper()}")
             return text  # a symbol, a label name, or an error `mlc check` reports
@@ -548,6 +556,14 @@ def import_text(path: str, text: str, target: Target, fmt: str | None = None,
     except _BadRow as e:
         return None, fmt, [diag(path, Span.at(e.line), "E907", e.message)]
     w.finish()
+    return _assemble(path, fmt, w, target, _step_counts(w.steps) if SOURCE_FAMILY.get(fmt) == "fx" else {})
+
+
+def _assemble(path: str, fmt: str, w: _Writer, target: Target, counts: dict[int, tuple[int, int, str, str]]
+              ) -> tuple[str | None, str, list[Diagnostic]]:
+    """The IL of what the writer read (finished): the dialect, the device comments, the lines;
+    W107 where the source's own step count of an instruction (`counts`: IL line index -> (row,
+    count, the row as written, the source's word for it)) is not the target's."""
     if not any(line and not line.startswith(";") and not line.endswith(":") for line in w.lines) \
             and not any(d.severity == "error" for d in w.diags):
         return None, fmt, [diag(path, Span.at(1), "E912", f"no instruction read from the file as a {fmt} export",
@@ -556,51 +572,53 @@ def import_text(path: str, text: str, target: Target, fmt: str | None = None,
     if w.family is not None:  # the dialect of origin, for the checker's W217 (docs/formats.md)
         head.insert(0, f".dialect {w.family.name}")
     lines = head + w.lines
-    w.steps = {k + len(head): v for k, v in w.steps.items()}
     out = "\n".join(lines) + "\n"
-    if SOURCE_FAMILY.get(fmt) == "fx" and w.steps and not any(d.severity == "error" for d in w.diags):
-        for d, kind in _step_check(path, out, target, w.steps):
+    if counts and not any(d.severity == "error" for d in w.diags):
+        for d, kind in _count_check(w, out, target, {k + len(head): v for k, v in counts.items()}):
             w.diags.append(d)
             w.kinds.append(kind)
-    diags = _once_per_kind(w.diags, w.kinds)
+    diags = _once_per_kind(w.diags, w.kinds, "row" if w.places is None else "instruction")
     if any(d.severity == "error" for d in diags):
         return None, fmt, diags
     return out, fmt, diags
 
 
-def _step_check(path: str, text: str, target: Target, steps: dict[int, tuple[int, int, str]]
-                ) -> list[tuple[Diagnostic, str]]:
-    """W107 at each export row whose instruction the export counts in other steps than the
-    target's step convention does (the export's step column against the computed addresses:
-    the difference of consecutive step numbers is the row's own count). The message quotes
-    the row as the export writes it (M8000, not the M9000 it became; every operand)."""
+def _step_counts(steps: dict[int, tuple[int, int, str]]) -> dict[int, tuple[int, int, str, str]]:
+    """An export's step column -> each row's own count: the difference of consecutive step
+    numbers (the last row, END, has no successor and is not counted)."""
+    rows = sorted(steps.items())
+    return {index: (row, next_step - step, words, f"the export (step {step} to {next_step})")
+            for (index, (row, step, words)), (_, (_, next_step, _)) in zip(rows, rows[1:], strict=False)}
+
+
+def _count_check(w: _Writer, text: str, target: Target, counts: dict[int, tuple[int, int, str, str]]
+                 ) -> list[tuple[Diagnostic, str]]:
+    """W107 at each row whose instruction the source counts in other steps than the target's
+    step convention does. The message quotes the row as the source writes it (M8000, not the
+    M9000 it became; every operand)."""
     # the resolver alone (addresses), not mlctool.check: the checker imports this module
     from mlctool.check.labels import assign_named_labels, restrict_names
     from mlctool.check.resolve import resolve
     from mlctool.syntax.parser import parse
     from mlctool.syntax.source import SourceText
 
-    parsed = restrict_names(parse(SourceText(path, text)), target)
+    parsed = restrict_names(parse(SourceText(w.path, text)), target)
     names, _ = assign_named_labels([parsed], target)
     module, _ = resolve(parsed, target, {}, names.get(parsed.path))
     by_line = {ins.line: ins for ins in module.instrs}
-    rows = sorted(steps.items())
     out = []
-    for (index, (row, step, words)), (_next_index, (_, next_step, _)) in zip(rows, rows[1:], strict=False):
+    for index, (row, count, words, source) in sorted(counts.items()):
         ins = by_line.get(index + 1)
-        if ins is None:
+        if ins is None or count == ins.steps:
             continue
-        if next_step - step != ins.steps:
-            shown = words
-            kind = f"steps {ins.spec.mnemonic} {ins.operands[0].kind if ins.operands else ''}"
-            out.append((diag(path, Span.at(row), "W107", f"row {row}: {shown} is {next_step - step} steps in the "
-                            f"export (step {step} to {next_step}), {ins.steps} by target {target.name}'s step "
-                            "convention", "the export's step column is the exporting tool's count; the target's "
-                            "addresses follow its own convention (docs/vs.md, Steps)"), kind))
+        kind = f"steps {ins.spec.mnemonic} {ins.operands[0].kind if ins.operands else ''}"
+        out.append((diag(w.path, Span.at(row), "W107", f"{w.at(row)}: {words} is {count} steps in {source}, "
+                         f"{ins.steps} by target {target.name}'s step convention", "the source's step count is the "
+                         "vendor tool's; the target's addresses follow its own convention (docs/vs.md, Steps)"), kind))
     return out
 
 
-def _once_per_kind(diags: list[Diagnostic], kinds: list[str]) -> list[Diagnostic]:
+def _once_per_kind(diags: list[Diagnostic], kinds: list[str], unit: str = "row") -> list[Diagnostic]:
     """One diagnostic per kind of problem (a file that is no WPLSoft export gave 220 identical
     "expected a 6-digit step number"): the first, with the rows of the others in a note."""
     first: dict[str, int] = {}
@@ -615,7 +633,7 @@ def _once_per_kind(diags: list[Diagnostic], kinds: list[str]) -> list[Diagnostic
         d, more = diags[k], rows[kind]
         if more:
             shown = ", ".join(map(str, more[:10])) + (", ..." if len(more) > 10 else "")
-            d = dataclasses.replace(d, notes=d.notes + (f"and {len(more)} more row{'s' if len(more) > 1 else ''} "
+            d = dataclasses.replace(d, notes=d.notes + (f"and {len(more)} more {unit}{'s' if len(more) > 1 else ''} "
                                                        f"like it: {shown}",))
         out.append(d)
     return sorted(out, key=Diagnostic.sort_key)
@@ -688,44 +706,76 @@ def read_comments(path: str, target: Target, encoding: str | None = None
 # The target of each export's dialect, when the command line names none: GX Works2 and GX
 # Developer export Mitsubishi FX programs, WPLSoft Delta DVP ones, both FX-style IL, which the
 # Vigor VS target follows (docs/vs.md).
-DIALECT_TARGET = {"gxworks2": "vs", "gxdeveloper": "vs", "wplsoft": "vs", "delta": "vs"}
+DIALECT_TARGET = {"gxworks2": "vs", "gxdeveloper": "vs", "wplsoft": "vs", "delta": "vs", "gxw": "vs"}
 
 
-# Vendor project files (binary): what each is and what the public record holds about it
-# (docs/formats.md). None is read: their program bodies are not publicly described well
-# enough to decode reliably, and a guess is never written (E914 says what to do instead).
+# Vendor project files (binary) not read: what each is and what the public record holds about
+# it (docs/formats.md). Their program bodies are not publicly described well enough to decode
+# reliably, and a guess is never written (E914 says what to do instead). A GX Works2 `.gxw`,
+# and any other compound (OLE2) file, goes to the project reader (import_project).
 PROJECT_FILES = {
-    ".gxw": ("GX Works2 project", "an OLE2 compound file; its program streams are undocumented"),
-    ".gx2": ("GX Works2 project", "an OLE2 compound file; its program streams are undocumented"),
     ".gx3": ("GX Works3 project", "undocumented"),
     ".wpg": ("GX Developer program", "undocumented container around the FX program body"),
     ".dvp": ("WPLSoft project", "undocumented"),
     ".isp": ("ISPSoft project", "undocumented"),
     ".pdw": ("FATEK WinProladder project", "undocumented"),
 }
-_OLE2 = b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1"
-_TEXT_EXPORT = {"GX Works2 project": "in GX Works2, Edit > Write to CSV File (the MAIN program, and the device "
-                "comments), then `mlc import` that CSV",
-                "GX Developer program": "open it in GX Developer or GX Works2 and write the program as CSV, then "
+_TEXT_EXPORT = {"GX Developer program": "open it in GX Developer or GX Works2 and write the program as CSV, then "
                 "`mlc import` that CSV"}
 
 
 def project_file(path: str, head: bytes) -> Diagnostic | None:
-    """E914 for a vendor's binary project file (by its name or an OLE2 header), None otherwise."""
+    """E914 for a vendor's binary project file mlctool does not read (by its name), else None."""
     import os
 
-    ext = os.path.splitext(path)[1].lower()
-    what = PROJECT_FILES.get(ext) or (("an OLE2 compound file (GX Works2 saves its projects so)", "undocumented")
-                                      if head.startswith(_OLE2) else None)
+    what = PROJECT_FILES.get(os.path.splitext(path)[1].lower())
     if what is None:
         return None
     name, facts = what
-    found = "an OLE2 compound file" if head.startswith(_OLE2) else f"{len(head)} bytes starting {head[:8].hex(' ')}"
-    return diag(path, Span.at(1), "E914", f"offset 0: a {name}: {found}; mlctool reads no vendor project file "
-                f"({facts} in public sources: docs/formats.md)",
+    return diag(path, Span.at(1), "E914", f"offset 0: a {name}: starting {head[:8].hex(' ') or '(empty)'}; "
+                f"mlctool reads no such file ({facts} in public sources: docs/formats.md)",
                 "export the program as text from the vendor's tool and import that: "
                 + _TEXT_EXPORT.get(name, "its instruction-list or CSV export (WPLSoft and ISPSoft: the instruction "
                                    "list as text; WinProladder: the ladder as text)"))
+
+
+def is_gx_project(path: str, head: bytes) -> bool:
+    """A GX Works2 project to read with import_project: named .gxw, or a compound file."""
+    import os
+
+    from mlctool.gxw import is_compound_file
+
+    return os.path.splitext(path)[1].lower() == ".gxw" or is_compound_file(head)
+
+
+def import_project(path: str, data: bytes, target: Target, comments: dict[str, str] | None = None,
+                   program: str | None = None) -> tuple[str | None, str, list[Diagnostic]]:
+    """A GX Works2 project (.gxw) -> (IL or None, "gxw", diagnostics): its program POU decoded
+    (mlctool/gxw.py), then the path of the CSV imports (the FX dialect's specials and
+    spellings, the device comments of --comments, `.dialect fx`). Each application
+    instruction's stored width is its step count in GX Works2; W107 where the target counts
+    otherwise. The diagnostics of a decoded instruction are at the line of its number in the
+    POU and name its offset."""
+    from mlctool.gxw import GxwError, read_program
+
+    try:
+        prog = read_program(data, program)
+    except GxwError as e:
+        return None, "gxw", [diag(path, Span.at(1), e.code, e.message, *e.notes)]
+    places = {k: f"{prog.name} offset 0x{ins.offset:X}" for k, ins in enumerate(prog.instructions, 1)}
+    w = _Writer(path, target, "fx", comments, places)
+    for code, message, notes in prog.warnings:
+        if code == "W912" and comments is not None:
+            continue  # the comments came from --comments
+        w.diags.append(diag(path, Span.at(1), code, message, *notes))
+        w.kinds.append(code)
+    counts = {}
+    for k, ins in enumerate(prog.instructions, 1):
+        w.instruction(ins.mnemonic, list(ins.operands), k)
+        if ins.width is not None:  # one IL line per instruction, in order
+            counts[k - 1] = (k, ins.width, " ".join([ins.mnemonic, *ins.operands]), "the project (its stored width)")
+    w.finish()
+    return _assemble(path, "gxw", w, target, counts)
 
 
 def import_file(path: str, target: Target, fmt: str | None = None) -> tuple[str | None, str, list[Diagnostic]]:
