@@ -75,6 +75,7 @@ class Program:
 class _Slot:
     types: frozenset[int]
     words: int
+    below: dict[int, int]  # type byte -> the first number the notes did not sample
 
 
 @dataclasses.dataclass(frozen=True)
@@ -104,7 +105,8 @@ def registry() -> Registry:
 
     return Registry(
         operand={int(k, 16): v for k, v in data["operand"].items()},
-        slot={k: _Slot(frozenset(int(t, 16) for t in v["types"]), v.get("words", 0)) for k, v in data["slot"].items()},
+        slot={k: _Slot(frozenset(int(t, 16) for t in v["types"]), v.get("words", 0),
+                       {int(t, 16): n for t, n in v.get("below", {}).items()}) for k, v in data["slot"].items()},
         basic={int(k, 16): form(v) for k, v in data["basic"].items()},
         tc_output={bytes(key(k)): form(v) for k, v in data["tc_output"].items()},
         application={key(k): form(v) for k, v in data["application"].items()},  # type: ignore[misc]
@@ -385,6 +387,9 @@ def _operand(reg: Registry, token: tuple[int, bytes], slot: _Slot, slot_name: st
                        f"(1 to {limit})")
     number = int.from_bytes(value, "little")
     device = kind["device"]
+    if number >= slot.below.get(payload[0], number + 1):
+        raise GxwError("E920", f"{where}: offset 0x{at:X}: {mnemonic} {device}{number}: the notes sampled "
+                       f"{device}0-{device}{slot.below[payload[0]] - 1} there only")
     if device == "K":
         if len(value) == limit and number >> (8 * limit - 1):
             number -= 1 << (8 * limit)  # full width: two's complement

@@ -1,5 +1,6 @@
 """Vendor exports -> plain IL (`mlc import`): GX Works2 and GX Developer instruction-list CSV,
-WPLSoft CSV, plain IL text.
+WPLSoft CSV, plain IL text; and GX Works2 projects (.gxw, decoded by mlctool/gxw.py), whose
+instructions take the path of the CSV rows (import_project).
 
 The shapes read (docs/vs.md "Imports"):
 - GX Works2 "CSV": UTF-16 with BOM, tab-separated quoted fields; a program-name row and a

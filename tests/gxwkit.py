@@ -161,8 +161,8 @@ def operand(text: str, slot: str) -> bytes:
             raw = _minimal(int(rest, 16))
         else:
             raw = _minimal(int(rest, 8 if kind.get("octal") else 10))
-        if len(raw) > kind.get("bits", 32) // 8:
-            raise ValueError(f"{text}: too large")
+        if len(raw) > kind.get("bits", 32) // 8 or int.from_bytes(raw, "little") >= reg.slot[slot].below.get(t, 1 << 32):
+            raise ValueError(f"{text}: outside the subset")
         return _frame(bytes([t]) + raw)
     raise ValueError(f"{text}: no {slot} operand of the subset")
 

@@ -298,6 +298,7 @@ def _refused(data: bytes) -> GxwError:
     ("05 4C 09 01 05 04 EA 10 04 04 A8 00 04 03 34 03", "E920", "type EA (H)"),  # H in a 32-bit slot
     ("05 4C 05 00 05 07 E8 01 02 03 04 07 04 A8 00 04 03 34 03", "E920", "K operand of 4 value bytes"),
     ("03 00 03 04 9C 01 04 03 20 03", "E920", "OUT lacks its operand 1 of 1"),
+    ("03 00 03 04 9C 01 04 04 21 03 04 04 C5 EB 04 04 E8 64 04 03 34 03", "E920", "OUT C235: the notes sampled C0-C199"),
     ("03 00 03 04 9C 01 04", "E921", "does not end with END"),
     ("03 34 03 03 34 03", "E921", "offset 0x52: tokens after END"),
 ])

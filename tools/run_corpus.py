@@ -6,9 +6,9 @@ sim and print one table row per file (docs/formats.md shows a run).
 Each file is imported with `mlc import` (format recognised, or refused with its code); the IL
 then goes through `mlc check`, `mlc build`, `mlc ladder` and `mlc sim` (with FILE's stem .stim
 beside it as the stimulus if there is one, else 1 s of virtual time). The steps column says
-whether the export's own step numbers agree with the built addresses (the import's W107;
-"-" where the format has none or the dialect's count is not compared). Stages after a failed
-one are not run. The exit code is 0 whatever the programs do: this is a report.
+whether the export's own step numbers (a .gxw: its stored step widths) agree with the built
+addresses (the import's W107; "-" where the format has none or the dialect's count is not
+compared). Stages after a failed one are not run. The exit code is 0 whatever the programs do: this is a report.
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ def run_one(path: Path, target: str) -> dict[str, str]:
         row["import"] = f"exit {code}" + (f" {' '.join(codes(out))}" if codes(out) else "")
         if code != 0:
             return row
-        if row["format"] in ("gxworks2", "gxdeveloper"):
+        if row["format"] in ("gxworks2", "gxdeveloper", "gxw"):  # gxw: the stored widths
             row["steps"] = "differ (W107)" if "W107" in codes(out) else "equal"
         code, out = mlc("check", "--target", target, "p.il", cwd=tmp)
         row["check"] = f"exit {code}" + (f" {' '.join(codes(out))}" if codes(out) else "")

@@ -43,7 +43,7 @@ COMMAND_SUMMARIES = {
     "export": "Write an IL program in a vendor tool's text form, for that tool to read (docs/formats.md).",
     "explain": "Print the documentation of a diagnostic code, or the manual's row of a special device.",
     "fmt": "Rewrite IL files in the canonical layout (idempotent; code unchanged).",
-    "import": "Convert an editor's export to plain IL for the target (docs/vs.md, Imports).",
+    "import": "Convert an editor's export or a GX Works2 project to plain IL (docs/formats.md).",
     "ladder": "Draw the FILEs as ladder diagrams, one rung per IL rung, in program order.",
     "lsp": "Serve the Language Server Protocol over stdio for editors (docs/editor.md).",
     "link": "Link object modules (.mlo): one main module and its subroutine libraries.",

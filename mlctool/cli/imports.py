@@ -51,8 +51,7 @@ from mlctool.syntax.source import source_encoding
               help="a GX Works2 project's program POU to read (default: its only one)")
 @click.argument("file", type=click.Path())
 def import_cmd(target_name, config_path, fmt, output, comments_file, program, file):
-    """Convert an editor's export or a GX Works2 project to plain IL for the target (docs/vs.md,
-    Imports; docs/formats.md).
+    """Convert an editor's export or a GX Works2 project to plain IL (docs/formats.md).
 
     Without --target, a GX Works2, GX Developer, WPLSoft or Delta export or a GX Works2 project
     (FX dialect) is imported for target vs; plain IL for the target of mlc.toml, else nc5.
