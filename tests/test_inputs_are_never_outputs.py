@@ -76,6 +76,9 @@ CASES = {
     "ladder": (NC5, ["ladder", "a.il", "--config", "my.toml", "-o", "out.svg"], {"-o": ".svg"}),
     "import": ({"g.csv": ROOT / "tests/corpus/gxworks2_en.csv", "c.csv": ROOT / "tests/corpus/COMMENT_en.csv"},
                ["import", "g.csv", "--comments", "c.csv", "--config", "my.toml", "-o", "out.il"], {"-o": ""}),
+    "export": ({"a.il": ROOT / "tests/corpus/mrd_compare_blocks.il"},
+               ["export", "--target", "vs", "--to", "gxworks2", "a.il", "--config", "my.toml", "-o", "out.csv"],
+               {"-o": ""}),
     "test": ({"src/a.il": NC5["a.il"], "tests/s.stim": NC5["s.stim"]}, ["test"], {"--junit": ""}),
     "objdump": ({"a.mlx": None}, ["objdump", "a.mlx", "--il-dir", "il"], {}),  # its outputs: below
 }

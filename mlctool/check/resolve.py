@@ -73,6 +73,7 @@ class _Resolver:
         self.diags: list[Diagnostic] = list(parsed.diagnostics)
         self.module = Module(parsed.path, target.name, [])
         self.addr = 0
+        self.numbered: tuple[int, int, int] | None = None  # the last step number: (number, address, line)
         self.label_spec = next(s for s in target.instructions.values() if s.cls == "label")
         caches = ResolverCaches() if caches is None else caches
         self.cache = caches.lines  # (mnemonic, operand texts) -> resolution of the line
@@ -180,6 +181,8 @@ class _Resolver:
                     self.err(st.line, w, "E105", f".export takes P labels, not {w.text!r}")
         elif name == ".library" and not ops:
             self.module.library = True
+        elif name == ".dialect" and len(ops) == 1:
+            self.dialect(st, ops[0])
         elif name == ".table" and _table_kinds(self.t):  # a communication-table row (check/tables.py)
             from mlctool.check.tables import parse_row
 
@@ -187,7 +190,19 @@ class _Resolver:
                 self.err(st.line, st.name if p.index < 0 else ops[p.index], p.code, p.message)
         else:
             self.err(st.line, st.name, "E105", f"unknown or malformed directive {st.name.text!r}",
-                     "directives: .define NAME OPERAND, .export P10, .library")
+                     "directives: .define NAME OPERAND, .export P10, .library, .dialect fx")
+
+    def dialect(self, st: Statement, w: Word) -> None:
+        """`.dialect fx`: the program comes from that family (`mlc import` writes it); its specials
+        decide W217, another family's numbers are ordinary devices (check/specials.py)."""
+        from mlctool.targetapi.specials import families
+
+        known = families(self.t.name)
+        if w.text.lower() not in known:
+            self.err(st.line, w, "E105", f".dialect {w.text}: target {self.t.name} knows "
+                     + (f"the dialects {', '.join(sorted(known))}" if known else "no other family's dialect"))
+        else:
+            self.module.dialect = w.text.lower()
 
     def wide_name_over(self, text: str) -> int | None:
         """The counted length of a `.define` name with Chinese characters past the target's name
@@ -824,11 +839,27 @@ class _Resolver:
             return self.t.instr_steps(spec, ops)
         return spec.steps
 
+    def step_number(self, st: Statement) -> None:
+        """W107 where a leading step number disagrees: the first against the computed address,
+        each later one by its distance from the previous number (the steps of the lines between),
+        so one instruction counted otherwise is one warning, not one on every line after it."""
+        number = int(st.step.text)
+        last, self.numbered = self.numbered, (number, self.addr, st.line)
+        if last is None:
+            if number != self.addr:
+                self.err(st.line, st.step, "W107", f"step number {st.step.text} but the computed address is {self.addr}")
+            return
+        said, computed = number - last[0], self.addr - last[1]
+        if said != computed:
+            self.err(st.line, st.step, "W107", f"step number {st.step.text}: the lines from step {last[0]} (line "
+                     f"{last[2]}) are {said} steps by the numbering, {computed} by target {self.t.name}'s step "
+                     f"counts (computed address {self.addr})")
+
     def emit(self, st: Statement, spec: InstrSpec, ops, texts, table=(), steps: int | None = None) -> None:
         if steps is None:
             steps = self.steps(spec, ops)
-        if st.step is not None and int(st.step.text) != self.addr:
-            self.err(st.line, st.step, "W107", f"step number {st.step.text} but the computed address is {self.addr}")
+        if st.step is not None:
+            self.step_number(st)
         col = st.name.col
         self.module.instrs.append(Instr(spec, ops, texts, steps, self.addr, self.path, st.line, col, table))
         self.addr += steps
@@ -874,6 +905,9 @@ def unknown_instruction_hint(t: Target, name: str) -> tuple[str, tuple[str, ...]
 
 
 def _unknown_instruction_hint(t: Target, name: str) -> tuple[str, tuple[str, ...]]:
+    family = _family_hint(t, name)
+    if family:
+        return "", family
     spelled = _spelling_hint(t, name)
     if spelled:
         return "", spelled
@@ -948,6 +982,18 @@ class OperandRules:
         if ok:
             r.check_constraints(spec, ops, args)
         return [msg for _idx, code, msg, _notes in r._problems if code.startswith("E")]
+
+
+def _family_hint(t: Target, name: str) -> tuple[str, ...]:
+    """Delta DVP's TMR T0 K10 (or FX's DRVI) in IL for the VS: the target's instruction of that
+    function (targets/<name>/specials.toml `mnemonics`), not the nearest spelling (TTMR)."""
+    from mlctool.targetapi.specials import families
+
+    for fam in families(t.name).values():
+        if name in fam.mnemonics:
+            return (f"{name} is {fam.title}'s; target {t.name} writes it {fam.mnemonics[name]} with the same operands "
+                    f"(`mlc import --from {'delta' if fam.name == 'dvp' else 'gxworks2'}` rewrites an export)",)
+    return ()
 
 
 def _spelling_hint(t: Target, name: str) -> tuple[str, ...]:

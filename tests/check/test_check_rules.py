@@ -412,7 +412,9 @@ def test_directives(text, expect):
     ("LD X0\nOUT Y0\n.define A X0 X1 X2\nEND\n", [("E105", 3, 1)]),
     ("LD X0\nOUT Y0\nEND\n", []),
     ("LD X0 ; comment\nOUT Y0 // comment\nEND\n", []),
-    ("000013,LD,X0\n000014,OUT,Y0\n000015,END\n", [("W107", 1, 1), ("W107", 2, 1), ("W107", 3, 1)]),
+    # the first number against the address, each later one by its distance (issue 29)
+    ("000013,LD,X0\n000014,OUT,Y0\n000015,END\n", [("W107", 1, 1)]),
+    ("0 LD X0\n1 OUT Y0\n3 LD X1\n4 OUT Y1\n5 END\n", [("W107", 3, 1)]),
     ("0 LD X0\n1 OUT Y0\n2 END\n", []),
     ("0 LD X0\n1 OUT Y0\n3 END\n", [("W107", 3, 1)]),
     ("LD X0\nOUT Y0\nFROB X1\nEND\n", [("E201", 3, 1)]),

@@ -238,9 +238,9 @@ def test_imports_keep_chinese_labels():
     text, _ = decode_export("g.csv", data)
     il, fmt, diags = import_text("g.csv", text, VS)
     assert (fmt, diags) == ("gxworks2", [])
-    assert il == "LD X0\nCJ 跳過 ; 跳到標籤\nOUT Y0\n跳過:\nEND\n"
+    assert il == ".dialect fx\nLD X0\nCJ 跳過 ; 跳到標籤\nOUT Y0\n跳過:\nEND\n"
     wpl, fmt, diags = import_text("w.csv", "000000,LD,X0\n000001,CJ,緊急\n000004,OUT,Y0\n000005,緊急:\n000006,END\n", VS)
-    assert (fmt, diags) == ("wplsoft", []) and wpl == "LD X0\nCJ 緊急\nOUT Y0\n緊急:\nEND\n"
+    assert (fmt, diags) == ("wplsoft", []) and wpl == ".dialect dvp\nLD X0\nCJ 緊急\nOUT Y0\n緊急:\nEND\n"
     assert codes(il) == [] and codes(wpl) == []
     # NC5 has no named labels: the name is an unknown instruction, which the import reports (E907)
     out, _, diags = import_text("w.csv", "000000,LD,X0\n000001,SKIP\n", NC5)

@@ -56,7 +56,7 @@ WORKSPACE_FILES = {
     "prog.pos": "samples/fbs/run.pos",
 }
 VS_PROGRAM = {"prog.il": "samples/vs/traffic_light.il"}
-OVERRIDES = {"docs/vs.md": VS_PROGRAM, "mlc targets --help": VS_PROGRAM}
+OVERRIDES = {"docs/vs.md": VS_PROGRAM, "mlc targets --help": VS_PROGRAM, "mlc export --help": VS_PROGRAM}
 
 PROJECT_TOML = """\
 sources = ["src/main.il", "src/lib.il"]
