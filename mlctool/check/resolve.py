@@ -906,8 +906,8 @@ def unknown_instruction_hint(t: Target, name: str) -> tuple[str, tuple[str, ...]
 
 def _unknown_instruction_hint(t: Target, name: str) -> tuple[str, tuple[str, ...]]:
     family = _family_hint(t, name)
-    if family:
-        return "", family
+    if family:  # the family's mnemonic, then the target's form of it written out
+        return "", family + _form_hint(t, name)
     spelled = _spelling_hint(t, name)
     if spelled:
         return "", spelled
