@@ -64,14 +64,15 @@ def _s32(lo: int, hi: int) -> int:
 
 
 class Axis:
-    __slots__ = ("letter", "offset", "pos", "speed", "rest", "homed", "home_done", "homing", "inc_target",
+    __slots__ = ("letter", "offset", "pos", "speed", "vel", "rest", "homed", "home_done", "homing", "inc_target",
                  "soft1", "soft2", "hard", "last_plus", "last_minus", "last_home")
 
     def __init__(self, letter: str, pos: int):
         self.letter = letter
         self.offset = A.AXIS_ORDER.index(letter)  # per-axis rows: X +0 ... W +8 (5.2.1)
         self.pos = pos  # machine position, 0.001 mm
-        self.speed = 0  # mm/min over the last step, signed
+        self.speed = 0  # mm/min in force, signed (published X.speed)
+        self.vel = 0  # manual move in force (jog, INC, homing), 0.001 mm/min, signed
         self.rest = 0  # what a manual move's steps left under 0.001 mm, x 60 000 000 (distance())
         self.homed = False  # M3x320: ever homed since power-up
         self.home_done = False  # M3x336: homed, not moved by hand or program since
@@ -85,6 +86,7 @@ class Axis:
 
 class NcModel(DeviceModel):
     kind = "nc5"
+    SKIP = True  # skip the steps that only let time pass (step()); tests compare with False
 
     @classmethod
     def build(cls, params: dict[str, str], target: Target, folder: str) -> NcModel:
@@ -128,8 +130,13 @@ class NcModel(DeviceModel):
         self.check_unused()
         self.program = PartProgram("", [])
         self.path = ""
+        self._mb = None  # the memory of the last full step
+        self.io: ModelIO | None = None
+        self.busy = False  # the step left something for the next one (_wake)
+        self.tick_only = False  # the next event only counts a second (_wake)
         self._addresses()
         self._output_addresses()
+        self._input_ranges()
         self._power_on()
 
     # -- parameters
@@ -200,6 +207,12 @@ class NcModel(DeviceModel):
 
     def _power_on(self) -> None:
         self.last_t: int | None = None
+        self.skipped_to = -1  # the latest step skipped (step()); the state is as of last_t
+        self.wake = 0  # the first time something happens without an input changing (_wake)
+        self.snap: tuple | None = None  # the inputs the last full step read (_inputs)
+        self.counting = False  # the program runs: D49c04/D49c06 count
+        self.orienting = False  # the orientation timer runs
+        self.gear = 0
         self.mode = AUTO  # D2x000 = 0 at power-up: AUTO
         self.mode_request = AUTO
         self.mode_due: int | None = None
@@ -213,7 +226,11 @@ class NcModel(DeviceModel):
         self.motion = 0
         self.feed = 0  # 0.001 mm/min, modal F
         self.move: tuple | None = None  # (start, end, length, rapid) of the block's motion
-        self.travelled = 0.0
+        # the block's motion in closed form: travelled(t) = seg_from + seg_speed x (t - seg_t0), in
+        # 0.001 mm, t in us, seg_speed in 0.001 mm/min; seg_end the time it ends at that speed
+        self.seg_t0, self.seg_from, self.seg_speed, self.seg_end = 0, 0.0, 0, 0
+        self.seg_axes: list[tuple[Axis, int, int]] = []  # (axis, start, end): movers not locked
+        self.seg_risky = False  # an end past a hardware limit: no step is skipped on the way
         self.dwell_left = 0
         self.strobes_up = False
         self.ends = (0, 0, 0)  # M3x021, M3x022, M3x023
@@ -269,26 +286,165 @@ class NcModel(DeviceModel):
         return [parse_signal_name(f"{self.name}.{s}") for s in names] + \
             ([self.mpg] if self.mpg is not None else [])
 
+    def _input_ranges(self) -> None:
+        """What _inputs reads: the channel's M2c000-M2c727 and D2c000-D2c033 (every MLC -> NC
+        relay and register of addresses.py) and the handwheel's register."""
+        self.m_lo, self.d_lo = A.number(A.CYCLE_START, self.channel), A.number(A.MODE, self.channel)
+        self.m_hi, self.d_hi = self.m_lo + 728, self.d_lo + 34
+        self.extra_words = (self.mpg.number,) if self.mpg is not None else ()
+
+    def _inputs(self, mb, dw) -> tuple:
+        snap = (mb[self.m_lo:self.m_hi], dw[self.d_lo:self.d_hi])
+        return snap + tuple(dw[n] for n in self.extra_words) if self.extra_words else snap
+
     def step(self, io: ModelIO, t_us: int, period_us: int) -> None:
+        """One step before the scan at t_us. A step whose inputs are those of the last full step
+        and that comes before the model's next event (_wake) is skipped: its only MLC-visible
+        change, the spindle angle, is written; the rest catches up (_catch_up) at the next full
+        step or when a signal is read (_refresh). Everything skipped moves in closed form, so
+        the outcome does not depend on which steps were skipped."""
         mb, dw = io.memory("M"), io.memory("D")
-        self._mb = mb
+        snap = self._inputs(mb, dw) if self.extra_words else (mb[self.m_lo:self.m_hi], dw[self.d_lo:self.d_hi])
+        if snap == self.snap:
+            if t_us < self.wake:
+                self.skipped_to = t_us
+                if self.spindle_rpm:
+                    self._write_angle(dw, t_us)
+                return
+            if self.tick_only:  # only a counted second passes: D49c04 / D49c06
+                self._catch_up(t_us)
+                self._write_times(dw)
+                if self.spindle_rpm:
+                    self._write_angle(dw, t_us)
+                self._publish()
+                self.wake = self._wake(t_us)
+                return
+        if self.io is None:
+            io.on_read(self.name, self._refresh)
+        self._mb, self.io = mb, io
+        if self.skipped_to > (self.last_t or 0):
+            self._catch_up(self.skipped_to)
+        self._step(mb, dw, t_us)
+        self.wake = self._wake(t_us) if self.SKIP else t_us + 1
+        self.snap = snap
+
+    def _step(self, mb, dw, t_us: int) -> None:
         dt = 0 if self.last_t is None else t_us - self.last_t
         changed_at = t_us if self.last_t is None else self.last_t  # when the last scan wrote
         self.last_t = t_us
+        self.busy = dt == 0  # the first step: the next one moves
+        self.jumped: list[Axis] = []  # moved by the handwheel in this step
         self._mode(dw, t_us, changed_at)
         self._emergency_and_reset(mb)
         before = [a.pos for a in self.axes]
+        for ax in self.axes:
+            ax.vel = 0
         servo = bool(mb[self.a_servo_on]) and not self.estop
         moving_ok = [servo and not mb[self.a_axis_servo_off + a.offset] for a in self.axes]
         self.was_running = self.state in (RUNNING, MST_WAIT)
         if not self.estop and not mb[self.a_nc_reset]:
-            self._program(mb, dw, dt, moving_ok)
+            self._program(mb, dw, t_us, dt, moving_ok)
             if self.mode >= MPG:  # the manual modes (a mode change ends their moves)
                 self._manual(mb, dw, dt, moving_ok)
         self._spindle(mb, dw, dt)
         self._magazine(mb)
+        self.gear = _s16(dw[self.a_spindle_gear])
         self._outputs(mb, dw, dt, before, moving_ok)
-        self._publish(io, dw)
+        self._publish()
+
+    # -- skipped steps (step())
+    def _catch_up(self, t: int) -> None:
+        """The state at t from that of last_t, when nothing but time passed in between (no
+        input changed, t before the next event): the moves in force go on, the times count."""
+        dt = t - self.last_t
+        self.last_t = t
+        if self.counting:
+            self.cycle_us += dt
+            self.total_us += dt
+        if self.phase == 1 and self.state in (RUNNING, MST_WAIT):
+            if self.dwell_left > 0:
+                self.dwell_left -= dt
+            elif self.seg_speed:
+                self._place(t)
+        for ax in self.axes:
+            if ax.vel:
+                d = self._distance(ax, abs(ax.vel), dt)
+                ax.pos += d if ax.vel > 0 else -d
+        if self.spindle_rpm:
+            self.angle_udeg = (self.angle_udeg + int(self.spindle_rpm) * 6 * dt) % 360_000_000
+        if self.orienting:
+            self.orient_left -= dt
+
+    def _refresh(self) -> None:
+        """Before one of the model's signals is read: the signals as of the latest step."""
+        if self.skipped_to > self.last_t:
+            self._catch_up(self.skipped_to)
+            self._publish()
+
+    def _write_angle(self, dw, t: int) -> None:
+        """D3x028 at t while the spindle turns at a steady speed (a skipped step)."""
+        v = (self.angle_udeg + int(self.spindle_rpm) * 6 * (t - self.last_t)) % 360_000_000 // 10_000
+        words, i = self.out_words, self.angle_word
+        if words and words[i] != v:
+            dw[self.a_spindle_angle] = words[i] = v & 0xFFFF
+            dw[self.a_spindle_angle + 1] = words[i + 1] = v >> 16
+
+    def _write_times(self, dw) -> None:
+        """D49c04 / D49c06 (s) at last_t (a step that only counts)."""
+        words, i = self.out_words, self.times_word
+        for k, v in enumerate((self.total_us // 1_000_000, self.cycle_us // 1_000_000)):
+            lo, hi = v & 0xFFFF, (v >> 16) & 0xFFFF
+            if words[i + 2 * k] != lo or words[i + 2 * k + 1] != hi:
+                dw[self.word_addresses[i + 2 * k]] = words[i + 2 * k] = lo
+                dw[self.word_addresses[i + 2 * k + 1]] = words[i + 2 * k + 1] = hi
+
+    def _wake(self, now: int) -> int:
+        """The first time after `now` at which a step with the same inputs does more than
+        _catch_up does: a mode's feedback, a block's motion or dwell ends, a manual move reaches
+        a target or a limit, the orientation is done, a counted second passes. now + 1 (the
+        next step) when this step left something to settle."""
+        self.tick_only = False
+        if self.busy or self.spindle_rpm != self.spindle_target:
+            return now + 1  # (a ramp changes D3x026 every step)
+        wake = 1 << 62
+        if self.mode_due is not None:
+            wake = self.mode_due
+        if self.phase == 1 and self.state in (RUNNING, MST_WAIT):
+            if self.dwell_left > 0:
+                wake = min(wake, now + self.dwell_left)
+            elif self.seg_speed:
+                if self.seg_risky:
+                    return now + 1
+                wake = min(wake, self.seg_end)
+        for ax in self.axes:
+            if ax.vel:
+                if ax.home_done or ax.pos == 0:  # M3x336 / M3x352 change once it moves
+                    return now + 1
+                ahead = [b - ax.pos for b in self._bounds(ax)]
+                ahead = [abs(d) for d in ahead if (d > 0) == (ax.vel > 0) or not d]  # (at one: stops next)
+                if ahead:
+                    need = min(ahead) * 60_000_000 - ax.rest
+                    wake = min(wake, now + max(1, -(-need // abs(ax.vel))))
+        if self.orienting:
+            wake = min(wake, now + max(1, self.orient_left))
+        if self.counting:
+            tick = now + 1_000_000 - max(self.total_us % 1_000_000, self.cycle_us % 1_000_000)
+            self.tick_only = tick < wake
+            wake = min(wake, tick)
+        return wake
+
+    @staticmethod
+    def _bounds(ax: Axis) -> list[int]:
+        """Where a manual move may have to stop or raise an alarm (a step is taken there)."""
+        out = [0] if ax.homing else []
+        if ax.inc_target is not None:
+            out.append(ax.inc_target)
+        for limit in (ax.soft1, ax.soft2):
+            if limit is not None:
+                out += limit
+        if ax.hard is not None:
+            out += [ax.hard[0] - 1, ax.hard[1] + 1]
+        return out
 
     def _mode(self, dw, t_us: int, changed_at: int) -> None:
         """5.3.1 / 6.1: D2x000 selects the mode; the feedback M3x000-M3x007 follows "約 4 ms"
@@ -313,11 +469,13 @@ class NcModel(DeviceModel):
         if resetting:
             self._reset()
         mb[self.a_reset_done] = 1 if mb[self.a_nc_reset] and self.reset_seen else 0
+        if self.reset_seen != bool(mb[self.a_nc_reset]):
+            self.busy = True  # M3x019 follows in the next step
         self.reset_seen = bool(mb[self.a_nc_reset])
 
     def _reset(self) -> None:
         self.state, self.hold_by_mode, self.alarm = IDLE, False, 0
-        self.ptr, self.phase, self.move, self.dwell_left = 0, 0, None, 0
+        self.ptr, self.phase, self.move, self.dwell_left, self.seg_speed = 0, 0, None, 0, 0
         if self.strobes_up:
             self._mb[self.a_m_strobe] = self._mb[self.a_s_strobe] = self._mb[self.a_t_strobe] = 0
         self.strobes_up = False
@@ -333,7 +491,7 @@ class NcModel(DeviceModel):
         self.last[address] = now
         return bool(now and not was)
 
-    def _program(self, mb, dw, dt: int, moving_ok: list[bool]) -> None:
+    def _program(self, mb, dw, now: int, dt: int, moving_ok: list[bool]) -> None:
         start = self._edge(mb, self.a_cycle_start)
         if mb[self.a_feed_hold] and self.state in (RUNNING, MST_WAIT) and self.phase == 1:
             self.state, self.hold_by_mode = HOLD, False  # 6.2: stops at once, keeps the coordinates
@@ -344,11 +502,11 @@ class NcModel(DeviceModel):
             elif self.state in (HOLD, BLOCK_STOP, PROGRAM_STOP):
                 self.state, self.hold_by_mode = (MST_WAIT if self.phase == 2 else RUNNING), False
         if self.state in (RUNNING, MST_WAIT):
-            self._run(mb, dw, dt, moving_ok)
+            self._run(mb, dw, now, dt, moving_ok)
         else:
             self.path_speed = 0
 
-    def _run(self, mb, dw, budget: int, moving_ok: list[bool]) -> None:
+    def _run(self, mb, dw, now: int, budget: int, moving_ok: list[bool]) -> None:
         blocks = self.program.blocks
         for _ in range(len(blocks) + 2):  # zero-time blocks: at most the program once per step
             if self.ptr >= len(blocks):
@@ -365,7 +523,7 @@ class NcModel(DeviceModel):
                     return
                 self.phase = 1
             if self.phase == 1:
-                budget = self._advance(mb, dw, budget, moving_ok)
+                budget = self._advance(mb, dw, now, budget, moving_ok)
                 if budget < 0:
                     return
                 self.phase = 2
@@ -383,6 +541,7 @@ class NcModel(DeviceModel):
                 self.state = BLOCK_STOP  # 6.2: stops after the block, M3x024
                 return
         self.path_speed = 0
+        self.busy = True  # the program once in this step: it goes on in the next
 
     def _begin(self, block: Block) -> bool:
         """The block's modal words and its motion; False when a soft limit stops the program."""
@@ -392,7 +551,8 @@ class NcModel(DeviceModel):
             self.motion = block.motion
         if block.feed is not None:
             self.feed = block.feed
-        self.move, self.travelled, self.dwell_left = None, 0.0, block.dwell_us or 0
+        self.move, self.dwell_left = None, block.dwell_us or 0
+        self.seg_from, self.seg_speed = 0.0, 0
         if block.axes:
             start = [a.pos for a in self.axes]
             end = list(start)
@@ -408,6 +568,8 @@ class NcModel(DeviceModel):
             length = math.sqrt(sum((e - s) ** 2 for s, e in zip(start, end)))
             if length > 0:
                 self.move = (start, end, length, self.motion == 0)
+                self.seg_risky = any(ax.hard is not None and not ax.hard[0] <= e <= ax.hard[1]
+                                     for ax, e in zip(self.axes, end))
         return True
 
     def _soft_limit(self, ax: Axis) -> tuple[int, int] | None:
@@ -417,9 +579,10 @@ class NcModel(DeviceModel):
             return None
         return ax.soft2 if self._mb[self.a_soft_limit_release + ax.offset] else ax.soft1
 
-    def _advance(self, mb, dw, budget: int, moving_ok: list[bool]) -> int:
-        """Move or dwell for `budget` us; the time left over when the block's motion ends, -1
-        while it goes on."""
+    def _advance(self, mb, dw, now: int, budget: int, moving_ok: list[bool]) -> int:
+        """Move or dwell for the last `budget` us up to `now`; the time left over when the
+        block's motion ends, -1 while it goes on. The motion is in closed form (seg_*): a
+        new speed (an override) starts a new segment where the interval starts."""
         if self.dwell_left > 0:
             used = min(budget, self.dwell_left)
             self.dwell_left -= used
@@ -430,22 +593,42 @@ class NcModel(DeviceModel):
         speed = self._path_speed(mb, dw, rapid)  # 0.001 mm/min
         movers = [i for i, (s, e) in enumerate(zip(start, end)) if s != e]
         if speed <= 0 or not all(moving_ok[i] for i in movers) or self._hard_stopped(mb):
-            self.path_speed = 0
-            return -1
+            speed = 0
+        if speed != self.seg_speed:
+            begin = now - budget
+            self.seg_from, self.seg_t0, self.seg_speed = self._travelled(begin), begin, speed
+            if speed:
+                self.seg_end = begin + math.ceil((length - self.seg_from) * 60e6 / speed)
         self.path_speed = speed // 1000
-        rate = speed / 60e6  # 0.001 mm per us
-        need = (length - self.travelled) / rate
-        used = budget if need > budget else math.ceil(need)
-        self.travelled = min(length, self.travelled + rate * used)
-        f = self.travelled / length
-        for i in movers:
-            if not mb[self.a_axis_lock + self.axes[i].offset]:  # a locked axis stays (6.4)
-                self.axes[i].pos = round(start[i] + (end[i] - start[i]) * f)
-                self.axes[i].home_done = False  # 6.7 (b): machining moves the axis
+        if not speed:
+            return -1
+        # a locked axis stays (6.4); machining moves the others (6.7 (b): not "homed" any more)
+        self.seg_axes = [(self.axes[i], start[i], end[i]) for i in movers
+                         if not mb[self.a_axis_lock + self.axes[i].offset]]
+        for ax, _, _ in self.seg_axes:
+            ax.home_done = False
+        done = now >= self.seg_end
+        self._place(self.seg_end if done else now)
         if self._hit_hard_limit(mb):
             self.state = ALARM
+            self.seg_speed = 0
             return -1
-        return budget - used if self.travelled >= length else -1
+        if done:
+            self.seg_speed = 0
+            return now - self.seg_end
+        return -1
+
+    def _travelled(self, t: int) -> float:
+        """0.001 mm of the block's motion done at t (seg_*)."""
+        if not self.seg_speed:
+            return self.seg_from
+        return min(self.move[2], self.seg_from + self.seg_speed * (t - self.seg_t0) / 60e6)
+
+    def _place(self, t: int) -> None:
+        """The moving axes where the block's motion has them at t."""
+        f = self._travelled(t) / self.move[2]
+        for ax, s, e in self.seg_axes:
+            ax.pos = round(s + (e - s) * f)
 
     def _path_speed(self, mb, dw, rapid: bool) -> int:
         """6.2 / 6.6: G01 at F x D2x002 (0-150 %, DECISION notes #8: the register read 0-65535
@@ -545,25 +728,33 @@ class NcModel(DeviceModel):
             if mode in (JOG, RAPID) and plus != minus:
                 speed = self._jog_speed(dw) if mode == JOG else \
                     self.num["rapid"] * 1000 * min(max(_s16(dw[self.a_rapid_override]), 0), 100) // 100
-                self._move_by(mb, ax, (1 if plus else -1) * self._distance(ax, speed, dt))
+                sign = 1 if plus else -1
+                if self._move_by(mb, ax, sign * self._distance(ax, speed, dt)):
+                    ax.vel = sign * speed
             elif mode == INC:
                 if ax.inc_target is None and (plus_edge or minus_edge) and plus != minus:
                     amount = _s32(dw[self.a_inc_amount], dw[self.a_inc_amount + 1])  # x 0.001 mm (N1.001)
                     ax.inc_target = ax.pos + (amount if plus else -amount)
                 if ax.inc_target is not None:
-                    step = self._distance(ax, self._jog_speed(dw), dt)
+                    speed = self._jog_speed(dw)
+                    step = self._distance(ax, speed, dt)
                     left = ax.inc_target - ax.pos
-                    self._move_by(mb, ax, max(-step, min(step, left)))
-                    if ax.pos == ax.inc_target or self.alarm == HARD_LIMIT:
+                    free = self._move_by(mb, ax, max(-step, min(step, left)))
+                    if ax.pos == ax.inc_target or self.alarm == HARD_LIMIT or not free:
                         ax.inc_target = None
+                    else:
+                        ax.vel = speed if left > 0 else -speed
             elif mode == HOME:
                 if home_edge:
                     ax.homing = True
                 if ax.homing:
-                    step = self._distance(ax, self.num["home_speed"] * 1000, dt)
+                    speed = self.num["home_speed"] * 1000
+                    step = self._distance(ax, speed, dt)
                     ax.pos += max(-step, min(step, -ax.pos))
                     if ax.pos == 0:  # the origin: machine coordinate 0 (6.7)
                         ax.homing, ax.homed, ax.home_done = False, True, True
+                    else:
+                        ax.vel = -speed if ax.pos > 0 else speed
         if mode == MPG and self.mpg is not None:
             self._handwheel(mb, dw)
 
@@ -580,19 +771,25 @@ class NcModel(DeviceModel):
         percentage, limited to 100 ("系統內部僅支援 0 ~ 100")."""
         return self.num["jog_max"] * 1000 * min(dw[self.a_jog_speed], 100) // 100
 
-    def _move_by(self, mb, ax: Axis, delta: int) -> None:
-        if delta == 0:
-            return
+    def _move_by(self, mb, ax: Axis, delta: int) -> bool:
+        """A manual move by delta; False when it stopped at a limit (no further to go)."""
         target = ax.pos + delta
         limit = self._soft_limit(ax)
         if limit is not None:  # a manual move stops at the soft limit
+            if (delta > 0 and ax.pos >= limit[1]) or (delta < 0 and ax.pos <= limit[0]):
+                return False
             target = min(max(target, min(ax.pos, limit[0])), max(ax.pos, limit[1]))
+        if delta == 0:
+            return True
+        free = target == ax.pos + delta
         ax.pos = target
         ax.home_done = False  # 6.7 (a): moved by hand
         if ax.hard is not None and not ax.hard[0] <= ax.pos <= ax.hard[1] and not mb[self.a_hard_limit_release]:
             ax.pos = min(max(ax.pos, ax.hard[0]), ax.hard[1])
             self.alarm = HARD_LIMIT
             ax.inc_target = None
+            return False
+        return free
 
     def _handwheel(self, mb, dw) -> None:
         """6.3: each pulse moves the axis D2x008 (0 = X, 1 = Y ... the 5.2.1 axis order) by
@@ -606,7 +803,9 @@ class NcModel(DeviceModel):
         offset = dw[self.a_mpg_axis]
         for ax in self.axes:
             if ax.offset == offset and pulses:
+                before = ax.pos
                 self._move_by(mb, ax, pulses * min(dw[self.a_mpg_scale], 1000))
+                self.jumped.append(ax) if ax.pos != before else None
 
     # -- the first spindle (5.3.13, 6.10, 6.11)
     def _spindle(self, mb, dw, dt: int) -> None:
@@ -626,7 +825,8 @@ class NcModel(DeviceModel):
         elif dt:
             step = self.num["spindle_max"] * dt / ramp
             gap = self.spindle_target - self.spindle_rpm
-            self.spindle_rpm += max(-step, min(step, gap))
+            self.spindle_rpm = float(self.spindle_target) if abs(gap) <= step else \
+                self.spindle_rpm + (step if gap > 0 else -step)
         self.angle_udeg = (self.angle_udeg + round((before + self.spindle_rpm) * 3 * dt)) % 360_000_000
         if self.spindle_rpm != 0:
             self.oriented, self.orient_left = False, -1
@@ -639,6 +839,7 @@ class NcModel(DeviceModel):
                 self.angle_udeg, self.oriented = self.num["orient_at"] * 10_000, True
         if not orient:
             self.oriented, self.orient_left = False, -1
+        self.orienting = self.orient_left >= 0 and not self.oriented
 
     # -- tool magazine 1 (5.3.14, 6.13)
     def _magazine(self, mb) -> None:
@@ -672,7 +873,9 @@ class NcModel(DeviceModel):
         words = []
         for n in (self.a_spindle_command, self.a_spindle_actual, self.a_spindle_angle):
             words += [n, n + 1]
+        self.angle_word = 4  # D3x028's place in these
         words += [self.a_spindle_tool, self.a_standby_t, self.a_standby_pot, self.a_pot_steps]
+        self.times_word = len(words)  # D49c04's place
         for n in (self.a_total_time, self.a_cycle_time):
             words += [n, n + 1]
         self.word_addresses = words
@@ -687,11 +890,19 @@ class NcModel(DeviceModel):
         running = state in (RUNNING, MST_WAIT) or (state == HOLD and not self.hold_by_mode)
         bits = [1 if k == mode else 0 for k in range(8)]
         bits += [running, state == HOLD, state == BLOCK_STOP, self.estop, *self.ends]
+        vel = [ax.vel for ax in self.axes]  # 0.001 mm/min of the moves in force
+        if self.seg_speed and self.phase == 1 and state in (RUNNING, MST_WAIT):
+            length = self.move[2]
+            for ax, s, e in self.seg_axes:  # the block's motion
+                vel[self.axes.index(ax)] = round(self.seg_speed * (e - s) / length)
         for i, ax in enumerate(self.axes):
-            delta = ax.pos - before[i]
-            ax.speed = delta * 60_000 // dt if dt else 0
-            bits += [moving_ok[i], ax.homed, ax.home_done, ax.homed and ax.pos == 0, delta != 0, delta > 0,
-                     delta < 0]
+            # moving: a move in force after the step, or moved by the handwheel in this step
+            v = vel[i]
+            if not v and ax in self.jumped:
+                v = (ax.pos - before[i]) * 60_000_000 // dt if dt else 0
+                self.busy = True  # the flags drop in the next step
+            ax.speed = v // 1000 if v > 0 else -(-v // 1000)
+            bits += [moving_ok[i], ax.homed, ax.home_done, ax.homed and ax.pos == 0, v != 0, v > 0, v < 0]
         rpm = round(self.spindle_rpm)
         bits += [abs(rpm - self.spindle_target) <= self.num["at_speed"], abs(rpm) <= self.num["zero_speed"],
                  self.oriented]
@@ -703,6 +914,7 @@ class NcModel(DeviceModel):
         if running or self.was_running:  # the interval this step ran the program for
             self.cycle_us += dt
             self.total_us += dt
+        self.counting = running
         if self.parts_done_add:  # 5.3.15: one part at each M02 / M30
             self.parts_done_add = False
             self._put32(dw, self.a_parts_done, _s32(dw[self.a_parts_done], dw[self.a_parts_done + 1]) + 1)
@@ -724,15 +936,15 @@ class NcModel(DeviceModel):
     def _put32(dw, n: int, v: int) -> None:
         dw[n], dw[n + 1] = v & 0xFFFF, (v >> 16) & 0xFFFF
 
-    def _publish(self, io: ModelIO, dw) -> None:
+    def _publish(self) -> None:
         values = [self.mode, self.state, self.block_line, self.alarm,
                   self.path_speed if self.state in (RUNNING, MST_WAIT) else 0, round(self.spindle_rpm),
-                  self.spindle_target, self.angle_udeg // 10_000, _s16(dw[self.a_spindle_gear])]
+                  self.spindle_target, self.angle_udeg // 10_000, self.gear]
         for ax in self.axes:
             values += [ax.pos, ax.speed]
         if values != self.published:
             if self.publisher is None:
-                self.publisher = io.publisher(self.name, self.signal_names)
+                self.publisher = self.io.publisher(self.name, self.signal_names)
             self.publisher(values, self.published)
             self.published = values
 
