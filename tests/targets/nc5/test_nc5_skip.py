@@ -9,8 +9,11 @@ a value that differs in any one scan shows in its totals."""
 from __future__ import annotations
 
 import pytest
-from nc5kit import outcome
+from nc5kit import NC5, outcome
 
+from mlctool.debug.load import load_session
+from mlctool.debug.session import BOUNDARY
+from mlctool.sim.state import parse_device_name
 from mlctool.targets.nc5.nc.model import NcModel
 
 BITS = [*range(31000, 31008), *range(31016, 31025), 31064, 31065, 31066, 31272, 31320, 31336, 31352,
@@ -86,3 +89,22 @@ def test_skipping_steps_changes_nothing(name, monkeypatch):
     assert [o.failures for o in full.expectations] == [o.failures for o in untraced.expectations]
     witness = {k: v for k, v in full.devices.items() if k.startswith("D5") or k.startswith("D6")}
     assert any(witness.values())  # the scenario does something the witness sees
+
+
+def test_the_debugger_going_back_sees_the_same_nc(tmp_path):
+    """A checkpoint keeps the model with the machine; going back and replaying gives the values
+    of the run forward, skipped steps and all."""
+    (tmp_path / "m.il").write_text("LDI M0\nOUT M21012\nMOV K100 D21002\nLD X2\nOUT M21000\nEND\n", "utf-8")
+    (tmp_path / "part.nc").write_text("G01 X10. F600\nG04 P250\nY5.\nM30\n", "utf-8")
+    (tmp_path / "m.stim").write_text("model nc5 program=part.nc\n0ms X2=1\nrun 2s\n", "utf-8")
+    s = load_session([str(tmp_path / "m.il")], str(tmp_path / "m.stim"), NC5, checkpoint_every=50)
+    views = [parse_device_name(n, NC5) for n in ("NC1.X.pos", "NC1.Y.pos", "NC1.state", "M31464")]
+    seen = {}
+    for k in (37, 120, 163):
+        s.goto((k, BOUNDARY))
+        seen[k] = [v.read(s.m) for v in views]
+    s.goto((170, BOUNDARY))
+    for k in (163, 37, 120):
+        s.goto((k, BOUNDARY))
+        assert [v.read(s.m) for v in views] == seen[k], k
+    assert seen[37][0] == 3600 and seen[163][1] == 3700  # X at 600 mm/min; Y after the dwell

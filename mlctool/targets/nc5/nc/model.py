@@ -131,7 +131,6 @@ class NcModel(DeviceModel):
         self.program = PartProgram("", [])
         self.path = ""
         self._mb = None  # the memory of the last full step
-        self.io: ModelIO | None = None
         self.busy = False  # the step left something for the next one (_wake)
         self.tick_only = False  # the next event only counts a second (_wake)
         self._addresses()
@@ -319,9 +318,10 @@ class NcModel(DeviceModel):
                 self._publish()
                 self.wake = self._wake(t_us)
                 return
-        if self.io is None:
+        if self.publisher is None:
             io.on_read(self.name, self._refresh)
-        self._mb, self.io = mb, io
+            self.publisher = io.publisher(self.name, self.signal_names)
+        self._mb = mb
         if self.skipped_to > (self.last_t or 0):
             self._catch_up(self.skipped_to)
         self._step(mb, dw, t_us)
@@ -943,8 +943,6 @@ class NcModel(DeviceModel):
         for ax in self.axes:
             values += [ax.pos, ax.speed]
         if values != self.published:
-            if self.publisher is None:
-                self.publisher = self.io.publisher(self.name, self.signal_names)
             self.publisher(values, self.published)
             self.published = values
 
