@@ -528,10 +528,13 @@ class NcModel(DeviceModel):
                     return
                 self.phase = 2
             if self.phase == 2:
+                waited = self.state == MST_WAIT
                 if not self._handshake(mb, dw, block):
                     if self.state != ALARM:
                         self.state = MST_WAIT
                     return
+                if waited:  # the finish is seen now: the time before went to waiting, not to the next block
+                    budget = 0
                 self.state = RUNNING
                 self.phase = 3
             self.phase, self.ptr = 0, self.ptr + 1
