@@ -38,6 +38,7 @@ from mlctool.sim.run import (
     RunTooLong,
     Simulation,
     build_models,
+    model_inputs,
     plan_scans,
 )
 from mlctool.sim.scan import DEFAULT_WATCHDOG
@@ -178,9 +179,8 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     if st is None or _errors(bad):
         show(bad, {stim_path: st.lines} if st is not None else {})
         sys.exit(2)
-    for model in models:  # the files models read (an NC part program) are inputs too (fileio.py)
-        for path in model.inputs():
-            plan.add_input(path)
+    for path in model_inputs(models):  # the files models read (an NC part program) are inputs too
+        plan.add_input(path)
 
     period = st.scan_us or scan_us or DEFAULT_SCAN_US
     try:

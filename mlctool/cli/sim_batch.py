@@ -50,6 +50,9 @@ def batch_cmd(image, target, pattern: str, opts, jobs: int, cluster: str | None,
     except ClusterError as e:
         show([cluster_diagnostic(e)], {})
         return 2
+    for sc in scenarios:  # the files its models read (an NC part program) are inputs too
+        for p in sc.inputs:
+            plan.add_input(p)
     show(list(unmodelled), lines)
     bad_input = False
     docs = {}

@@ -130,6 +130,9 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
     for sc in scenarios:
         all_lines[sc.stim] = sc.stim_lines
         show(sc.diagnostics, all_lines)
+    for sc in scenarios:  # the files its models read (an NC part program) are inputs too
+        for p in sc.inputs:
+            plan.add_input(p)
     files = {}
     for sc in scenarios:
         if sc.result is not None and not sc.ok:

@@ -130,6 +130,11 @@ class DeviceModel:
                 raise ParamError(key, f"model {self.kind} has no parameter {key!r}")
 
     # -- simulation
+    def power_cycle(self) -> None:
+        """The PLC's power went off and on (a stimulus `power` line), after the step of that
+        scan. A device with its own supply ignores it (the default); the NC5's NC, the same
+        controller as its MLC, starts again."""
+
     def devices(self) -> list[DeviceView]:
         """Devices the model reads or drives (reported in JSON and waveforms)."""
         return []

@@ -109,12 +109,9 @@ class NcModel(DeviceModel):
         starts = self._param("start", ",".join("0" for _ in letters)).split(",")
         if len(starts) != len(letters):
             raise ParamError("start", f"start takes one position (mm) per axis ({axes}), not {len(starts)}")
-        self.axes = [Axis(a, self._mm("start", v)) for a, v in zip(letters, starts)]
-        for ax in self.axes:
-            for kind in ("soft1", "soft2", "hard"):
-                key = f"{kind}_{ax.letter.lower()}"
-                if key in params:
-                    setattr(ax, kind, self._range(key))
+        self.limits = {(kind, a): self._range(f"{kind}_{a.lower()}") for a in letters
+                       for kind in ("soft1", "soft2", "hard") if f"{kind}_{a.lower()}" in params}
+        self.axes = [self._axis(a, self._mm("start", v)) for a, v in zip(letters, starts)]
         self.mpg = self.device("mpg") if "mpg" in params else None
         if self.mpg is not None and self.mpg.view != "w":
             raise ParamError("mpg", "mpg takes a data register such as D100 (the handwheel's pulse count)")
@@ -137,6 +134,12 @@ class NcModel(DeviceModel):
         self._output_addresses()
         self._input_ranges()
         self._power_on()
+
+    def _axis(self, letter: str, pos: int) -> Axis:
+        """An axis at pos as at power-up (not homed), with its limits (soft1_x= ...)."""
+        ax = Axis(letter, pos)
+        ax.soft1, ax.soft2, ax.hard = (self.limits.get((kind, letter)) for kind in ("soft1", "soft2", "hard"))
+        return ax
 
     # -- parameters
     def _int(self, key: str, default: str, lo: int, hi: int) -> int:
@@ -278,6 +281,17 @@ class NcModel(DeviceModel):
         return d - n if d > n // 2 else d
 
     # -- simulation
+    def power_cycle(self) -> None:
+        """DECISION: the MLC and the NC are one controller (5.1), so a power cycle restarts the
+        NC as at the run's start: AUTO, the program at its first block, nothing homed, the
+        spindle stopped, magazine 1 reset, the counters from 0 (D49c00-D49c07 are not latched),
+        every NC -> MLC signal written again from the next step. The axes stay where they are:
+        the machine does not move while the power is off."""
+        if self.last_t is not None and self.skipped_to > self.last_t:
+            self._catch_up(self.skipped_to)
+        self.axes = [self._axis(ax.letter, ax.pos) for ax in self.axes]
+        self._power_on()
+
     def devices(self) -> list[DeviceView]:
         names = ["mode", "state", "block", "alarm", "feed"]
         names += [f"{a.letter}.{s}" for a in self.axes for s in ("pos", "speed")]
@@ -377,7 +391,7 @@ class NcModel(DeviceModel):
 
     def _refresh(self) -> None:
         """Before one of the model's signals is read: the signals as of the latest step."""
-        if self.skipped_to > self.last_t:
+        if self.last_t is not None and self.skipped_to > self.last_t:
             self._catch_up(self.skipped_to)
             self._publish()
 
