@@ -58,6 +58,10 @@ DECISIONS: dict[str, dict[str, str]] = {
     "D2x024": {"type": "32-bit", "decision": "32-bit: 6.10 gives 0 ~ 2147483647 (L6401) and "
                "D2x025 is no row of its own; 5.2.2 (L4397) does not mark it"},
     "D2x030": {"type": "32-bit", "decision": "32-bit, as D2x024 (6.10 names both, L6397-L6401)"},
+    "D3x050": {"type": "32-bit", "decision": "32-bit: the S code it shows is the first spindle's "
+               "command, which D3x024 holds in 32 bits (L4619), and S takes D2x024's 0 ~ 2147483647 "
+               "(L6401); D3x051 is no row of its own (M, S and T step by two: D3x048, D3x050, "
+               "D3x052); 5.2.2 (L4638) does not mark it"},
     **{f"D2x{n}": {"type": "32-bit float", "decision": "a floating-point value in two words (6.14 "
                    "L6823, L6834: 須為浮點數型態數值); 5.2.2 says only 32-bit"}
        for n in range(256, 320, 2)},

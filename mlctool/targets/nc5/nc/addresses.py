@@ -96,6 +96,22 @@ TOTAL_TIME = ("D", 49, 4)          # 總加工時間 (32-bit, s), 5.3.15
 CYCLE_TIME = ("D", 49, 6)          # 單一加工時間 (32-bit, s), 5.3.15
 
 
+# How the model uses them (tests/targets/nc5/test_nc5_addresses.py holds them to the signal table):
+# it reads groups 2 (MLC -> NC) and 59 (HMI -> MLC) and writes 3 (NC -> MLC) and 49 (-> HMI);
+WIDE = (INC_AMOUNT, SPINDLE_SPEED, SPINDLE_COMMAND, SPINDLE_ACTUAL, SPINDLE_ANGLE, S_CODE, PARTS_DONE,
+        PARTS_TARGET, TOTAL_TIME, CYCLE_TIME)  # 32-bit: low word at n, high at n + 1
+PER_AXIS = (AXIS_SERVO_OFF, HOME_START, AXIS_LOCK, SOFT_LIMIT_RELEASE, JOG_PLUS, JOG_MINUS, SERVO_STATE,
+            HOMED, HOME_DONE, AT_ORIGIN, MOVING, MOVING_PLUS, MOVING_MINUS)  # + axis 0-8 (X ... W)
+RUNS = {MODE_FEEDBACK: 8}  # rows n ... n + count - 1 (M3x000 AUTO ... M3x007 HOME)
+READ_GROUPS, WRITTEN_GROUPS = (2, 59), (3, 49)
+
+
+def entries() -> dict[str, tuple[str, int, int]]:
+    """Every address of this module by its name (CYCLE_START ...)."""
+    return {k: v for k, v in globals().items()
+            if k.isupper() and isinstance(v, tuple) and len(v) == 3 and isinstance(v[0], str)}
+
+
 def number(entry: tuple[str, int, int], channel: int, axis: int = 0) -> int:
     """The device number of `entry` on `channel` (1-8), plus `axis` for a per-axis row:
     ("M", 2, 0) on channel 1 -> 21000; ("D", 49, 0) on channel 1 -> 49100."""
