@@ -20,9 +20,10 @@ def _patterns():
     per-axis rows for each of the 9 lettered axes, runs for each of their rows."""
     for key, entry in sorted(A.entries().items()):
         kind, group, function = entry
-        count = 9 if entry in A.PER_AXIS else A.RUNS.get(entry, 1)
+        count = 9 if entry in A.PER_AXIS + A.PER_AXIS_PAIRS else A.RUNS.get(entry, 1)
+        step = 2 if entry in A.PER_AXIS_PAIRS else 1
         for k in range(count):
-            yield key, A.name((kind, group, function + k)), entry
+            yield key, A.name((kind, group, function + step * k)), entry
 
 
 @pytest.mark.parametrize("key,pattern,entry", list(_patterns()), ids=lambda v: v if isinstance(v, str) else "")
@@ -39,6 +40,13 @@ def test_each_address_is_a_row_of_its_direction_and_width(key, pattern, entry):
         assert row.type == "bit", (key, row)
     else:
         assert (row.type.startswith("32-bit")) == (entry in A.WIDE), (key, row.type)
+
+
+def test_the_system_time_is_the_systems_to_write():
+    """D49000-D49002 (5.3.15): no channel; R, so the model (the system) writes them."""
+    for k in range(3):
+        row = signals.row(f"D{A.SYSTEM_TIME + k}")
+        assert row.direction == "MLC->HMI" and row.read_only and row.type == "word"
 
 
 def test_the_model_reads_and_writes_only_these_rows():

@@ -55,6 +55,11 @@ SCENARIOS = {
                "3000ms X7=0\n3000ms X2=0 X3=1\n3100ms X6=1\n3120ms X6=0\n3500ms X3=0 X5=1\n"
                "3600ms D100=7\n3700ms D100=-20\n3800ms D100=5\n4000ms X5=0 X2=1\n4100ms X7=1\n"
                "6000ms X7=0 X11=1\n6100ms X7=1\n6500ms X7=0\n7000ms expect M31000=0\n"),
+    "axes": ("LDI M0\nMOV K4 D21000\nOUT M21256\nOUT M21292\nLD X3\nOUT M21385\nLD X4\nOUT M21432\n"
+             "LD X5\nOUT M21448\nLD X6\nOUT M21416\n",
+             "model nc5 axes=X,Y,Z,B sync_b=-Y\n0ms X4=1 D21256:f=7.777 D21288:f=333\n20ms X5=1 X3=1\n"
+             "900ms X3=0\n2000ms X5=0\n2100ms X6=1 D21288:f=-123\n2200ms X5=1\n2700ms D21288:f=456\n"
+             "3000ms X5=0\n3500ms expect M31432=1\n"),
     "spindle": ("LD X3\nOUT M21704\nLD X4\nOUT M21706\nLD X5\nOUT M21710\nDMOV K2400 D21024\n"
                 "LD X6\nMOV K37 D21026\n",
                 "model nc5 spindle_ramp=700ms orient_at=9000 orient_time=170ms\n0ms X3=1 X5=1\n"
