@@ -5,13 +5,16 @@
               [spindle_max=6000] [spindle_ramp=1s] [at_speed=100] [zero_speed=100]
               [orient_at=0] [orient_time=300ms] [tools=16] [first_tool=1] [standby_pot=1]
               [magazine=1] [reset_spindle=1] [mpg=D100] [soft1_x=LO:HI] [soft2_x=LO:HI]
-              [hard_x=LO:HI] ...
+              [hard_x=LO:HI] [macro_9001=O9001.nc] [sync_b=Y] [clock=2022-06-01T00:00:00] ...
 
 Each step (before every scan, on the simulator's clock) it reads the MLC -> NC relays and
 registers the previous scan left (addresses.py: M2c..., D2c...) and writes the NC -> MLC ones
-(M3c..., D3c..., D49c..) for the coming scan: modes (5.3.1, 6.1), the part program (5.3.2, 6.2),
-the M/S/T handshake (5.3.10, 6.8), axes (5.3.3-5.3.6, 6.3-6.7, 6.9), the first spindle (5.3.13,
-6.10, 6.11), tool magazine 1 (5.3.14, 6.13), part counters and machining times (5.3.15). What
+(M3c..., D3c..., D49c..) for the coming scan: modes (5.3.1, 6.1), the part program (5.3.2, 6.2)
+and its handwheel run, the M/S/T handshake (5.3.10, 6.8), axes (5.3.3-5.3.6, 6.3-6.7, 6.9), the
+one-key macro (5.3.8, 6.12), MLC axes (5.3.9, 6.14), synchronous, transferred and gantry axes
+(5.3.11, 5.3.12, 6.15, 6.16), the first spindle (5.3.13, 6.10, 6.11), tool magazine 1 (5.3.14,
+6.13), part counters, machining and system times (5.3.15). A step in which only time passes is
+skipped and caught up in closed form (step()). What
 the manual does not give (speeds, ramps, travel) is a parameter; docs/nc5.md has the table and
 every decision. Its own state is published as signals (published.py): NC1.mode, NC1.X.pos ...
 """
