@@ -584,6 +584,7 @@ class NcModel(DeviceModel):
             if self.state in (RUNNING, MST_WAIT) and self.mode not in (AUTO, MDI):
                 # 6.2 (e): a mode change ends "程序執行中"; the program waits at its block
                 self.state, self.hold_by_mode = HOLD, True
+                self._halt_segment(changed_at)
             for ax in self.axes:  # a manual move stops with its mode
                 ax.homing, ax.inc_target = False, None
 
@@ -665,6 +666,7 @@ class NcModel(DeviceModel):
         start = self._edge(mb, self.a_cycle_start)
         if mb[self.a_feed_hold] and self.state in (RUNNING, MST_WAIT) and self.phase == 1:
             self.state, self.hold_by_mode = HOLD, False  # 6.2: stops at once, keeps the coordinates
+            self._halt_segment(now - dt)
         elif start and self.mode in (AUTO, MDI) and not mb[self.a_feed_hold] and self.state != ALARM:
             if self.state in (IDLE, END):
                 self.ptr, self.phase, self.ends, self.cycle_us = 0, 0, (0, 0, 0), 0
@@ -808,6 +810,11 @@ class NcModel(DeviceModel):
             self.seg_speed = 0
             return now - self.seg_end
         return -1
+
+    def _halt_segment(self, t: int) -> None:
+        """The block's motion stops at t, where the last step placed the axes (a hold): the
+        closed form would otherwise count the held time as travelled when it resumes."""
+        self.seg_from, self.seg_speed = self._travelled(t), 0
 
     def _travelled(self, t: int) -> float:
         """0.001 mm of the block's motion done at t (seg_*)."""
