@@ -14,7 +14,7 @@ import click
 
 from mlctool.cli.common import show, write_outputs
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.fileio import Outputs
+from mlctool.fileio import Outputs, note_input
 from mlctool.sim.cluster import ClusterError, cluster_diagnostic
 from mlctool.sim.output import summary, to_json
 
@@ -48,6 +48,9 @@ def batch_cmd(image, target, pattern: str, opts, jobs: int, cluster: str | None,
     except ClusterError as e:
         show([cluster_diagnostic(e)], {})
         return 2
+    for sc in scenarios:  # the files its models read (an NC part program) are inputs too
+        for p in sc.inputs:
+            note_input(p)
     show(list(unmodelled), lines)
     bad_input = False
     docs = {}

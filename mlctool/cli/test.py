@@ -29,7 +29,7 @@ from mlctool.cli.common import (
 )
 from mlctool.config import load_config
 from mlctool.diagnostics import MlcError, Span, diag
-from mlctool.fileio import Outputs
+from mlctool.fileio import Outputs, note_input
 from mlctool.sim import coverage as cov
 from mlctool.sim.cluster import ClusterError, cluster_diagnostic
 from mlctool.sim.junit import to_junit
@@ -158,6 +158,9 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
     for sc in scenarios:
         all_lines[sc.stim] = sc.stim_lines
         show(sc.diagnostics, all_lines)
+    for sc in scenarios:  # the files its models read (an NC part program) are inputs too
+        for p in sc.inputs:
+            note_input(p)
     files = {}
     for sc in scenarios:
         if sc.result is not None and not sc.ok:

@@ -67,6 +67,12 @@ class ModelIO:
         once per message in a run; the run goes on."""
         self._m.warnings.append((self._m.now_us, model.at, code, message))
 
+    def on_read(self, model: str, refresh) -> None:
+        """refresh() runs before a signal of `model` is read (an expectation, the trace, the
+        debugger): a model that skips steps while nothing but time passes (the NC5's virtual
+        NC) brings its signals up to date there."""
+        self._m.signal_refresh[SIGNAL + model] = refresh
+
     def set_pulse_mode(self, axis: int, mode: str) -> None:
         """The pulse output mode ("UD", "PR", "AB") of pulse axis `axis` for this run, over the
         project's setting; a target with pulse axes reads Machine.ext["pulse_modes"]."""
@@ -131,6 +137,11 @@ class DeviceModel:
                 raise ParamError(key, f"model {self.kind} has no parameter {key!r}")
 
     # -- simulation
+    def power_cycle(self) -> None:
+        """The PLC's power went off and on (a stimulus `power` line), after the step of that
+        scan. A device with its own supply ignores it (the default); the NC5's NC, the same
+        controller as its MLC, starts again."""
+
     def devices(self) -> list[DeviceView]:
         """Devices the model reads or drives (reported in JSON and waveforms)."""
         return []

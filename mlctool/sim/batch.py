@@ -40,6 +40,7 @@ from mlctool.sim.run import (
     RunTooLong,
     Simulation,
     build_models,
+    model_inputs,
     plan_scans,
 )
 from mlctool.sim.scan import DEFAULT_WATCHDOG, load_program
@@ -100,7 +101,7 @@ def _run_one(image: Image, target: Target, path: str, opts: Options,
     sim = Simulation(image, target, st, models, period, list(opts.watch), trace=False,
                      watchdog=opts.watchdog, engine=opts.engine, preload=opts.preload)
     result = sim.run(n_scans)
-    return Scenario(path, result, run_diagnostics(result, path), st.lines)
+    return Scenario(path, result, run_diagnostics(result, path), st.lines, inputs=tuple(model_inputs(models)))
 
 
 _WORKER: dict = {}

@@ -160,6 +160,12 @@ class RunResult:
                 and all(a.expected for a in self.alarms))
 
 
+def model_inputs(models: Sequence[DeviceModel]) -> list[str]:
+    """The files the models read (an NC part program): inputs of the run, which no output of
+    the command may overwrite (fileio.note_input: worker processes read them for mlc test and batches)."""
+    return [path for model in models for path in model.inputs()]
+
+
 def build_models(st: Stimulus, target: Target, watch: Sequence[DeviceView] = ()
                  ) -> tuple[list[DeviceModel], list[Diagnostic]]:
     models, diags, built = [], [], []
@@ -328,6 +334,8 @@ class Simulation:
         if e.kind == "power":
             self.m.power_cycle()
             self.configure_ports()
+            for model in self.models:
+                model.power_cycle()
         elif e.kind == "receive":  # bytes to the PLC's port (sim/serial_stim.py)
             seriallink.port(self.m, e.port).deliver(e.time_us, e.data)
         elif e.kind == "set":

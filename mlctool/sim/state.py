@@ -10,6 +10,7 @@ from __future__ import annotations
 import re
 import struct
 from array import array
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from mlctool.limits import clip, long_number, too_long_message
@@ -140,6 +141,8 @@ class Machine:
         # model-owned signals (sim/signals.py, `XC1.pos`): (kind "@XC1", signal index) -> value,
         # published by the models each step
         self.signals: dict[tuple[str, int], int] = {}
+        # model kind "@NC1" -> what brings its signals up to date before one is read (ModelIO.on_read)
+        self.signal_refresh: dict[str, Callable[[], None]] = {}
         self.pin_window = None  # sim/pin_window.py PinWindow: pulse pins inside a window (kept over power)
         self.image = None  # the linked program (Image): data kept beside the code (.table rows)
         # the relay that turns every external output Off while On (target.toml `outputs_off`,
@@ -317,6 +320,9 @@ class DeviceView:
         is its terminal, Off while the outputs-off relay is On (Machine.outputs_off)."""
         k, n, v = self.kind, self.number, self.view
         if k.startswith(SIGNAL):
+            refresh = m.signal_refresh.get(k)
+            if refresh is not None:
+                refresh()
             return m.signals.get((k, n), 0)
         if self.special is not None:
             return self.special.read(m, self)

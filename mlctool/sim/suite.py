@@ -26,6 +26,7 @@ from mlctool.sim.run import (
     RunTooLong,
     Simulation,
     build_models,
+    model_inputs,
     plan_scans,
 )
 from mlctool.sim.stimulus import load_stimulus
@@ -45,6 +46,7 @@ class Scenario:
     # lanes share the group's time evenly. Not part of a result's identity (it is not deterministic).
     seconds: float = field(default=0.0, compare=False)
     artifacts: tuple[str, ...] = field(default=(), compare=False)  # a failure's VCD and report page
+    inputs: tuple[str, ...] = ()  # files its models read (run.model_inputs): the command's inputs too
 
     @property
     def ok(self) -> bool:
@@ -106,7 +108,8 @@ def _run_scenario(image: Image, target: Target, stim_path: str, coverage: bool, 
         return Scenario(stim_path, None, [diag(stim_path, Span.at(1), "E601", str(e))], st.lines)
     sim = Simulation(image, target, st, models, period, [], trace=False, probe=probe, preload=preload)
     result = sim.run(n_scans)
-    return Scenario(stim_path, result, run_diagnostics(result, stim_path), st.lines, probe)
+    return Scenario(stim_path, result, run_diagnostics(result, stim_path), st.lines, probe,
+                    inputs=tuple(model_inputs(models)))
 
 
 _WORKER: dict = {}

@@ -117,3 +117,25 @@ def test_cycle_start_without_a_part_program_warns_w345_at_the_model_line(mlc, tm
     assert [(w["code"], w["line"]) for w in warned] == [("W345", 3)]
     r = sim(mlc, tmp_path, stim.replace("model nc5 axes=X", "model nc5 axes=X program=part.nc"))
     assert r.code == 0 and "W345" not in r.err  # a part program (M30): no warning
+
+
+def _project(tmp_path):
+    (tmp_path / "mlc.toml").write_text('target = "nc5"\nsources = ["p.il"]\ntests = ["t/*.stim"]\n')
+    (tmp_path / "p.il").write_text(PROGRAM)
+    (tmp_path / "t").mkdir()
+    (tmp_path / "t" / "a.stim").write_text("model nc5 program=part.nc\n0ms M21000=1\n100ms expect M31023=1\n")
+    (tmp_path / "t" / "part.nc").write_text("M30\n")
+
+
+def test_the_part_program_is_an_input_of_mlc_test_and_of_a_batch(mlc, tmp_path):
+    """run.model_inputs: mlc test and a batch (`--stimulus 'GLOB'`) refuse an output that is a
+    scenario's part program, as mlc sim does, and leave it whole."""
+    _project(tmp_path)
+    r = mlc("test", "--junit", "t/part.nc", cwd=tmp_path)
+    assert r.code == 2 and "E606" in r.err and "t/part.nc" in r.err, r.err
+    assert (tmp_path / "t" / "part.nc").read_text() == "M30\n"
+    r = mlc("sim", "p.il", "--stimulus", "t/*.stim", "--junit", "t/part.nc", cwd=tmp_path)
+    assert r.code == 2 and "E606" in r.err, r.err
+    assert (tmp_path / "t" / "part.nc").read_text() == "M30\n"
+    r = mlc("test", "--junit", "out.xml", cwd=tmp_path)
+    assert r.code == 0 and (tmp_path / "out.xml").is_file(), r.err
