@@ -12,8 +12,10 @@ docs/process/research/gxw_reverse_engineering.md; docs/formats.md cites the rest
   numbers differ between projects: a POU is found by its name (`MAIN.Program.pou`), never by
   a number.
 - a program POU: a header of 0x4F bytes, the token stream, 24 zero bytes; the u32 at 0x37 and
-  again at 0x3B is the token stream's length + 20. Anything else (a structured project's
-  records, another layout) is refused (E917).
+  again at 0x3B is the token stream's length + 20. Projects saved by GX Works2 in public
+  repositories (docs/formats.md, A run over public programs) end in 20 zero bytes with the same
+  length fields: the length fields say where the tokens end, and 20 or 24 zero bytes follow.
+  Anything else (a structured project's records, another layout) is refused (E917).
 - tokens are framed [length payload length]; each instruction is a header token and its
   operand tokens, decoded through the registry mlctool/gxw_tokens.toml (data, each entry
   citing its sample). An unknown token, a bad sentinel, an operand of a type the slot does
@@ -38,7 +40,9 @@ from functools import cache
 from importlib.resources import files
 
 HEADER = 0x4F  # the token stream's offset in a program POU
-TRAILER = 24  # zero bytes after it
+# Zero bytes after it: 24 in the notes' samples, 20 in projects saved by GX Works2 in public
+# repositories (docs/formats.md); the length fields, not the file's size, say where the tokens end.
+TRAILERS = (24, 20)
 LENGTH_FIELDS = (0x37, 0x3B)  # u32 token length + 20, twice
 LENGTH_BIAS = 20
 # No GX Works2 project comes near this; a larger file is refused before it is parsed.
@@ -284,19 +288,23 @@ def _history_check(raw: bytes, number: str, name: str, pou: bytes) -> list[tuple
 
 def tokens(pou: bytes, where: str) -> list[tuple[int, bytes]]:
     """The POU's token stream -> [(offset, payload)], every frame's sentinels checked."""
-    if len(pou) < HEADER + TRAILER:
-        raise GxwError("E917", f"{where}: {len(pou)} bytes, shorter than the {HEADER + TRAILER} of an empty "
+    if len(pou) < HEADER + min(TRAILERS):
+        raise GxwError("E917", f"{where}: {len(pou)} bytes, shorter than the {HEADER + min(TRAILERS)} of an empty "
                        "program POU's header and trailer", _LAYOUT_NOTE)
-    length = len(pou) - HEADER - TRAILER
-    for at in LENGTH_FIELDS:
-        stored = struct.unpack_from("<I", pou, at)[0]
-        if stored != length + LENGTH_BIAS:
-            raise GxwError("E917", f"{where}: offset 0x{at:X}: length field {stored} where a program of "
-                           f"{length} token bytes has {length + LENGTH_BIAS}", _LAYOUT_NOTE)
+    first, again = (struct.unpack_from("<I", pou, at)[0] for at in LENGTH_FIELDS)
+    if first != again:
+        raise GxwError("E917", f"{where}: offset 0x{LENGTH_FIELDS[0]:X}: length field {first} where the one at "
+                       f"0x{LENGTH_FIELDS[1]:X} says {again}", _LAYOUT_NOTE)
+    length = first - LENGTH_BIAS
+    trailer = len(pou) - HEADER - length
+    if trailer not in TRAILERS:
+        raise GxwError("E917", f"{where}: offset 0x{LENGTH_FIELDS[0]:X}: length field {first} (a program of "
+                       f"{length} token bytes) leaves {trailer} bytes after the tokens, where a program POU has "
+                       f"{' or '.join(map(str, TRAILERS))} zero bytes", _LAYOUT_NOTE)
     tail = pou[HEADER + length:]
     if any(tail):
         at = HEADER + length + next(k for k, b in enumerate(tail) if b)
-        raise GxwError("E917", f"{where}: offset 0x{at:X}: the 24-byte trailer is not zero", _LAYOUT_NOTE)
+        raise GxwError("E917", f"{where}: offset 0x{at:X}: the {trailer}-byte trailer is not zero", _LAYOUT_NOTE)
     out = []
     at, end = HEADER, HEADER + length
     while at < end:
@@ -316,7 +324,7 @@ def tokens(pou: bytes, where: str) -> list[tuple[int, bytes]]:
 
 
 _LAYOUT_NOTE = ("the public notes describe a simple project's ladder POU (header 0x4F bytes, token stream, 24 zero "
-                "bytes); a structured project or another layout is not read: write the program to CSV from GX "
+                "bytes; 20 in public projects); a structured project or another layout is not read: write the program to CSV from GX "
                 "Works2 and import that (docs/formats.md)")
 
 

@@ -7,7 +7,7 @@ writer does not make (MAIN.res's copy of the program, compiler state, parameters
   mini stream in the root entry, streams of 4096 bytes and more in sectors. One storage (the
   root) holding streams; up to 109 FAT sectors (the header's DIFAT), no DIFAT sectors.
 - pou(): a program POU: a 0x4F-byte header (the length field twice at 0x37/0x3B), the tokens,
-  24 zero bytes; instructions encoded by mlctool/gxw_tokens.toml read backwards.
+  24 zero bytes (or 20, as in public projects); instructions encoded by mlctool/gxw_tokens.toml read backwards.
 - project(): the outer file: projectdatalist.xml and history.xml naming the POUs' numbered
   streams in _hdb, itself a compound file.
 - il_project(): IL (the target's, `.dialect fx`) -> a project, in FX spelling (M9000 -> M8000)
@@ -21,7 +21,7 @@ import hashlib
 import math
 import struct
 
-from mlctool.gxw import HEADER, LENGTH_BIAS, LENGTH_FIELDS, TRAILER, registry
+from mlctool.gxw import HEADER, LENGTH_BIAS, LENGTH_FIELDS, TRAILERS, registry
 
 SECTOR, MINI, CUTOFF = 512, 64, 4096
 FREE, END, FATSECT, NOSTREAM = 0xFFFFFFFF, 0xFFFFFFFE, 0xFFFFFFFD, 0xFFFFFFFF
@@ -186,13 +186,14 @@ def instruction(mnemonic: str, operands: list[str]) -> bytes:
     return head + b"".join(operand(o, s) for o, s in zip(operands, form.slots))
 
 
-def pou(body: bytes) -> bytes:
-    """A program POU around a token stream."""
+def pou(body: bytes, trailer: int = TRAILERS[0]) -> bytes:
+    """A program POU around a token stream, `trailer` zero bytes after it (24 as in the notes' samples, 20
+    as GX Works2 saved the public projects of docs/formats.md)."""
     header = bytearray(HEADER)
     struct.pack_into("<8H", header, 0x22, 2024, 1, 1, 1, 12, 0, 0, 0)  # a save time (SYSTEMTIME)
     for at in LENGTH_FIELDS:
         struct.pack_into("<I", header, at, len(body) + LENGTH_BIAS)
-    return bytes(header) + body + bytes(TRAILER)
+    return bytes(header) + body + bytes(trailer)
 
 
 def program(lines: list[tuple[str, list[str]]]) -> bytes:

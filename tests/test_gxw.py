@@ -320,6 +320,28 @@ def test_a_pou_of_another_layout_is_refused():
     assert _refused(gxwkit.project({"MAIN": good[:40]})).code == "E917"
 
 
+def test_a_pou_ending_in_20_zero_bytes_is_read_as_public_projects_are(tmp_path):
+    # GX Works2 projects in public repositories (docs/formats.md) end the program POU in 20 zero
+    # bytes, the length fields still the token length + 20; they were refused (E917) for the 24
+    # of the notes' samples.
+    (tmp_path / "p.gxw").write_bytes(gxwkit.project({"MAIN": gxwkit.pou(b"".join(gxwkit.instruction(m, o) for m, o in SIMPLE), trailer=20)}))
+    r = run_mlc("import", "p.gxw", "-o", "p.il", cwd=tmp_path)
+    assert r.code == 0, r.err
+    twin = tmp_path / "twin"
+    twin.mkdir()
+    (twin / "p.gxw").write_bytes(gxwkit.project({"MAIN": gxwkit.program(SIMPLE)}))
+    assert run_mlc("import", "p.gxw", "-o", "p.il", cwd=twin).code == 0
+    assert (tmp_path / "p.il").read_text() == (twin / "p.il").read_text()
+    # Neither 20 nor 24 after the tokens the fields say, or the two fields differing: still E917.
+    for cut in (4, 8):
+        short = gxwkit.pou(b"".join(gxwkit.instruction(m, o) for m, o in SIMPLE), trailer=20)[:-cut]
+        e = _refused(gxwkit.project({"MAIN": short}))
+        assert e.code == "E917" and f"leaves {20 - cut} bytes after the tokens" in e.message, e.message
+    good = gxwkit.program(SIMPLE)
+    e = _refused(gxwkit.project({"MAIN": good[:0x3B] + struct.pack("<I", 7) + good[0x3F:]}))
+    assert "length field" in e.message and "the one at 0x3B says 7" in e.message, e.message
+
+
 def _entry(data: bytes, name: str):
     return olefile.OleFileIO(io.BytesIO(data)).root.kids_dict[name.lower()]
 
