@@ -27,6 +27,7 @@ from mlctool.commission.exchange import Exchange
 from mlctool.commission.modbus_map import Map, Permissions
 from mlctool.commission.modbus_slave import BUSY, exception, parse
 from mlctool.devices.framing import RECEIVERS, Frame
+from mlctool.devices.serial_port import SerialLine
 
 LOOPBACK = ("127.0.0.1", "localhost")
 READ_CHUNK = 4096
@@ -147,7 +148,6 @@ class ModbusServer:
             await asyncio.gather(*self._tasks, return_exceptions=True)
             self._server = None
         if self._port is not None:
-            asyncio.get_running_loop().remove_reader(self._port.fileno())
             self._port.close()
             self._port = None
 
@@ -234,42 +234,26 @@ class ModbusServer:
             writer.close()
 
     async def _open_serial(self) -> None:
-        import serial  # pyserial
-
-        try:
-            port = serial.Serial(self.endpoint.device, self.endpoint.baud, bytesize=8, parity="N", stopbits=1,
-                                 timeout=0, write_timeout=WRITE_TIMEOUT_S)
-        except (serial.SerialException, ValueError) as e:
-            raise OSError(str(e)) from None
-        receiver = RECEIVERS[self.framing]()
-        loop = asyncio.get_running_loop()
         frames: asyncio.Queue = asyncio.Queue(maxsize=16)  # a bus has one master: a few at most
         client = object()
 
-        def readable() -> None:
-            try:
-                data = port.read(READ_CHUNK)
-            except (serial.SerialException, OSError):
-                return
-            for f in receiver.feed(data, loop.time()) if data else ():
-                if frames.full():
-                    self.stats.busy += 1  # dropped, as a busy slave misses a frame
-                else:
-                    frames.put_nowait(f)
+        def on_frame(f: Frame) -> None:
+            if frames.full():
+                self.stats.busy += 1  # dropped, as a busy slave misses a frame
+            else:
+                frames.put_nowait(f)
+
+        line = SerialLine(self.endpoint.device, self.endpoint.baud, self.framing, on_frame, WRITE_TIMEOUT_S)
 
         async def worker() -> None:
             while True:
                 f = await frames.get()
                 reply = await self.answer(f, client)
                 if reply is not None:
-                    try:
-                        port.write(receiver.encode(f, reply))
-                    except (serial.SerialException, OSError):
-                        pass  # nobody reads the line: the reply is lost, as on a bus
+                    line.reply(f, reply)
 
-        loop.add_reader(port.fileno(), readable)
-        self._port = port
-        task = loop.create_task(worker())
+        self._port = line
+        task = asyncio.get_running_loop().create_task(worker())
         self._tasks.add(task)
 
 
