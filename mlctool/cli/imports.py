@@ -39,7 +39,6 @@ from mlctool.syntax.source import source_encoding
 
 @main_group.command("import", epilog=examples(
     "mlc import --target vs export.csv -o prog.il      # the format is recognised",
-    "mlc import --target vs --from gxworks2 export.csv -o prog.il",
     "mlc import --comments COMMENT.csv MAIN.csv -o prog.il   # device comments too",
     "mlc import --target fbs project.pdw -o prog.il     # FATEK WinProladder (.pdw / .ldr)",
 ))
