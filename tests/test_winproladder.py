@@ -5,6 +5,8 @@ files of tests/pdwkit.py round-trip; damaged and hostile files give a code, neve
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pdwkit
 import pytest
 from hypothesis import given, settings
@@ -287,3 +289,10 @@ def test_e914_is_gone_for_winproladder_files(tmp_path):
     assert r.code == 0 and "E914" not in r.err and r.out == SUBSET_IL
     (tmp_path / "x.wpg").write_bytes(b"\0" * 16)
     assert "E914" in run_mlc("import", "x.wpg", cwd=tmp_path).err
+
+
+def test_the_bundled_project_is_the_kits():
+    """tests/data/winproladder (the docs' examples run on it) is written by tests/pdwkit.py."""
+    data = Path(__file__).parent / "data" / "winproladder"
+    assert (data / "project.pdw").read_bytes() == pdwkit.project(words(" ".join(SUBSET)))
+    assert (data / "rungs.il").read_text() == SUBSET_IL

@@ -28,7 +28,7 @@ from mlctool.syntax.source import source_encoding
 @main_group.command("export", epilog=examples(
     "mlc export --target vs --to gxworks2 prog.il -o MAIN.csv   # GX Works2: Read from CSV File",
     "mlc export --target vs --to wplsoft prog.il -o prog.csv",
-    "mlc export --target fbs --to winproladder prog.il --template saved.pdw -o prog.pdw",
+    "mlc export --target fbs --to winproladder rungs.il --template project.pdw -o out.pdw",
 ))
 @target_option
 @encoding_option

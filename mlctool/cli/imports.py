@@ -40,7 +40,7 @@ from mlctool.syntax.source import source_encoding
 @main_group.command("import", epilog=examples(
     "mlc import --target vs export.csv -o prog.il      # the format is recognised",
     "mlc import --comments COMMENT.csv MAIN.csv -o prog.il   # device comments too",
-    "mlc import --target fbs project.pdw -o prog.il     # FATEK WinProladder (.pdw / .ldr)",
+    "mlc import --target fbs project.pdw -o fatek.il   # FATEK WinProladder (.pdw / .ldr)",
 ))
 @target_option
 @encoding_option
