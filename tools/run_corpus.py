@@ -21,7 +21,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-SUFFIXES = (".csv", ".txt", ".il", ".gxw", ".wpg", ".dvp", ".isp", ".pdw")
+SUFFIXES = (".csv", ".txt", ".il", ".gxw", ".wpg", ".dvp", ".isp", ".pdw", ".ldr")
 
 
 def mlc(*args: str, cwd: str) -> tuple[int, str]:
@@ -45,7 +45,7 @@ def run_one(path: Path, target: str) -> dict[str, str]:
         row["import"] = f"exit {code}" + (f" {' '.join(codes(out))}" if codes(out) else "")
         if code != 0:
             return row
-        if row["format"] in ("gxworks2", "gxdeveloper", "gxw"):  # gxw: the stored widths
+        if row["format"] in ("gxworks2", "gxdeveloper", "gxw", "winproladder"):  # gxw: stored widths; pdw: words
             row["steps"] = "differ (W107)" if "W107" in codes(out) else "equal"
         code, out = mlc("check", "--target", target, "p.il", cwd=tmp)
         row["check"] = f"exit {code}" + (f" {' '.join(codes(out))}" if codes(out) else "")
