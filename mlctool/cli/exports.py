@@ -42,10 +42,12 @@ from mlctool.syntax.source import source_encoding
 @quiet_option
 @click.argument("file", type=click.Path())
 def export_cmd(target_name, config_path, fmt, output, template, file):
-    """Write an IL program in a vendor tool's text form, for that tool to read (docs/formats.md).
+    """Write an IL program in a vendor tool's form, for that tool to read (docs/formats.md).
 
     The step column is the address the target's step convention computes; `mlc import` of the
-    output gives the IL back. Exit 0: written; 1: the program has errors; 2: unreadable input.
+    output gives the IL back. --to winproladder writes the program into a project WinProladder
+    saved (--template), keeping the rest of it. Exit 0: written; 1: the program has errors
+    or instructions the form cannot hold; 2: unreadable input or an unusable template.
     """
     config = get_config(config_path)
     if fmt == "winproladder" and not (template and output):
