@@ -7,6 +7,8 @@
   row per instruction with its first operand, each further operand on a continuation row
   (empty step and instruction cells); X/Y written with three octal digits (`X000`).
 - `wplsoft`: WPLSoft's `000000,LD,X0` rows (6-digit step number, mnemonic, operands).
+- `winproladder`: a FATEK WinProladder project (.pdw): the program's words written into a
+  project WinProladder saved (the template), by mlctool/winproladder.py (export_winproladder).
 
 Written in the dialect of the file's `.dialect` (else the format's own: FX for GX, Delta DVP
 for WPLSoft): the target's special devices go back to the family's numbers (M9000 -> M8000 /
@@ -27,7 +29,7 @@ from mlctool.program import Instr
 from mlctool.syntax.operands import OperandSyntaxError, format_operand, parse_operand
 from mlctool.targetapi.model import Target
 
-FORMATS = ("gxworks2", "wplsoft")
+FORMATS = ("gxworks2", "wplsoft", "winproladder")
 FORMAT_FAMILY = {"gxworks2": "fx", "wplsoft": "dvp"}
 _HEADER = ("Step Number", "Line Statement", "Instruction", "I/O(Device)", "Blank", "PI Statement", "Note")
 _DIALECT = re.compile(r"\s*\.dialect\s+(\w+)", re.IGNORECASE)
@@ -166,3 +168,48 @@ def _wplsoft(rows) -> bytes:
             continue
         out.append(",".join([f"{step:06d}", instruction, *operands]) + (f" ; {note}" if note else ""))
     return ("\r\n".join(out) + "\r\n").encode("utf-8")
+
+
+def export_winproladder(path: str, text: str, target: Target, template: bytes
+                        ) -> tuple[bytes | None, list[Diagnostic]]:
+    """IL text -> a WinProladder project: `template` (a .pdw WinProladder saved) with its program
+    replaced by the IL's, each instruction's words from mlctool/winproladder_words.toml read
+    backwards. END must be the last instruction and gives no word (the project keeps the
+    program's length). None with the checker's errors, E930 for an instruction with no word,
+    E931 for a template the writer cannot use."""
+    from mlctool.check import check_texts
+    from mlctool.syntax.source import SourceText
+    from mlctool.winproladder import FatekError, encode, write_pdw
+
+    src = SourceText(path, text if text.endswith("\n") else text + "\n")
+    result = check_texts([src], target)
+    errors = [d for d in result.diagnostics if d.severity == "error"]
+    if errors:
+        return None, errors
+    module = next(m for m in result.modules if m.path == path)
+    words: list[int] = []
+    problems = []
+    instrs = sorted(module.instrs, key=lambda i: i.addr)
+    for k, ins in enumerate(instrs):
+        if ins.spec.op == "end" and k == len(instrs) - 1:
+            break
+        shown = " ".join([ins.spec.mnemonic, *ins.texts])
+        operand = format_operand(ins.operands[0]) if len(ins.operands) == 1 else ""
+        got = encode(ins.spec.mnemonic, operand) if operand and not ins.operands[0].index else None
+        if got is None:
+            problems.append(diag(path, Span.at(ins.line), "E930", f"{shown}: no WinProladder word the public notes "
+                                 "establish", "the writer knows the forms of mlctool/winproladder_words.toml "
+                                 "(docs/formats.md, FATEK WinProladder)"))
+        elif not problems and (len(got) != ins.steps or ins.addr != len(words)):
+            problems.append(diag(path, Span.at(ins.line), "E930", f"{shown}: {len(got)} words at word {len(words)}, "
+                                 f"where target {target.name} counts {ins.steps} steps at {ins.addr}"))
+        else:
+            words += got
+    if not instrs or instrs[-1].spec.op != "end":
+        problems.append(diag(path, Span.at(1), "E930", "the program does not end with END"))
+    if problems:
+        return None, problems
+    try:
+        return write_pdw(template, words), []
+    except FatekError as e:
+        return None, [diag(path, Span.at(1), e.code, e.message, *e.notes)]

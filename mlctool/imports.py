@@ -724,13 +724,13 @@ DIALECT_TARGET = {"gxworks2": "vs", "gxdeveloper": "vs", "wplsoft": "vs", "delta
 # Vendor project files (binary) not read: what each is and what the public record holds about
 # it (docs/formats.md). Their program bodies are not publicly described well enough to decode
 # reliably, and a guess is never written (E914 says what to do instead). A GX Works2 `.gxw`,
-# and any other compound (OLE2) file, goes to the project reader (import_project).
+# and any other compound (OLE2) file, goes to the project reader (import_project); a FATEK
+# WinProladder `.pdw` / `.ldr` to import_winproladder.
 PROJECT_FILES = {
     ".gx3": ("GX Works3 project", "undocumented"),
     ".wpg": ("GX Developer program", "undocumented container around the FX program body"),
     ".dvp": ("WPLSoft project", "undocumented"),
     ".isp": ("ISPSoft project", "undocumented"),
-    ".pdw": ("FATEK WinProladder project", "undocumented"),
 }
 _TEXT_EXPORT = {"GX Developer program": "open it in GX Developer or GX Works2 and write the program as CSV, then "
                 "`mlc import` that CSV"}
@@ -748,7 +748,7 @@ def project_file(path: str, head: bytes) -> Diagnostic | None:
                 f"mlctool reads no such file ({facts} in public sources: docs/formats.md)",
                 "export the program as text from the vendor's tool and import that: "
                 + _TEXT_EXPORT.get(name, "its instruction-list or CSV export (WPLSoft and ISPSoft: the instruction "
-                                   "list as text; WinProladder: the ladder as text)"))
+                                   "list as text)"))
 
 
 def is_gx_project(path: str, head: bytes) -> bool:
@@ -788,6 +788,57 @@ def import_project(path: str, data: bytes, target: Target, comments: dict[str, s
             counts[k - 1] = (k, ins.width, " ".join([ins.mnemonic, *ins.operands]), "the project (its stored width)")
     w.finish()
     return _assemble(path, "gxw", w, target, counts)
+
+
+# the target a WinProladder program is for: its words are FATEK FBs instructions and devices
+WINPROLADDER_TARGET = "fbs"
+
+
+def is_winproladder(path: str, head: bytes) -> bool:
+    """A FATEK WinProladder project (.pdw) or ladder resource (.ldr): by its name or signature."""
+    import os
+
+    from mlctool.winproladder import kind_of
+
+    return os.path.splitext(path)[1].lower() in (".pdw", ".ldr") or kind_of(head) is not None
+
+
+def import_winproladder(path: str, data: bytes, target: Target) -> tuple[str | None, str, list[Diagnostic]]:
+    """A WinProladder .pdw / .ldr -> (IL or None, "winproladder", diagnostics): its program's
+    words decoded (mlctool/winproladder.py), one IL line per form, END last (the file keeps
+    the program's length, no END word). A form with no counterpart on the target is E927 at
+    its offset; W107 where the target's step count of an instruction is not its words."""
+    import os
+
+    from mlctool.winproladder import FatekError, read
+
+    fmt = "winproladder"
+    if target.name != WINPROLADDER_TARGET:
+        return None, fmt, [diag(path, Span.at(1), "E927", f"a WinProladder program is a FATEK FBs program; target "
+                                f"{target.name} is another PLC", f"import it with --target {WINPROLADDER_TARGET}")]
+    try:
+        prog = read(data, os.path.splitext(path)[1])
+    except FatekError as e:
+        return None, fmt, [diag(path, Span.at(1), e.code, e.message, *e.notes)]
+    places = {k: f"offset 0x{it.offset:X} (program word {it.index})" for k, it in enumerate(prog.items, 1)}
+    w = _Writer(path, target, "", None, places)
+    for code, message in prog.warnings:
+        w.warn(1, code, code, message)
+    counts = {}
+    for k, it in enumerate(prog.items, 1):
+        shown = " ".join(f"{x:04X}" for x in it.words)
+        if it.il == ";":
+            w.comment(f"{it.fatek} ({shown})")
+        elif not it.il:
+            w.warn(k, f"none {it.fatek}", "E927", f"{w.at(k)}: {shown}: {it.fatek}: no counterpart on target "
+                   f"{target.name}: {it.why}", "rewrite that rung for the target's instructions (docs/formats.md)")
+        else:
+            w.flush()
+            counts[len(w.lines)] = (k, len(it.words), it.fatek, "the file (its words)")
+            w.instruction(it.il, [it.operand] if it.operand else [], k)
+    w.instruction("END", [], len(prog.items) + 1)
+    w.finish()
+    return _assemble(path, fmt, w, target, counts)
 
 
 def import_file(path: str, target: Target, fmt: str | None = None) -> tuple[str | None, str, list[Diagnostic]]:

@@ -35,7 +35,7 @@ sys.path.insert(0, str(ROOT))
 
 from mlctool.imports import export_cpu  # noqa: E402  (the CPU row as the importer reads it)
 
-SUFFIXES = (".csv", ".txt", ".il", ".gxw", ".wpg", ".dvp", ".isp", ".pdw")
+SUFFIXES = (".csv", ".txt", ".il", ".gxw", ".wpg", ".dvp", ".isp", ".pdw", ".ldr")
 STAGES = ("import", "check", "build", "ladder", "sim")
 
 
@@ -78,7 +78,7 @@ def run_one(path: Path, target: str, scans: int) -> dict[str, str]:
         row["import"] = said(code, out)
         if code != 0:
             return row
-        if row["format"] in ("gxworks2", "gxdeveloper", "gxw"):  # gxw: the stored widths
+        if row["format"] in ("gxworks2", "gxdeveloper", "gxw", "winproladder"):  # gxw: stored widths; pdw: words
             row["steps"] = "differ (W107)" if "W107" in codes(out) else "equal"
         lines = [ln for ln in Path(tmp, "p.il").read_text(encoding="utf-8").splitlines()
                  if ln.strip() and not ln.lstrip().startswith((".", ";", "//"))]

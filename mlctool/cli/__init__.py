@@ -43,10 +43,10 @@ COMMAND_SUMMARIES = {
     "check": "Check instruction-list sources against the target's manual.",
     "debug": "Debug a program on the simulator: breakpoints, stepping, time travel (console or DAP).",
     "device": "Device models as real devices on a Modbus link.",
-    "export": "Write an IL program in a vendor tool's text form, for that tool to read (docs/formats.md).",
+    "export": "Write an IL program in a vendor tool's form, for that tool to read (docs/formats.md).",
     "explain": "Print the documentation of a diagnostic code, or the manual's row of a special device.",
     "fmt": "Rewrite IL files in the canonical layout (idempotent; code unchanged).",
-    "import": "Convert an editor's export or a GX Works2 project to plain IL (docs/formats.md).",
+    "import": "Convert an editor's export or a GX Works2 / WinProladder project to plain IL (docs/formats.md).",
     "init": "Write a new project into DIR (default: here): mlc.toml, src/main.il, a passing scenario "
             "in tests/, a CI workflow and a pre-commit configuration.",
     "ladder": "Draw the FILEs as ladder diagrams, one rung per IL rung, in program order.",

@@ -1,5 +1,5 @@
-"""`mlc import`: a vendor export (GX Works2 / GX Developer / WPLSoft / Delta CSV, plain IL) or a
-GX Works2 project (.gxw) -> IL."""
+"""`mlc import`: a vendor export (GX Works2 / GX Developer / WPLSoft / Delta CSV, plain IL), a
+GX Works2 project (.gxw) or a FATEK WinProladder project / ladder resource (.pdw / .ldr) -> IL."""
 
 from __future__ import annotations
 
@@ -27,7 +27,9 @@ from mlctool.imports import (
     detect,
     import_project,
     import_text,
+    import_winproladder,
     is_gx_project,
+    is_winproladder,
     project_file,
     read_comments,
     read_export,
@@ -37,8 +39,8 @@ from mlctool.syntax.source import source_encoding
 
 @main_group.command("import", epilog=examples(
     "mlc import --target vs export.csv -o prog.il      # the format is recognised",
-    "mlc import --target vs --from gxworks2 export.csv -o prog.il",
     "mlc import --comments COMMENT.csv MAIN.csv -o prog.il   # device comments too",
+    "mlc import --target fbs project.pdw -o fatek.il   # FATEK WinProladder (.pdw / .ldr)",
 ))
 @target_option
 @encoding_option
@@ -54,10 +56,11 @@ from mlctool.syntax.source import source_encoding
               help="a GX Works2 project's program POU to read (default: its only one)")
 @click.argument("file", type=click.Path())
 def import_cmd(target_name, config_path, fmt, output, comments_file, program, file):
-    """Convert an editor's export or a GX Works2 project to plain IL (docs/formats.md).
+    """Convert an editor's export or a GX Works2 / WinProladder project to plain IL (docs/formats.md).
 
     Without --target, a GX Works2, GX Developer, WPLSoft or Delta export or a GX Works2 project
-    (FX dialect) is imported for target vs; plain IL for the target of mlc.toml, else nc5.
+    (FX dialect) is imported for target vs, a WinProladder .pdw / .ldr for fbs; plain IL for
+    the target of mlc.toml, else nc5.
 
     Exit 0: converted; 1: rows that cannot be placed; 2: unreadable input or not an export.
     """
@@ -73,6 +76,9 @@ def import_cmd(target_name, config_path, fmt, output, comments_file, program, fi
         sys.exit(2)
     if is_gx_project(file, head):
         _import_project(file, target_name, config, output, comments_file, program, plan)
+        return
+    if is_winproladder(file, head):
+        _import_winproladder(file, target_name, config, output, comments_file, program, plan)
         return
     if program is not None:
         raise click.UsageError("--program names a program POU of a GX Works2 project (.gxw); "
@@ -112,6 +118,31 @@ def _import_project(file, target_name, config, output, comments_file, program, p
     if text is None:
         sys.exit(2 if any("E915" <= d.code <= "E922" for d in diags) else 1)
     _write(file, text, "gxw", target, dialect, output, plan)
+
+
+def _import_winproladder(file, target_name, config, output, comments_file, program, plan):
+    """A FATEK WinProladder .pdw / .ldr: exit 2 for a file it cannot read or forms the target
+    cannot place (E923-E929), as the issue asks of vendor project files."""
+    from mlctool.diagnostics import Span, diag
+    from mlctool.fileio import read_input
+    from mlctool.imports import WINPROLADDER_TARGET
+    from mlctool.winproladder import MAX_FILE
+
+    if comments_file or program is not None:
+        raise click.UsageError("--comments and --program are for GX projects and exports; a WinProladder file "
+                               "takes neither")
+    dialect = WINPROLADDER_TARGET if not target_name else None
+    target = get_target(target_name or dialect, config)
+    try:
+        data = read_input(file, MAX_FILE + 1)
+    except OSError as e:
+        show([diag(file, Span.at(1), "E100", f"cannot read: {e.strerror or e}")], {})
+        sys.exit(2)
+    text, fmt, diags = import_winproladder(file, data, target)
+    show(diags, {})
+    if text is None:
+        sys.exit(2 if unreadable(diags) or any("E923" <= d.code <= "E929" for d in diags) else 1)
+    _write(file, text, fmt, target, dialect, output, plan)
 
 
 def _comments(comments_file, target, config) -> dict[str, str] | None:
