@@ -1,5 +1,5 @@
 """`mlc sim` names the NC5's signals (targets/nc5/signals.tsv) where a run is looked at: VCD
-aliases under mlc.signals (sim/vcd.py) and the `--watch` lines (cli/sim.py), through the
+aliases under mlc.signals (sim/run/vcd.py) and the `--watch` lines (cli/sim.py), through the
 generic hook targetapi.signals.device_signal."""
 
 from __future__ import annotations

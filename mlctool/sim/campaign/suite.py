@@ -18,9 +18,9 @@ from mlctool.config import Config
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.fileio import note_input
 from mlctool.program import Image
-from mlctool.sim.coverage import Probe
-from mlctool.sim.output import run_diagnostics
-from mlctool.sim.run import (
+from mlctool.sim.campaign.coverage import Probe
+from mlctool.sim.run.output import run_diagnostics
+from mlctool.sim.run.run import (
     DEFAULT_SCAN_US,
     RunResult,
     RunTooLong,
@@ -29,7 +29,7 @@ from mlctool.sim.run import (
     model_inputs,
     plan_scans,
 )
-from mlctool.sim.stimulus import load_stimulus
+from mlctool.sim.stimulus.stimulus import load_stimulus
 from mlctool.targetapi import Target
 
 
@@ -128,7 +128,7 @@ def _run_in_worker(stim: str) -> Scenario:
 
 
 def _run_chunk(shared, chunk: list[tuple[str, tuple]]) -> list[Scenario]:
-    """A cluster worker's part of a suite (mlctool/sim/cluster.py)."""
+    """A cluster worker's part of a suite (mlctool/sim/campaign/cluster.py)."""
     image, target, coverage, preload = shared
     return [run_scenario(image, target, stim, coverage, loaded, preload) for stim, loaded in chunk]
 
@@ -137,9 +137,9 @@ def run_all(image: Image, target: Target, stims: list[str], jobs: int = 1,
             coverage: bool = False, cluster: str | None = None, preload: list = ()) -> list[Scenario]:
     """The scenarios' outcomes in the order of `stims`: here, in `jobs` processes, or on the
     Dask scheduler at `cluster` (ClusterError when it cannot be used). (`mlc test` without
-    coverage runs its scenarios with mlctool/sim/batch.py's run_batch instead.)"""
+    coverage runs its scenarios with mlctool/sim/campaign/batch.py's run_batch instead.)"""
     if cluster is not None:
-        from mlctool.sim.cluster import map_chunks
+        from mlctool.sim.campaign.cluster import map_chunks
 
         items = [(s, load_stimulus(s, target)) for s in stims]
         parts = map_chunks(cluster, _run_chunk, (image, target, coverage, list(preload)), items, per_thread=4)
@@ -180,7 +180,7 @@ def failure_artifacts(image: Image, target: Target, sc: Scenario, lines: dict[st
     """A failing scenario run again with its trace kept: {path: text} of its VCD, the GTKWave
     save file beside it and the HTML report page (the ladder lit by scan, waveforms)."""
     from mlctool.ladder.report import ScanLamps, report_html
-    from mlctool.sim.vcd import gtkw_path, to_gtkw, to_vcd
+    from mlctool.sim.run.vcd import gtkw_path, to_gtkw, to_vcd
 
     st, _ = load_stimulus(sc.stim, target)
     models, _ = build_models(st, target)

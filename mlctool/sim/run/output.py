@@ -7,7 +7,7 @@ import math
 from collections.abc import Sequence
 
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.sim.run import RunResult
+from mlctool.sim.run.run import RunResult
 from mlctool.sim.state import to_f32
 
 
@@ -36,7 +36,7 @@ def ms(us: int) -> int | float:
 
 
 def to_json(r: RunResult, warnings: Sequence[Diagnostic] = ()) -> str:
-    """`warnings`: the program's W608 (sim/unmodelled.py), the same for every run of it."""
+    """`warnings`: the program's W608 (sim/run/unmodelled.py), the same for every run of it."""
     failures = [
         {"line": f.line, "time_ms": ms(f.time_us), "scan": f.scan, "device": f.device,
          "expected": f.expected, "actual": json_value(f.actual), "last_write": f.writer,

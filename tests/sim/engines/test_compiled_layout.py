@@ -13,9 +13,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_compiled_engine import engines_agree, program, stimulus
 
-from mlctool.sim import compile as compile_mod
-from mlctool.sim import compile_layout
-from mlctool.sim.engine import Scanner
+from mlctool.sim.engines import compile as compile_mod
+from mlctool.sim.engines import compile_layout
+from mlctool.sim.engines.engine import Scanner
 from mlctool.sim.scan import Fault, load_program
 from mlctool.sim.state import Machine
 from simkit import NC5, image_of

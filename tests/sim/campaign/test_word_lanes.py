@@ -1,4 +1,4 @@
-"""Numpy word lanes (mlctool/sim/word_lanes.py) against one run per scenario: random
+"""Numpy word lanes (mlctool/sim/campaign/word_lanes.py) against one run per scenario: random
 straight-line programs of the instructions the lanes take, random stimuli (lanes that agree
 and lanes that differ, values at the 16/32-bit limits, negative values, forced words, timer
 and counter words written by the stimulus), several scan periods against the timer bases (a
@@ -10,9 +10,9 @@ import random
 
 import pytest
 
-from mlctool.sim.batch import Options, run_batch
+from mlctool.sim.campaign.batch import Options, run_batch
+from mlctool.sim.campaign.word_lanes import WordLaneProgram
 from mlctool.sim.scan import load_program
-from mlctool.sim.word_lanes import WordLaneProgram
 from simkit import NC5, image_of
 
 BITS = ["X0", "X1", "X2", "X3", "M0", "M1", "M2", "M3", "M1000", "T0", "T200", "C0", "C1"]

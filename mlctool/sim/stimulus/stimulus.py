@@ -12,7 +12,9 @@ from fractions import Fraction
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.limits import integer, long_number, real, too_long_message
-from mlctool.sim.quantities import (
+from mlctool.sim.signals import SIGNAL
+from mlctool.sim.state import DeviceView, NameError_, parse_device_name, to_f32
+from mlctool.sim.stimulus.quantities import (
     MAX_SCANS,
     MAX_TIME_US,
     TIME_BOUND,
@@ -20,8 +22,6 @@ from mlctool.sim.quantities import (
     parse_frequency,
     parse_time,
 )
-from mlctool.sim.signals import SIGNAL
-from mlctool.sim.state import DeviceView, NameError_, parse_device_name, to_f32
 from mlctool.syntax.source import read_source
 from mlctool.targetapi.model import Target
 
@@ -258,7 +258,7 @@ class _Parser:
             self.model(no, toks)
             return
         if head == "port":
-            from mlctool.sim.serial_stim import parse_port
+            from mlctool.sim.stimulus.serial_stim import parse_port
 
             spec = parse_port(toks)
             if any(p.name == spec.name for p in self.st.ports):
@@ -344,7 +344,7 @@ class _Parser:
         elif len(toks) > 1 and toks[1][0].lower() == "pulses":
             self.pulses(ev, toks, off)
         elif len(toks) > 1 and toks[1][0].lower() == "receive":
-            from mlctool.sim.serial_stim import parse_receive
+            from mlctool.sim.stimulus.serial_stim import parse_receive
 
             if ev.time_us is None:
                 raise StimError("bytes arrive at a time (e.g. 20ms), not at a scan number", 0)
@@ -383,7 +383,7 @@ class _Parser:
         self.st.entries.append(ev)
 
     def pulses(self, ev: Event, toks: list[tuple[str, int]], off: int) -> None:
-        """`X0 pulses 1kHz [until TIME | for TIME]`: a pulse train on an input (sim/pulses.py)."""
+        """`X0 pulses 1kHz [until TIME | for TIME]`: a pulse train on an input (sim/hardware/pulses.py)."""
         form = "expected `DEV pulses FREQUENCY [until TIME | for TIME]`, e.g. X0 pulses 1kHz until 500ms"
         # `A/B pulses [-]FREQ`: an A/B phase pair (pulses.Quadrature); minus: B leads A
         names = toks[0][0].split("/")

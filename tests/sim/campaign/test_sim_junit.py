@@ -1,4 +1,4 @@
-"""JUnit XML (mlctool/sim/junit.py): classnames without dots, real durations, file/line on
+"""JUnit XML (mlctool/sim/campaign/junit.py): classnames without dots, real durations, file/line on
 each test case; valid against junit-10.xsd extended by file/line only."""
 
 from __future__ import annotations

@@ -9,7 +9,7 @@ import xml.etree.ElementTree as ET
 import pytest
 
 from conftest import run_mlc, without_times
-from mlctool.sim.batch import Options, run_batch
+from mlctool.sim.campaign.batch import Options, run_batch
 from simkit import NC5, image_of
 
 PROGRAM = """
@@ -169,8 +169,8 @@ def test_word_lanes_match_single_runs(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     import random
 
+    from mlctool.sim.campaign.word_lanes import WordLaneProgram
     from mlctool.sim.scan import load_program
-    from mlctool.sim.word_lanes import WordLaneProgram
 
     image = image_of(WORD_PROGRAM)
     assert WordLaneProgram(load_program(image, NC5)).ok

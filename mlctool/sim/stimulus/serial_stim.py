@@ -6,7 +6,7 @@
 `port` gives the PLC's port settings, as Ladder Master S's project port settings do (Vigor VS
 7-3-8 Non Protocol: data 7/8 bits, parity, start and end characters "none or any data",
 time-out; 7-3-7 the station number). `CPn receive` sends bytes to the PLC from the line's time
-on, one character time each (sim/seriallink.py Port.deliver). Errors are StimError (E601).
+on, one character time each (sim/hardware/seriallink.py Port.deliver). Errors are StimError (E601).
 """
 
 from __future__ import annotations
@@ -15,8 +15,8 @@ import re
 from dataclasses import dataclass
 
 from mlctool.limits import integer, is_decimal
-from mlctool.sim.quantities import StimError, parse_time
-from mlctool.sim.seriallink import PORT_NAMES, LineSettings
+from mlctool.sim.hardware.seriallink import PORT_NAMES, LineSettings
+from mlctool.sim.stimulus.quantities import StimError, parse_time
 
 BAUDS = (300, 600, 1200, 2400, 4800, 9600, 19200, 38400, 57600, 115200)  # 7-3-8
 

@@ -16,15 +16,16 @@ from dataclasses import dataclass, field
 from mlctool.devices.base import DeviceModel, ModelInputError, ModelIO, ParamError
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image
-from mlctool.sim import seriallink, signals
+from mlctool.sim import signals
 from mlctool.sim.decode import Program, program_devices
-from mlctool.sim.engine import scanner
-from mlctool.sim.pin_window import PinWindow
-from mlctool.sim.pulses import Quadrature, Train, add_quadrature, add_train, drive_inputs
+from mlctool.sim.engines.engine import scanner
+from mlctool.sim.hardware import seriallink
+from mlctool.sim.hardware.pin_window import PinWindow
+from mlctool.sim.hardware.pulses import Quadrature, Train, add_quadrature, add_train, drive_inputs
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, load_program
 from mlctool.sim.signals import SIGNAL
 from mlctool.sim.state import DeviceView, Machine
-from mlctool.sim.stimulus import MAX_SCANS, Check, Event, Stimulus
+from mlctool.sim.stimulus.stimulus import MAX_SCANS, Check, Event, Stimulus
 from mlctool.targetapi.model import Target
 from mlctool.targetapi.registry import simulation_of
 
@@ -121,7 +122,7 @@ class RunResult:
     alarms: list[AlarmReport]
     fault: FaultReport | None
     trace: list[tuple[int, list[tuple[int, int | float]]]]  # (time us, [(view index, value)])
-    pin_window: object = None  # sim/pin_window.py PinWindow of --pulse-window (None: per-scan levels only)
+    pin_window: object = None  # sim/hardware/pin_window.py PinWindow of --pulse-window (None: per-scan levels only)
     warnings: list[WarningReport] = field(default_factory=list)  # run-time warnings, first of each
 
     @classmethod
@@ -336,7 +337,7 @@ class Simulation:
             self.configure_ports()
             for model in self.models:
                 model.power_cycle()
-        elif e.kind == "receive":  # bytes to the PLC's port (sim/serial_stim.py)
+        elif e.kind == "receive":  # bytes to the PLC's port (sim/stimulus/serial_stim.py)
             seriallink.port(self.m, e.port).deliver(e.time_us, e.data)
         elif e.kind == "set":
             for view, value in e.assigns:

@@ -11,7 +11,7 @@ there faster than one run after the other:
   arbitrary-width integers beat numpy boolean arrays here: one C call per instruction for
   any number of lanes, and no temporaries.) A scenario that fails an expectation is run
   again on its own, so its failure report (last writer included) is exactly the single run's.
-- Word lanes (numpy, mlctool/sim/word_lanes.py). A straight-line program of contacts, compare
+- Word lanes (numpy, mlctool/sim/campaign/word_lanes.py). A straight-line program of contacts, compare
   contacts, coils, TMR/CNT and word arithmetic and moves on D, with scenarios that set, force
   and expect plain bits and D/T/C words: every device is a numpy array with one element per
   scenario.
@@ -29,11 +29,13 @@ from dataclasses import dataclass, field
 
 from mlctool.diagnostics import Span, diag
 from mlctool.program import Image
+from mlctool.sim.campaign.lane_codegen import RungCodegen, lanes_target
+from mlctool.sim.campaign.suite import Scenario
+from mlctool.sim.campaign.word_lanes import LazyWordLanes, run_word_lanes, word_lane_ready
 from mlctool.sim.decode import Program, program_devices
-from mlctool.sim.lane_codegen import RungCodegen, lanes_target
 from mlctool.sim.operands import BitRef
-from mlctool.sim.output import run_diagnostics
-from mlctool.sim.run import (
+from mlctool.sim.run.output import run_diagnostics
+from mlctool.sim.run.run import (
     DEFAULT_SCAN_US,
     ExpectOutcome,
     RunResult,
@@ -45,9 +47,7 @@ from mlctool.sim.run import (
 )
 from mlctool.sim.scan import DEFAULT_WATCHDOG, load_program
 from mlctool.sim.state import DeviceView, Machine
-from mlctool.sim.stimulus import NameCache, Stimulus, load_stimulus
-from mlctool.sim.suite import Scenario
-from mlctool.sim.word_lanes import LazyWordLanes, run_word_lanes, word_lane_ready
+from mlctool.sim.stimulus.stimulus import NameCache, Stimulus, load_stimulus
 from mlctool.targetapi.model import Target
 
 LANE_KINDS = ("X", "Y", "M", "A")
@@ -416,7 +416,7 @@ def run_batch(image: Image, target: Target, paths: list[str], opts: Options, job
               lanes: bool = True, cluster: str | None = None,
               loaded: dict[str, tuple[Stimulus | None, list]] | None = None) -> tuple[list[Scenario], BatchStats]:
     """One Scenario per path, in the order given. `cluster`: a Dask scheduler's address, the
-    scenarios run there in chunks (mlctool/sim/cluster.py; ClusterError when it cannot)."""
+    scenarios run there in chunks (mlctool/sim/campaign/cluster.py; ClusterError when it cannot)."""
     stats = BatchStats()
     results: dict[str, Scenario] = {}
     paused = gc.isenabled()
@@ -505,7 +505,7 @@ def _run_batch_lanes(image: Image, target: Target, paths: list[str], opts: Optio
 
 def _run_on_cluster(address: str, image: Image, target: Target, paths: list[str], opts: Options,
                     lanes: bool, loaded: dict) -> tuple[list[Scenario], BatchStats]:
-    from mlctool.sim.cluster import map_chunks
+    from mlctool.sim.campaign.cluster import map_chunks
 
     parts = map_chunks(address, _run_chunk, (image, target, opts, lanes), [(p, loaded[p]) for p in paths])
     stats = BatchStats()

@@ -1,11 +1,11 @@
-"""Generated code compiled in parts (mlctool/sim/pycompile.py): the same functions, and the
+"""Generated code compiled in parts (mlctool/sim/engines/pycompile.py): the same functions, and the
 line numbers a traceback shows are those of the whole source."""
 
 from __future__ import annotations
 
 import traceback
 
-from mlctool.sim.pycompile import compile_parts, global_names, run_parts
+from mlctool.sim.engines.pycompile import compile_parts, global_names, run_parts
 
 
 def _source(n: int) -> list[str]:

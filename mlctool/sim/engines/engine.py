@@ -14,12 +14,12 @@ import os
 from collections.abc import Callable
 from types import FunctionType
 
-from mlctool.sim import native
 from mlctool.sim import scan as _scan
-from mlctool.sim.codecache import compiled as compiled_code
-from mlctool.sim.codegen import K8_MOD
 from mlctool.sim.decode import Program, Step
-from mlctool.sim.pycompile import global_names, run_parts
+from mlctool.sim.engines import native
+from mlctool.sim.engines.codecache import compiled as compiled_code
+from mlctool.sim.engines.codegen import K8_MOD
+from mlctool.sim.engines.pycompile import global_names, run_parts
 from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, end_of_scan, run_scan, run_steps
 from mlctool.sim.state import Machine, SimFault
 

@@ -15,8 +15,8 @@ from collections import OrderedDict
 from types import CodeType
 
 from mlctool import cache
-from mlctool.sim.compile import Code, compile_program
 from mlctool.sim.decode import Program
+from mlctool.sim.engines.compile import Code, compile_program
 
 KIND = "sim-code"
 _MEMO: OrderedDict[bytes, Code | None] = OrderedDict()  # this process's loads, newest last

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from conftest import SAMPLES, run_mlc
-from mlctool.sim.stimulus import MAX_SCANS, MAX_TIME_US
+from mlctool.sim.stimulus.stimulus import MAX_SCANS, MAX_TIME_US
 
 CONVEYOR = (SAMPLES / "nc5" / "conveyor.il").read_text()
 
@@ -35,7 +35,7 @@ def test_stimulus_past_a_bound_is_e601_before_running(work, stimulus, where):
 
 def test_the_bounds_themselves_are_accepted(work):
     (work / "s.stim").write_text(f"0ms X0=1\n{MAX_TIME_US}us X0=0\n")
-    from mlctool.sim.stimulus import load_stimulus
+    from mlctool.sim.stimulus.stimulus import load_stimulus
     from mlctool.targetapi import load_target
 
     st, diags = load_stimulus(str(work / "s.stim"), load_target("nc5"))

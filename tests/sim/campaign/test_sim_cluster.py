@@ -1,4 +1,4 @@
-"""`--cluster tcp://HOST:PORT` (mlctool/sim/cluster.py): `mlc test` and a `mlc sim` batch run
+"""`--cluster tcp://HOST:PORT` (mlctool/sim/campaign/cluster.py): `mlc test` and a `mlc sim` batch run
 on a Dask scheduler's workers give the local run's JSON, JUnit, coverage and exit status."""
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import pytest
 from test_sim_batch import PROGRAM, STIMULI
 
 from conftest import MLC_COMMAND, ROOT, run_mlc, without_times
-from mlctool.sim import cluster
+from mlctool.sim.campaign import cluster
 
 distributed = pytest.importorskip("distributed")
 

@@ -1,4 +1,4 @@
-"""Coverage counts what executed (mlctool/sim/coverage.py), per target: a coil or application
+"""Coverage counts what executed (mlctool/sim/campaign/coverage.py), per target: a coil or application
 instruction when its condition is On, a multi-input instruction (FBs HSPSO, FUN147) when any
 input is On, an unconditional one (FBs MPARA) in every scan, a P-suffix form (VS MOVP) in the
 scans it executed, timers and counters in the scans their condition was On."""
@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 
 from mlctool.asm import program_from_paths
-from mlctool.sim.coverage import Probe, report
-from mlctool.sim.run import Simulation, plan_scans
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.campaign.coverage import Probe, report
+from mlctool.sim.run.run import Simulation, plan_scans
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.targetapi import load_target
 
 

@@ -40,7 +40,8 @@ from collections import OrderedDict
 from types import CodeType
 
 from mlctool.sim import semantics
-from mlctool.sim.codegen import (
+from mlctool.sim.decode import FLOW_OPS, Program, Step
+from mlctool.sim.engines.codegen import (
     _ARITH,
     _CMP,
     _FLOAT,
@@ -59,11 +60,10 @@ from mlctool.sim.codegen import (
     r_size,
     r_text,
 )
-from mlctool.sim.compile_layout import _CALL, _GOTO, _SRET, _Body, _Layout, function_head
-from mlctool.sim.compile_ops import OpsCode
-from mlctool.sim.decode import FLOW_OPS, Program, Step
+from mlctool.sim.engines.compile_layout import _CALL, _GOTO, _SRET, _Body, _Layout, function_head
+from mlctool.sim.engines.compile_ops import OpsCode
+from mlctool.sim.engines.pycompile import compile_parts
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, GroupRef
-from mlctool.sim.pycompile import compile_parts
 from mlctool.sim.state import s16, s32
 
 COMPILER_VERSION = "14"

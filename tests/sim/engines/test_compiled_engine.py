@@ -12,12 +12,12 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from mlctool.asm import program_from_paths
-from mlctool.sim.compile import compile_program
-from mlctool.sim.engine import Scanner
-from mlctool.sim.run import Simulation, plan_scans
+from mlctool.sim.engines.compile import compile_program
+from mlctool.sim.engines.engine import Scanner
+from mlctool.sim.run.run import Simulation, plan_scans
 from mlctool.sim.scan import Fault, load_program
 from mlctool.sim.state import Machine
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from simkit import NC5, image_of
 from vskit import VS
 
@@ -497,7 +497,7 @@ def test_the_single_precision_tables_give_every_pattern_of_a_pair_exactly():
     FFFFH: equal values with equal signs, or a NaN for a NaN."""
     import math
 
-    from mlctool.sim.engine import _f32_tables
+    from mlctool.sim.engines.engine import _f32_tables
     from mlctool.sim.state import bits_f32
     t = _f32_tables()
     fb, fs = t["G_FB"], t["G_FS"]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from mlctool.sim.stimulus import parse_stimulus_text, parse_time
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text, parse_time
 from simkit import NC5, passed, simulate
 
 
@@ -98,7 +98,7 @@ def test_float_and_range_expectations():
 
 
 def test_decimal_times_are_exact():
-    from mlctool.sim.stimulus import StimError, parse_time
+    from mlctool.sim.stimulus.stimulus import StimError, parse_time
 
     assert parse_time("4.07s") == 4_070_000  # float arithmetic would give 4069999.9999...
     assert parse_time("0.29s") == 290_000
@@ -153,7 +153,7 @@ def test_set_line_fast_path_reads_as_the_full_parser(monkeypatch):
     import random
     import re
 
-    from mlctool.sim import stimulus
+    from mlctool.sim.stimulus import stimulus
 
     rnd = random.Random(3)
     texts = list(_FAST_LINES) + ["\n".join(rnd.sample(_FAST_LINES, len(_FAST_LINES))) for _ in range(20)]
@@ -170,7 +170,7 @@ def test_set_line_fast_path_reads_as_the_full_parser(monkeypatch):
 def test_name_cache_shared_by_files_changes_nothing():
     """A NameCache carried from file to file (a batch) gives each file the events and the
     diagnostics it gets alone; a failed name is not remembered as a success."""
-    from mlctool.sim.stimulus import NameCache
+    from mlctool.sim.stimulus.stimulus import NameCache
 
     texts = ["#1 M5=1\n#2 m5=0\n10ms expect M5=0", "#1 M99999=1\n#2 M5=1", "#1 M99999=1\n#1 X0=1 M5=0",
              "#4 D0=7\n#5 D0=70000"]

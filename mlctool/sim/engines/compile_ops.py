@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import math
 
-from mlctool.sim.codegen import _ARITH, _FHI, _FL, _FLOAT, _fold, _fold_float, _word
 from mlctool.sim.decode import Step
+from mlctool.sim.engines.codegen import _ARITH, _FHI, _FL, _FLOAT, _fold, _fold_float, _word
 from mlctool.sim.operands import ConstRef, GroupRef, WordRef
 from mlctool.sim.state import F32_QUIET_NAN, bits_f32, f32_bits, to_f32
 

@@ -1,4 +1,4 @@
-"""The native engine (sim/native.py) against the compiled engine: one program per target that
+"""The native engine (sim/engines/native.py) against the compiled engine: one program per target that
 holds every kind of rung the compiled engine's random programs draw (test_compiled_engine.py),
 run on generated stimuli (power cycles, index registers out of range, float patterns), must
 give identical traces, devices, memory, faults, alarms, expectations and writers. A build
@@ -13,12 +13,12 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from test_compiled_engine import _image, engines_agree, stimulus, vs_dialect
 
-from mlctool.sim import native
-from mlctool.sim.engine import NativeScanner, Scanner, scanner
-from mlctool.sim.run import Simulation, build_models, plan_scans
+from mlctool.sim.engines import native
+from mlctool.sim.engines.engine import NativeScanner, Scanner, scanner
+from mlctool.sim.run.run import Simulation, build_models, plan_scans
 from mlctool.sim.scan import Fault, load_program
 from mlctool.sim.state import Machine
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from simkit import NC5, image_of
 from vskit import VS
 
@@ -275,7 +275,7 @@ def test_the_debugger_travels_in_time_on_the_native_engine(tmp_path):
 def test_mlc_sim_engine_option_reaches_the_run(tmp_path, monkeypatch, mlc):
     """`mlc sim --engine X` runs engine X (a single run took MLC_SIM_ENGINE only); where the
     native engine cannot run, a note says so and the compiled engine gives the same result."""
-    import mlctool.sim.run as run_module
+    import mlctool.sim.run.run as run_module
 
     monkeypatch.delenv("MLC_SIM_ENGINE", raising=False)
     il, stim = tmp_path / "p.il", tmp_path / "p.stim"

@@ -1,5 +1,5 @@
-"""What the two batch lane code generators share (bit-sliced lanes in mlctool/sim/batch.py,
-numpy word lanes in mlctool/sim/word_lanes.py): the rung result and its blocks and stack as
+"""What the two batch lane code generators share (bit-sliced lanes in mlctool/sim/campaign/batch.py,
+numpy word lanes in mlctool/sim/campaign/word_lanes.py): the rung result and its blocks and stack as
 generated statements, and which targets the lanes model."""
 
 from __future__ import annotations

@@ -19,8 +19,8 @@ from __future__ import annotations
 import os
 import xml.etree.ElementTree as ET
 
-from mlctool.sim.output import failure_message, ms
-from mlctool.sim.suite import Scenario
+from mlctool.sim.campaign.suite import Scenario
+from mlctool.sim.run.output import failure_message, ms
 
 _KIND = {".vcd": "waveform", ".html": "report"}
 

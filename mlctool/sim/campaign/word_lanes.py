@@ -5,7 +5,7 @@ TMR/CNT with K presets and 16/32-bit word arithmetic and moves on D (see `WordLa
 with scenarios that set, force and expect plain bits and D/T/C words: every device is a numpy
 array with one element per scenario (see `WordLaneProgram` for the types), a conditional
 write is `np.where(a, new, old)`. Values are read and written through a scratch Machine and
-DeviceView, so conversions are the single run's. mlctool/sim/batch.py decides which
+DeviceView, so conversions are the single run's. mlctool/sim/campaign/batch.py decides which
 scenarios run so and turns a failing lane into a single run.
 """
 
@@ -17,13 +17,13 @@ from itertools import compress
 import numpy as np
 
 from mlctool.program import Image
+from mlctool.sim.campaign.lane_codegen import RungCodegen, lanes_target
 from mlctool.sim.decode import Program, program_devices
-from mlctool.sim.lane_codegen import RungCodegen, lanes_target
 from mlctool.sim.operands import BitRef, ConstRef, CounterRef, WordRef
-from mlctool.sim.run import DEFAULT_SCAN_US, ExpectOutcome, RunResult
+from mlctool.sim.run.run import DEFAULT_SCAN_US, ExpectOutcome, RunResult
 from mlctool.sim.scan import load_program
 from mlctool.sim.state import DeviceView, Machine
-from mlctool.sim.stimulus import Stimulus
+from mlctool.sim.stimulus.stimulus import Stimulus
 from mlctool.targetapi.model import Target
 
 WORD_BIT_SPACES = ("X", "Y", "M", "A", "T", "C")  # bool arrays; words: D, TW (timer value),

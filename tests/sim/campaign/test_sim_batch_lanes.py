@@ -10,8 +10,8 @@ import random
 
 from test_sim_batch import PROGRAM
 
-from mlctool.sim.batch import Options, run_batch
-from mlctool.sim.run import ExpectOutcome, Failure, RunResult
+from mlctool.sim.campaign.batch import Options, run_batch
+from mlctool.sim.run.run import ExpectOutcome, Failure, RunResult
 from mlctool.sim.state import parse_device_name
 from simkit import NC5, image_of
 
@@ -88,7 +88,7 @@ def test_set_lines_kept_as_tuples_run_and_read_as_events(tmp_path, monkeypatch):
     """A stimulus keeps its set lines as tuples until its events are read (Stimulus.entries):
     the lanes read the tuples, and give the results they give from the Events; the events
     read later, or after pickling (a cluster's chunks), are the parser's."""
-    from mlctool.sim.stimulus import NameCache, load_stimulus
+    from mlctool.sim.stimulus.stimulus import NameCache, load_stimulus
 
     monkeypatch.chdir(tmp_path)
     paths = _scenarios(tmp_path)

@@ -16,7 +16,7 @@ from vcd import VCDWriter
 
 from mlctool.fileio import open_input
 from mlctool.program import Image
-from mlctool.sim.run import RunResult
+from mlctool.sim.run.run import RunResult
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
 from mlctool.targetapi.model import Target
 from mlctool.targetapi.signals import device_signal
