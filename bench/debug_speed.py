@@ -21,8 +21,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from sim_speed import NC5, bool1000_il, build  # noqa: E402
 
 from mlctool.debug.session import DebugSession  # noqa: E402
-from mlctool.sim.run import Simulation  # noqa: E402
-from mlctool.sim.stimulus import Stimulus  # noqa: E402
+from mlctool.sim.run.run import Simulation  # noqa: E402
+from mlctool.sim.stimulus.stimulus import Stimulus  # noqa: E402
 
 
 def main() -> int:

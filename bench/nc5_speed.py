@@ -9,7 +9,7 @@ Method (as bench/sim_speed.py):
   at the scans A's NC wrote them, every NC -> MLC relay and register the program reads (taken
   from A's trace). Before any timing, the bench checks that A and B leave every device the
   program writes with the same value after SCANS scans, or exits 1 naming the differences.
-- Both run through mlctool.sim.run.Simulation (what `mlc sim` runs) on the compiled engine, timed
+- Both run through mlctool.sim.run.run.Simulation (what `mlc sim` runs) on the compiled engine, timed
   with time.process_time (CPU time) in ROUNDS interleaved rounds; the table prints the median
   scans/s of each and the ratio of the medians.
 
@@ -27,8 +27,8 @@ import time
 
 from mlctool.asm import program_from_paths
 from mlctool.sim.decode import program_devices
-from mlctool.sim.run import Simulation, build_models
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.run.run import Simulation, build_models
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.targetapi import load_target
 
 NC5 = load_target("nc5")

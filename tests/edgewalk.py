@@ -447,9 +447,9 @@ def run_program(p: Packed, engine: str, phases: list[set[int]] | None = None, sc
     raises is skipped and the scan goes on at the next snippet; on the compiled and native
     engines (which run a scan as a whole) its guard is turned Off and the scan runs again.
     Either way its guard stays Off from then on, and the index registers are put back to 0."""
-    from mlctool.sim.run import Simulation
+    from mlctool.sim.run.run import Simulation
     from mlctool.sim.scan import DEFAULT_WATCHDOG, Fault, begin_scan, end_of_scan, run_steps
-    from mlctool.sim.stimulus import parse_stimulus_text
+    from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 
     t = p.target
     st, _ = parse_stimulus_text("walk.stim", "", t)

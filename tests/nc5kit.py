@@ -8,9 +8,9 @@ import os
 import tempfile
 
 import simkit
-from mlctool.sim.run import RunResult, Simulation, build_models, plan_scans
+from mlctool.sim.run.run import RunResult, Simulation, build_models, plan_scans
 from mlctool.sim.state import parse_device_name
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.targetapi.signals import device_signal
 
 NC5 = simkit.NC5

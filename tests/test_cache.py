@@ -1,5 +1,5 @@
 """The on-disk cache (mlctool/cache.py) and the compiled code kept in it
-(mlctool/sim/codecache.py): entries are used only when sound, anything else is ignored and
+(mlctool/sim/engines/codecache.py): entries are used only when sound, anything else is ignored and
 rebuilt, the cache can be switched off, and results never depend on it."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import pytest
 
 from conftest import run_mlc
 from mlctool import cache
-from mlctool.sim import codecache
+from mlctool.sim.engines import codecache
 
 SOURCE = "LD X0\nOR M0\nANI X1\nOUT M0\nLD M0\nTMR T0 K5\nLD T0\nOUT Y0\nMOV K7 D0\nEND\n"
 

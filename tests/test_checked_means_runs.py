@@ -21,8 +21,8 @@ import edgewalk
 import pytest
 
 from conftest import run_mlc
-from mlctool.sim import native
-from mlctool.sim.codegen import _ARITH, _CMP, _FLOAT
+from mlctool.sim.engines import native
+from mlctool.sim.engines.codegen import _ARITH, _CMP, _FLOAT
 from mlctool.targetapi import load_target
 
 BUDGET = int(os.environ.get("MLC_FUZZ_EXAMPLES", "0"))
@@ -192,9 +192,9 @@ def test_program_flow_at_the_edges_runs_or_faults(tmp_path, name):
     operators, master control, step ladder, interrupts), in small whole programs: every such
     form is in one the checker accepts, and each of those runs or faults on both engines."""
     from mlctool.asm import program_from_paths
-    from mlctool.sim.run import Simulation
+    from mlctool.sim.run.run import Simulation
     from mlctool.sim.scan import Fault
-    from mlctool.sim.stimulus import parse_stimulus_text
+    from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 
     target = load_target(name)
     covered, crashes = set(), []

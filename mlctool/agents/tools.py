@@ -25,10 +25,10 @@ from mlctool.codes import CODES
 from mlctool.config import load_config
 from mlctool.diagnostics import Diagnostic
 from mlctool.sim.decode import unsimulated
-from mlctool.sim.output import json_value, run_diagnostics, to_json
-from mlctool.sim.run import DEFAULT_SCAN_US, RunTooLong, Simulation, build_models, plan_scans
+from mlctool.sim.run.output import json_value, run_diagnostics, to_json
+from mlctool.sim.run.run import DEFAULT_SCAN_US, RunTooLong, Simulation, build_models, plan_scans
 from mlctool.sim.state import NameError_, parse_device_name
-from mlctool.sim.stimulus import Stimulus, load_stimulus, parse_stimulus_text
+from mlctool.sim.stimulus.stimulus import Stimulus, load_stimulus, parse_stimulus_text
 from mlctool.targetapi import available_targets, load_target
 
 MAX_SIM_SCANS = 1_000_000

@@ -38,7 +38,7 @@ def _start_wall_limit(_ctx, _param, text: str | None) -> None:
     output being written is discarded (mlctool/fileio.py); run_guarded says why."""
     if text is None:
         return
-    from mlctool.sim.stimulus import StimError, parse_time
+    from mlctool.sim.stimulus.stimulus import StimError, parse_time
 
     try:
         us = parse_time(text)

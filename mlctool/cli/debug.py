@@ -21,8 +21,8 @@ from mlctool.cli.common import (
     target_option,
 )
 from mlctool.diagnostics import Span, diag
-from mlctool.sim.engine import ENGINE_ENV, ENGINES
-from mlctool.sim.stimulus import StimError, parse_time
+from mlctool.sim.engines.engine import ENGINE_ENV, ENGINES
+from mlctool.sim.stimulus.stimulus import StimError, parse_time
 
 
 @main_group.command("debug", epilog=examples(
@@ -114,7 +114,7 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
     except LoadError as e:
         show(e.diagnostics, e.lines)
         sys.exit(2)
-    from mlctool.sim.unmodelled import unmodelled_writes
+    from mlctool.sim.run.unmodelled import unmodelled_writes
 
     show(unmodelled_writes(session.image, target), session.lines)  # W608, as mlc sim says it
     if web:

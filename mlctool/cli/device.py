@@ -18,7 +18,7 @@ from mlctool.cli import main_group
 from mlctool.cli.common import Integer, examples
 from mlctool.diagnostics import MlcError, Span, diag
 from mlctool.limits import clip, real
-from mlctool.sim.stimulus import StimError, parse_time
+from mlctool.sim.stimulus.stimulus import StimError, parse_time
 
 LOOPBACK = {"127.0.0.1", "localhost"}
 BAUDS = ("9600", "19200", "38400", "57600", "115200")

@@ -30,12 +30,12 @@ from mlctool.cli.common import (
 )
 from mlctool.diagnostics import MlcError, Span, diag
 from mlctool.sim.decode import unsimulated
-from mlctool.sim.engine import ENGINE_ENV, ENGINES
-from mlctool.sim.output import run_diagnostics
-from mlctool.sim.run import DEFAULT_SCAN_US, RunResult, Simulation, build_models
+from mlctool.sim.engines.engine import ENGINE_ENV, ENGINES
+from mlctool.sim.run.output import run_diagnostics
+from mlctool.sim.run.run import DEFAULT_SCAN_US, RunResult, Simulation, build_models
 from mlctool.sim.scan import DEFAULT_WATCHDOG
 from mlctool.sim.state import NameError_, parse_device_name
-from mlctool.sim.stimulus import MAX_SCANS, StimError, Stimulus, load_stimulus, parse_time
+from mlctool.sim.stimulus.stimulus import MAX_SCANS, StimError, Stimulus, load_stimulus, parse_time
 
 MAX_SPEED = 1000.0
 

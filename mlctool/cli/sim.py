@@ -34,10 +34,10 @@ from mlctool.cli.sim_batch import batch_cmd, expand, is_batch
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
 from mlctool.fileio import Outputs, note_input
 from mlctool.sim.decode import unsimulated
-from mlctool.sim.engine import ENGINE_ENV, ENGINES
-from mlctool.sim.output import json_value, run_diagnostics, summary, to_json
-from mlctool.sim.pin_window import EDGE_LIMIT, parse_window
-from mlctool.sim.run import (
+from mlctool.sim.engines.engine import ENGINE_ENV, ENGINES
+from mlctool.sim.hardware.pin_window import EDGE_LIMIT, parse_window
+from mlctool.sim.run.output import json_value, run_diagnostics, summary, to_json
+from mlctool.sim.run.run import (
     DEFAULT_SCAN_US,
     RunResult,
     RunTooLong,
@@ -45,10 +45,10 @@ from mlctool.sim.run import (
     build_models,
     plan_scans,
 )
+from mlctool.sim.run.unmodelled import unmodelled_writes
 from mlctool.sim.scan import DEFAULT_WATCHDOG
 from mlctool.sim.state import NameError_, parse_device_name
-from mlctool.sim.stimulus import MAX_SCANS, StimError, Stimulus, load_stimulus, parse_time
-from mlctool.sim.unmodelled import unmodelled_writes
+from mlctool.sim.stimulus.stimulus import MAX_SCANS, StimError, Stimulus, load_stimulus, parse_time
 from mlctool.targetapi.registry import simulation_of
 from mlctool.targetapi.signals import device_signal
 
@@ -144,7 +144,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     plan = Outputs()
     keep_gtkw = None
     if vcd_path:
-        from mlctool.sim.vcd import gtkw_is_ours, gtkw_path
+        from mlctool.sim.run.vcd import gtkw_is_ours, gtkw_path
 
         plan.add(vcd_path, "--vcd")
         if gtkw_is_ours(gtkw_path(vcd_path)):
@@ -183,7 +183,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         if watch_diags:
             show(watch_diags, {})
             sys.exit(2)
-        from mlctool.sim.batch import Options  # (numpy: only batches need it)
+        from mlctool.sim.campaign.batch import Options  # (numpy: only batches need it)
 
         opts = Options(scan_us, until_us, scans, watch_views, watchdog, engine, preload)
         for path in expand(stim_path)[0]:  # the scenarios the batch reads are its inputs (E606 first)
@@ -220,7 +220,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     if vcd_path and window is None and report_path is None:
         # streamed to a temporary file beside the VCD as the run goes (memory bounded by the
         # devices, not the changes); --pulse-window and --report need the whole trace kept
-        from mlctool.sim.vcd import VcdStream
+        from mlctool.sim.run.vcd import VcdStream
 
         vcd_file = plan.stream(vcd_path)
         vcd_stream = VcdStream(vcd_file, sim.views, image, target)
@@ -237,7 +237,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     _report(result, st, lines, as_json, watch_views, unmodelled, target)
     files = {}
     if vcd_path:
-        from mlctool.sim.vcd import gtkw_path, to_gtkw, to_vcd
+        from mlctool.sim.run.vcd import gtkw_path, to_gtkw, to_vcd
 
         if vcd_stream is not None:
             vcd_stream.close(result.time_us)
@@ -251,8 +251,8 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
             click.echo(f"note: {keep_gtkw} was not written by mlc sim: kept as it is "
                        "(remove it to get mlc sim's view)", err=True)
     if junit_path:
-        from mlctool.sim.junit import to_junit
-        from mlctool.sim.suite import Scenario
+        from mlctool.sim.campaign.junit import to_junit
+        from mlctool.sim.campaign.suite import Scenario
 
         scenario = Scenario(st.path, result, run_diagnostics(result, st.path), st.lines, seconds=seconds)
         files[junit_path] = to_junit([scenario], " ".join(program))
@@ -267,7 +267,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
 def _native_notes(ahead: bool) -> None:
     """Say on stderr when --engine native cannot run here (before: no Cython, no compiler)
     or did not run a program (after: too long, a failed build); the compiled engine ran."""
-    from mlctool.sim import native
+    from mlctool.sim.engines import native
 
     missing = native.unavailable()
     if ahead:

@@ -30,11 +30,10 @@ from mlctool.cli.common import (
 from mlctool.config import load_config
 from mlctool.diagnostics import MlcError, Span, diag
 from mlctool.fileio import Outputs, note_input
-from mlctool.sim import coverage as cov
-from mlctool.sim.cluster import ClusterError, cluster_diagnostic
-from mlctool.sim.junit import to_junit
-from mlctool.sim.output import ms, to_json
-from mlctool.sim.suite import (
+from mlctool.sim.campaign import coverage as cov
+from mlctool.sim.campaign.cluster import ClusterError, cluster_diagnostic
+from mlctool.sim.campaign.junit import to_junit
+from mlctool.sim.campaign.suite import (
     ARTIFACT_DIR,
     artifact_paths,
     discover,
@@ -42,8 +41,9 @@ from mlctool.sim.suite import (
     merged_probe,
     run_all,
 )
-from mlctool.sim.unmodelled import unmodelled_writes
-from mlctool.sim.vcd import gtkw_path
+from mlctool.sim.run.output import ms, to_json
+from mlctool.sim.run.unmodelled import unmodelled_writes
+from mlctool.sim.run.vcd import gtkw_path
 
 COVERAGE_FILES = ("coverage.txt", "coverage.json", "coverage.xml")
 
@@ -145,7 +145,7 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
         if with_coverage:
             scenarios = run_all(image, target, stims, jobs, with_coverage, cluster, preload)
         else:  # a batch: bit-sliced or numpy lanes where the program and stimuli allow (same results)
-            from mlctool.sim.batch import Options, run_batch
+            from mlctool.sim.campaign.batch import Options, run_batch
 
             scenarios = run_batch(image, target, stims, Options(preload=preload), jobs, cluster=cluster)[0]
     except ClusterError as e:

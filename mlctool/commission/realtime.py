@@ -22,7 +22,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from mlctool.commission.exchange import Exchange
-from mlctool.sim.run import ExpectOutcome, FaultReport, Simulation
+from mlctool.sim.run.run import ExpectOutcome, FaultReport, Simulation
 from mlctool.sim.scan import Fault
 
 SLIP_PERIODS = 10

@@ -10,8 +10,8 @@ from mlctool.config import Config
 from mlctool.debug.session import DebugSession
 from mlctool.diagnostics import Diagnostic
 from mlctool.sim.decode import unsimulated
-from mlctool.sim.run import DEFAULT_SCAN_US, build_models
-from mlctool.sim.stimulus import Stimulus, load_stimulus
+from mlctool.sim.run.run import DEFAULT_SCAN_US, build_models
+from mlctool.sim.stimulus.stimulus import Stimulus, load_stimulus
 
 
 class LoadError(Exception):

@@ -35,11 +35,11 @@ from mlctool.debug.expr import Expr, ExprError, resolve_device
 from mlctool.devices.base import ModelIO
 from mlctool.limits import clip, is_decimal
 from mlctool.program import Image
-from mlctool.sim.quantities import MAX_SCANS
-from mlctool.sim.run import Simulation, plan_scans
+from mlctool.sim.run.run import Simulation, plan_scans
 from mlctool.sim.scan import DEFAULT_WATCHDOG, END_SCAN, Fault, begin_scan, end_of_scan
 from mlctool.sim.state import DeviceView, Machine, SimFault
-from mlctool.sim.stimulus import StimError, Stimulus, parse_value
+from mlctool.sim.stimulus.quantities import MAX_SCANS
+from mlctool.sim.stimulus.stimulus import StimError, Stimulus, parse_value
 
 BOUNDARY = -1
 POLL_STEPS = 4096  # instructions executed one by one between two looks at the poll hook

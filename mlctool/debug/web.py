@@ -53,9 +53,9 @@ from mlctool.ladder.document import RungView, build_sheet
 from mlctool.ladder.html import page, sheets_body
 from mlctool.ladder.lighting import lamps, lit
 from mlctool.limits import MAX_DIGITS
-from mlctool.sim.quantities import MAX_SCANS
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
-from mlctool.sim.stimulus import StimError
+from mlctool.sim.stimulus.quantities import MAX_SCANS
+from mlctool.sim.stimulus.stimulus import StimError
 from mlctool.targetapi.signals import describe_device
 
 MAX_MESSAGE = 64 * 1024

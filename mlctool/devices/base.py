@@ -10,7 +10,7 @@ from __future__ import annotations
 from mlctool.sim import signals
 from mlctool.sim.signals import SIGNAL
 from mlctool.sim.state import DeviceView, Machine, NameError_, parse_device_name
-from mlctool.sim.stimulus import StimError, parse_time
+from mlctool.sim.stimulus.stimulus import StimError, parse_time
 from mlctool.targetapi.model import Target
 
 
@@ -79,8 +79,8 @@ class ModelIO:
         self._m.ext.setdefault("pulse_modes", {})[axis] = mode
 
     def serial_port(self, name: str):
-        """The PLC's serial port `name` (CP1...), for models on a Modbus link (sim/seriallink.py)."""
-        from mlctool.sim.seriallink import port  # only models on a link need it
+        """The PLC's serial port `name` (CP1...), for models on a Modbus link (sim/hardware/seriallink.py)."""
+        from mlctool.sim.hardware.seriallink import port  # only models on a link need it
 
         return port(self._m, name)
 

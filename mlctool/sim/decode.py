@@ -150,7 +150,7 @@ def _allowed(o: OperandSpec, op, width: int) -> tuple[tuple[int, int], ...]:
 
 def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) -> Program:
     """`flow`: the program-flow routines of scan.py (CJ, CALL, SRET, FEND, END, FOR, NEXT).
-    `probe`: a coverage recorder (mlctool/sim/coverage.py) whose wrappers every step runs through."""
+    `probe`: a coverage recorder (mlctool/sim/campaign/coverage.py) whose wrappers every step runs through."""
     steps: list[Step] = []
     starts = rung_starts(image.instrs)
     routines = actions(target)

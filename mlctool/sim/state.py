@@ -121,7 +121,7 @@ class Machine:
         self.stl_joining = False
         self.stl_leaving: set[int] = set()  # steps that transferred: reset at the end of the scan
         self.fx_state: dict[int, object] = {}  # step index -> memory of an FX routine (SORT, PID)
-        # input pulse trains of the stimulus (sim/pulses.py): (kind, number) -> trains; the
+        # input pulse trains of the stimulus (sim/hardware/pulses.py): (kind, number) -> trains; the
         # hardware's, so a power cycle keeps them
         self.pulse_trains: dict[tuple[str, int], list] = {}
         self.quadrature: dict[tuple, list] = {}  # A/B pairs (pulses.Quadrature), likewise kept
@@ -143,7 +143,7 @@ class Machine:
         self.signals: dict[tuple[str, int], int] = {}
         # model kind "@NC1" -> what brings its signals up to date before one is read (ModelIO.on_read)
         self.signal_refresh: dict[str, Callable[[], None]] = {}
-        self.pin_window = None  # sim/pin_window.py PinWindow: pulse pins inside a window (kept over power)
+        self.pin_window = None  # sim/hardware/pin_window.py PinWindow: pulse pins inside a window (kept over power)
         self.image = None  # the linked program (Image): data kept beside the code (.table rows)
         # the relay that turns every external output Off while On (target.toml `outputs_off`,
         # VS M9034): the program keeps its Y image, what is read from outside (DeviceView.read:
@@ -171,7 +171,7 @@ class Machine:
     def use_arrays(self) -> bool:
         """Keep the word registers, timer values, counter values and timer bookkeeping in
         signed 64-bit arrays instead of lists (from now on, power cycles included): the native
-        engine (sim/native.py) reads and writes them as C memory. They index and compare as
+        engine (sim/engines/native.py) reads and writes them as C memory. They index and compare as
         the lists do (every value here is an int well inside 64 bits: raw 16-bit words, 32-bit
         counters, microseconds). True when a container was replaced (Machine.layout moved)."""
         changed = False

@@ -15,8 +15,8 @@ from conftest import run_mlc
 from mlctool.check import check_texts
 from mlctool.fmt import format_source
 from mlctool.imports import import_text
-from mlctool.sim.run import Simulation, plan_scans
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.run.run import Simulation, plan_scans
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.syntax.operands import CJK_RANGES, name_width
 from mlctool.syntax.parser import grammar_text, parse
 from mlctool.syntax.source import decode, display_width

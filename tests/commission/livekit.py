@@ -11,8 +11,8 @@ from mlctool.commission.exchange import Exchange
 from mlctool.commission.modbus_map import Permissions, load_map
 from mlctool.commission.net import ModbusServer, NetThread, Slave, parse_endpoint
 from mlctool.commission.realtime import LiveRun
-from mlctool.sim.run import Simulation
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.run.run import Simulation
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.targetapi import load_target
 
 

@@ -13,7 +13,7 @@ XC1, XC2 ... in stimulus order; sim/signals.py) for expectations, --watch, JSON 
 `mirror=Dn`, the older form, writes Dn:d = position in 0.01 mm, Dn+2 ActionStatus, Dn+3
 AlarmStatus, Dn+4 ErrorStatus, Dn+5 StepNo into PLC memory every scan.
 `link=CPn station=N [baud=] [protocol=rtu|ascii] [reply=TIME] [timeout=TIME]` puts it on the
-PLC's RS-485 port for the VS MBUS instruction (sim/seriallink.py, docs/xc100.md).
+PLC's RS-485 port for the VS MBUS instruction (sim/hardware/seriallink.py, docs/xc100.md).
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from mlctool.devices.xc100.modbus import handle_pdu
 from mlctool.devices.xc100.registers import line_settings_refused
 from mlctool.devices.xc100.tables import tables
 from mlctool.limits import integer, is_decimal, real
-from mlctool.sim.seriallink import PORT_NAMES, LineSettings
+from mlctool.sim.hardware.seriallink import PORT_NAMES, LineSettings
 from mlctool.sim.signals import KINDS, MODEL_NAME
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
 from mlctool.sim.state import parse_signal_name as parse_signal

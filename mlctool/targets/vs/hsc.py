@@ -1,5 +1,5 @@
 """Software high-speed counters C235-C255 and their compare instructions (manual 2-7, 6-7
-FNC 53 DHSCS, 54 DHSCR, 55 DHSZ, 56 SPD) on the stimulus's pulse trains (sim/pulses.py).
+FNC 53 DHSCS, 54 DHSCR, 55 DHSZ, 56 SPD) on the stimulus's pulse trains (sim/hardware/pulses.py).
 
 Which counters count which input is data: target.toml `[high_speed_counters]` (`inputs`:
 counter -> input; `counters`: the whole range, so one without an input assignment is a
@@ -20,9 +20,9 @@ the counts of the interval. Writing a counter (DMOV) compares nothing (2-7, 6-7)
 
 from __future__ import annotations
 
+from mlctool.sim.hardware.pulses import count as count_edges
+from mlctool.sim.hardware.pulses import quadrature_count, time_of_count
 from mlctool.sim.operands import CounterRef
-from mlctool.sim.pulses import count as count_edges
-from mlctool.sim.pulses import quadrature_count, time_of_count
 from mlctool.sim.state import Machine, SimFault, s32
 from mlctool.targets.vs.common import op_error, special, write_block
 from mlctool.targets.vs.hhsc import catch_up_hardware, dhhcmv

@@ -3,7 +3,7 @@ the pages' examples, counted analytically (docs/vs.md "High-speed counters")."""
 
 from __future__ import annotations
 
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from vskit import VS, run
 
 

@@ -30,7 +30,7 @@ from mlctool.devices.base import DeviceModel, ModelInputError, ModelIO, ParamErr
 from mlctool.diagnostics import Span, diag
 from mlctool.fileio import read_input
 from mlctool.sim.state import DeviceView, parse_signal_name
-from mlctool.sim.stimulus import StimError, parse_time
+from mlctool.sim.stimulus.stimulus import StimError, parse_time
 from mlctool.targetapi.model import Target
 from mlctool.targets.nc5.nc import addresses as A
 from mlctool.targets.nc5.nc.program import MAX_BYTES, NOT_HANDSHAKEN_M, Block, PartProgram, parse

@@ -5,8 +5,8 @@ from __future__ import annotations
 import math
 from types import SimpleNamespace
 
-from mlctool.sim import motion
 from mlctool.sim import semantics as base
+from mlctool.sim.hardware import motion
 from mlctool.sim.state import Machine
 from mlctool.targets.vs.common import op_error, read_block, state, write_block
 from mlctool.targets.vs.positioning.moves import _advance, _at_limit, _now, _pair, _start

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from mlctool.sim import motion, pulses
+from mlctool.sim.hardware import motion, pulses
 from mlctool.sim.state import Machine, s16
 from mlctool.targets.vs.common import op_error, state
 from mlctool.targets.vs.positioning.moves import (

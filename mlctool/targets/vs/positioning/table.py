@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from mlctool.sim import motion
+from mlctool.sim.hardware import motion
 from mlctool.sim.state import Machine, s16
 from mlctool.targets.vs.common import op_error, set_relay, state
 from mlctool.targets.vs.positioning.moves import (
