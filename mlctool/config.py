@@ -99,6 +99,8 @@ KEYS = {
     "tables": (_is_str_list, 'a list of "[SR=]FILE" register tables (`tables = ["R5000=tables/home.pos"]`, '
                'fbs target)'),
     "severity": (_is_table, 'a table of CODE = "error" | "warning" | "off" (`[severity]`)'),
+    "verify": (lambda v: isinstance(v, dict) and set(v) <= {"properties"} and _is_str_list(v.get("properties", [])),
+               'a table with `properties`, a list of glob strings (`[verify] properties = ["tests/*.props"]`)'),
 }
 
 

@@ -79,6 +79,8 @@ CASES = {
     "export": ({"a.il": ROOT / "tests/corpus/mrd_compare_blocks.il"},
                ["export", "--target", "vs", "--to", "gxworks2", "a.il", "--config", "my.toml", "-o", "out.csv"],
                {"-o": ""}),
+    "verify": ({"a.il": NC5["a.il"], "p.props": ROOT / "samples/nc5/conveyor.props"},
+               ["verify", "a.il", "--props", "p.props", "--config", "my.toml"], {"--sarif": "", "--junit": ""}),
     "test": ({"src/a.il": NC5["a.il"], "tests/s.stim": NC5["s.stim"]}, ["test"], {"--junit": ""}),
     "objdump": ({"a.mlx": None}, ["objdump", "a.mlx", "--il-dir", "il"], {}),  # its outputs: below
 }

@@ -34,6 +34,7 @@ COMMAND_MODULES = {
     "run": "mlctool.cli.run",
     "sim": "mlctool.cli.sim",
     "test": "mlctool.cli.test",
+    "verify": "mlctool.cli.verify",
 }
 
 # The first paragraph of each command's help, for the list in `mlc --help` without importing
@@ -61,6 +62,8 @@ COMMAND_SUMMARIES = {
     "targets": "List the targets and the manual each one follows.",
     "test": "Run the stimulus files of the project in DIR (default: the nearest mlc.toml at or above "
             "the current folder).",
+    "verify": "Prove the properties of a property file on the program of FILE... (sources, objects or a "
+              "linked image), or show the scan sequence that breaks them.",
 }
 
 

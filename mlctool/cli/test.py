@@ -152,6 +152,23 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
         show([cluster_diagnostic(e)], {})
         sys.exit(2)
 
+    # the project's properties (mlc.toml [verify]), beside its scenarios: not when PATH or -k
+    # picks scenarios
+    verified = None
+    if not inside and not keywords and config.data.get("verify"):
+        from mlctool.verify.report import ProjectPropsError, project_props, run_files
+
+        try:
+            props_paths = project_props(config)
+        except ProjectPropsError as e:
+            raise MlcError(diag(*config.locate("verify", "properties"), "E110", str(e)), 2) from None
+        verified = run_files(image, target, props_paths, "auto", 2_000_000, None, out_dir)
+        if verified.errors:
+            show(verified.errors, {**lines, **verified.lines})
+            sys.exit(2)
+        for p in [p for pair in verified.artifacts.values() for p in pair]:
+            plan.add(p, "a counterexample's file")
+        plan.validate()
     all_lines = dict(lines)
     unmodelled = unmodelled_writes(image, target)  # W608: once per device for the whole suite
     show(unmodelled, lines)
@@ -167,12 +184,19 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
             found = failure_artifacts(image, target, sc, lines, out_dir, preload)
             files.update(found)
             sc.artifacts = tuple(p for p in found if not p.endswith(".gtkw"))
+    if verified is not None:
+        show(verified.findings, {**lines, **verified.lines})
+        files.update(verified.files)
     if as_json:
-        sys.stdout.write(_json(scenarios, unmodelled))
+        sys.stdout.write(_json(scenarios, unmodelled, verified))
     else:
         _table(scenarios)
+        if verified is not None:
+            click.echo(verified.text(), nl=False)
     if junit_path:
         files[junit_path] = to_junit(scenarios, config.data.get("name", "mlc test"))
+        if verified is not None:
+            files[junit_path] = _with_properties(files[junit_path], verified)
     if with_coverage:
         rep = cov.report(image, merged_probe(len(image.instrs), scenarios))
         for name, render in zip(COVERAGE_FILES, (cov.to_text, cov.to_json, cov.to_cobertura), strict=True):
@@ -189,7 +213,18 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
                        err=True)
     if with_coverage and not as_json:
         click.echo(cov.to_text(rep), nl=False)
-    sys.exit(0 if all(sc.ok for sc in scenarios) else 1)
+    sys.exit(0 if all(sc.ok for sc in scenarios) and (verified is None or verified.exit_code == 0) else 1)
+
+
+def _with_properties(junit: str, verified) -> str:
+    """The scenarios' JUnit document with the properties' test suites after them."""
+    import xml.etree.ElementTree as ET
+
+    root = ET.fromstring(junit.split("\n", 1)[1])
+    for suite in ET.fromstring(verified.junit("").split("\n", 1)[1]):
+        root.append(suite)
+    ET.indent(root)
+    return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
 
 
 def _inside(inside: str | None, sources: list[str], stims: list[str]) -> list[str]:
@@ -221,15 +256,18 @@ def _selected(stims: list[str], keywords: tuple[str, ...]) -> list[str]:
     return chosen
 
 
-def _json(scenarios, unmodelled) -> str:
+def _json(scenarios, unmodelled, verified=None) -> str:
     """{"scenarios": {path: the `mlc sim --json` document, or null when the stimulus could not
-    be read}, "passed", "failed", "artifacts": {path: [waveform, report]}}."""
+    be read}, "passed", "failed", "artifacts": {path: [waveform, report]}}, and "properties"
+    (the `mlc verify --json` results) when mlc.toml names property files."""
     docs = {sc.stim: json.loads(to_json(sc.result, unmodelled)) if sc.result is not None else None
             for sc in scenarios}
     passed = sum(sc.ok for sc in scenarios)
-    return json.dumps({"scenarios": docs, "passed": passed, "failed": len(scenarios) - passed,
-                       "artifacts": {sc.stim: list(sc.artifacts) for sc in scenarios if sc.artifacts}},
-                      indent=2, ensure_ascii=False) + "\n"
+    body = {"scenarios": docs, "passed": passed, "failed": len(scenarios) - passed,
+            "artifacts": {sc.stim: list(sc.artifacts) for sc in scenarios if sc.artifacts}}
+    if verified is not None:
+        body["properties"] = json.loads(verified.json())["results"]
+    return json.dumps(body, indent=2, ensure_ascii=False) + "\n"
 
 
 def _table(scenarios) -> None:

@@ -1,0 +1,191 @@
+"""The results of `mlc verify` over property files as a person and a CI read them: the text
+table, JSON, SARIF findings (a violated property at its line: E704; undecided: W705), JUnit,
+and each counterexample or witness as a stimulus file with its VCD, replayed on the simulator
+before it is written (the replay must end as the engine said: the check that fails is the
+property's)."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+
+from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.program import Image
+from mlctool.sim.campaign.junit import classname
+from mlctool.sim.run.run import Simulation, plan_scans
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
+from mlctool.targetapi.model import Target
+from mlctool.verify.props import load_props
+from mlctool.verify.results import PROVEN, UNKNOWN, VIOLATED, Verdict, describe, stim_text, to_dict
+from mlctool.verify.run import VerifyError, verify
+
+
+@dataclass
+class Outcome:
+    verdicts: list[tuple[str, Verdict]] = field(default_factory=list)  # (props path, verdict)
+    errors: list[Diagnostic] = field(default_factory=list)
+    findings: list[Diagnostic] = field(default_factory=list)
+    lines: dict[str, list[str]] = field(default_factory=dict)
+    files: dict[str, str] = field(default_factory=dict)  # path -> text (stim, VCD)
+    artifacts: dict[tuple[str, str], tuple[str, ...]] = field(default_factory=dict)  # (props, name) -> paths
+
+    @property
+    def exit_code(self) -> int:
+        if self.errors:
+            return 2
+        return 0 if all(v.ok for _, v in self.verdicts) else 1
+
+    def text(self) -> str:
+        out = []
+        for path, v in self.verdicts:
+            out.append(describe(v).replace(f"{v.prop.name}:", f"{path}:{v.prop.line} {v.prop.name}:", 1))
+            files = self.artifacts.get((path, v.prop.name))
+            if files:
+                what = "counterexample" if v.status == VIOLATED else "witness"
+                out.append(f"         {what}: {files[0]} ({v.trace.scan + 1} scans), waveform {files[1]}")
+        counts = {s: sum(v.status == s for _, v in self.verdicts) for s in (PROVEN, VIOLATED, UNKNOWN)}
+        out.append(f"{len(self.verdicts)} properties: {counts[PROVEN]} proven, {counts[VIOLATED]} violated, "
+                   f"{counts[UNKNOWN]} unknown")
+        return "\n".join(out) + "\n"
+
+    def json(self) -> str:
+        results = []
+        for path, v in self.verdicts:
+            files = self.artifacts.get((path, v.prop.name))
+            results.append({"file": path, **to_dict(v, files[0] if files else None)})
+        return json.dumps({"results": results, "ok": self.exit_code == 0}, indent=2) + "\n"
+
+    def junit(self, suite_name: str) -> str:
+        root = ET.Element("testsuites", name=suite_name,
+                          time=f"{sum(v.stats.seconds for _, v in self.verdicts):.6f}")
+        by_file: dict[str, list[Verdict]] = {}
+        for path, v in self.verdicts:
+            by_file.setdefault(path, []).append(v)
+        for path, vs in by_file.items():
+            ts = ET.SubElement(root, "testsuite", name=path, tests=str(len(vs)),
+                               failures=str(sum(v.status == VIOLATED for v in vs)),
+                               errors=str(sum(v.status == UNKNOWN for v in vs)),
+                               time=f"{sum(v.stats.seconds for v in vs):.6f}", file=path)
+            for v in vs:
+                tc = ET.SubElement(ts, "testcase", classname=classname(path), name=f"{v.prop.name}: {v.prop.text}",
+                                   time=f"{v.stats.seconds:.6f}", file=path, line=str(v.prop.line))
+                if v.status != PROVEN:
+                    tag = "failure" if v.status == VIOLATED else "error"
+                    node = ET.SubElement(tc, tag, message=_finding_message(v, self.artifacts.get((path, v.prop.name))),
+                                         type="E704" if v.status == VIOLATED else "W705")
+                    node.text = f"{path}:{v.prop.line}:{v.prop.col}: {node.get('message')}"
+                ET.SubElement(tc, "system-out").text = describe(v)
+        ET.indent(root)
+        return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
+
+
+def _finding_message(v: Verdict, files) -> str:
+    if v.status == VIOLATED:
+        if v.trace is None:
+            return f"{v.prop.kind} {v.prop.name}: no reachable state satisfies it ({v.method})"
+        return (f"{v.prop.kind} property {v.prop.name} is violated after {v.trace.scan + 1} scans"
+                + (f"; counterexample {files[0]} (mlc sim PROGRAM --stimulus {files[0]})" if files else ""))
+    return f"{v.prop.name} is undecided: {v.reason or v.method}"
+
+
+class ProjectPropsError(ValueError):
+    """mlc.toml `[verify] properties` names no file (E110 at the key)."""
+
+
+def project_props(config) -> list[str]:
+    """The property files mlc.toml `[verify] properties` names (globs, from the project's
+    folder), relative to the current folder."""
+    import glob
+
+    table = config.data.get("verify") or {}
+    found: list[str] = []
+    root = str(config.root) if config.root is not None else "."
+    for pattern in table.get("properties", []):
+        full = os.path.join(root, pattern)
+        hits = sorted(glob.glob(full)) if glob.has_magic(full) else [full] if os.path.isfile(full) else []
+        if not hits:
+            raise ProjectPropsError(f"mlc.toml [verify] properties: {pattern!r} names no file")
+        found += [os.path.relpath(h) for h in hits]
+    return found
+
+
+def run_files(image: Image, target: Target, paths: list[str], engine: str, max_states: int,
+              seconds: float | None, out_dir: str) -> Outcome:
+    import time
+
+    outcome = Outcome()
+    deadline = None if seconds is None else time.monotonic() + seconds
+    for path in paths:
+        props, diags = load_props(path, target, image.symbols)
+        if props is not None:
+            outcome.lines[path] = props.lines
+        if props is None or any(d.severity == "error" for d in diags):
+            outcome.errors += diags
+            continue
+        left = None if deadline is None else max(0.0, deadline - time.monotonic())
+        try:
+            verdicts, _space, period = verify(image, target, props, engine, max_states, left)
+        except VerifyError as e:
+            outcome.errors += e.diagnostics
+            continue
+        for v in verdicts:
+            outcome.verdicts.append((path, v))
+            files = None
+            if v.trace is not None:
+                files = _artifacts(image, target, path, v, period, out_dir, outcome)
+            if v.status != PROVEN:
+                code = "E704" if v.status == VIOLATED else "W705"
+                outcome.findings.append(diag(path, Span.at(v.prop.line, v.prop.col, len(v.prop.text)), code,
+                                             _finding_message(v, files)))
+    return outcome
+
+
+def _artifacts(image: Image, target: Target, path: str, v: Verdict, period: int, out_dir: str,
+               outcome: Outcome) -> tuple[str, str]:
+    stem = os.path.splitext(os.path.basename(path))[0]
+    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", v.prop.name).strip("_") or "property"
+    base = os.path.join(out_dir, f"{stem}.{name}")
+    stim_path, vcd_path = base + ".stim", base + ".vcd"
+    values = replay_values(image, target, v, period)
+    text = stim_text(v, period, path, lambda view: values.get(view.name, 0))
+    result, sim = replay(image, target, stim_path, text)
+    from mlctool.sim.run.vcd import to_vcd
+
+    outcome.files[stim_path] = text
+    outcome.files[vcd_path] = to_vcd(result, image, target)
+    outcome.artifacts[(path, v.prop.name)] = (stim_path, vcd_path)
+    return stim_path, vcd_path
+
+
+def replay(image: Image, target: Target, stim_path: str, text: str):
+    """Run a counterexample's stimulus text as `mlc sim` would."""
+    st, diags = parse_stimulus_text(stim_path, text, target)
+    if any(d.severity == "error" for d in diags):  # pragma: no cover - our own text
+        raise VerifyError(diags)
+    period = st.scan_us
+    sim = Simulation(image, target, st, [], period, [], trace=True)
+    return sim.run(plan_scans(st, period, None, None)), sim
+
+
+def replay_values(image: Image, target: Target, v: Verdict, period: int) -> dict[str, int | float]:
+    """Device values after the trace's last scan (for expect checks a property's atom cannot
+    spell by itself: a compare of two devices, a value outside a range)."""
+    t = v.trace
+    lines = [f"scan {period}us"]
+    for k, vec in enumerate(t.vectors):
+        items = [f"{view.name}={x}" for view, x in zip(t.views, vec, strict=True)]
+        if k == 0:
+            items = [f"{view.name}={x}" for view, x in t.initial] + items
+        if items:
+            lines.append(f"#{k} " + " ".join(items))
+    lines.append(f"run #{t.scan + 1}")
+    st, _ = parse_stimulus_text("<trace>", "\n".join(lines) + "\n", target)
+    from mlctool.verify.props import views_of
+
+    watch = views_of(v.prop.expr) + (views_of(v.prop.response) if v.prop.response is not None else [])
+    sim = Simulation(image, target, st, [], period, watch, trace=False)
+    result = sim.run(t.scan + 1)
+    return dict(result.devices)
