@@ -51,8 +51,10 @@ demo: $(RUN_STAMP)
 
 # the benchmarks run in their own venv: the simulator's peers (awlsim, pyrung) are not test
 # dependencies, and pyrung's pyclickplc pins an older pymodbus than mlctool needs; mlctool
-# goes in with its cluster extra (bench/batch_speed.py's Dask LocalCluster figures) and its
-# native extra (Cython: bench/sim_speed.py's native engine row)
+# goes in with its cluster extra (bench/batch_speed.py's Dask LocalCluster figures), its
+# native extra (Cython: bench/sim_speed.py's native engine row) and its opcua extra
+# (asyncua: bench/commission_speed.py's OPC UA row). bench/lsp_memory.py is left out: it
+# takes about 15 minutes (docs/bench.md)
 BENCH_VENV := .venv-bench
 BENCH_BIN := $(BENCH_VENV)/bin
 BENCH_STAMP := $(BENCH_VENV)/.installed
@@ -61,7 +63,7 @@ $(BENCH_STAMP): pyproject.toml
 	$(PY) -m venv $(BENCH_VENV)
 	$(BENCH_BIN)/pip install --quiet --upgrade pip
 	$(BENCH_BIN)/pip install --quiet awlsim pyrung
-	$(BENCH_BIN)/pip install --quiet -e '.[cluster,native]'
+	$(BENCH_BIN)/pip install --quiet -e '.[cluster,native,opcua]'
 	touch $(BENCH_STAMP)
 
 bench: $(BENCH_STAMP)
@@ -71,6 +73,11 @@ bench: $(BENCH_STAMP)
 	$(BENCH_BIN)/python bench/sim_speed.py
 	$(BENCH_BIN)/python bench/batch_speed.py
 	$(BENCH_BIN)/python bench/start_memory.py
+	$(BENCH_BIN)/python bench/nc5_speed.py
+	$(BENCH_BIN)/python bench/debug_speed.py
+	$(BENCH_BIN)/python bench/lsp_speed.py
+	$(BENCH_BIN)/python bench/server_speed.py
+	$(BENCH_BIN)/python bench/commission_speed.py
 
 clean:
 	rm -rf $(VENV) $(BENCH_VENV) out .pytest_cache
