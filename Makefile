@@ -26,10 +26,11 @@ test: $(TEST_STAMP)
 	$(BIN)/pytest
 
 # the fuzz targets of the suite with a larger budget and fresh randomness (the suite runs
-# them derandomized in CI); FUZZ_EXAMPLES per target
+# them derandomized in CI); FUZZ_EXAMPLES per target; the edge-operand walk of every
+# instruction form then takes every edge and random combinations of them
 FUZZ_EXAMPLES ?= 2000
 fuzz: $(TEST_STAMP)
-	env -u CI MLC_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(BIN)/pytest -q tests/test_fuzz_inputs.py
+	env -u CI MLC_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(BIN)/pytest -q tests/test_fuzz_inputs.py tests/test_checked_means_runs.py
 
 lint: $(TEST_STAMP)
 	$(BIN)/ruff check mlctool tests bench
@@ -50,9 +51,11 @@ demo: $(RUN_STAMP)
 
 # the benchmarks run in their own venv: the simulator's peers (awlsim, pyrung) are not test
 # dependencies, and pyrung's pyclickplc pins an older pymodbus than mlctool needs; mlctool
-# goes in with its cluster extra (bench/batch_speed.py's Dask LocalCluster figures) and its
-# native extra (Cython: bench/sim_speed.py's native engine row) and its verify extra (z3:
-# bench/verify_speed.py's symbolic engine, against pyrung's prover)
+# goes in with its cluster extra (bench/batch_speed.py's Dask LocalCluster figures), its
+# native extra (Cython: bench/sim_speed.py's native engine row), its opcua extra
+# (asyncua: bench/commission_speed.py's OPC UA row) and its verify extra (z3:
+# bench/verify_speed.py's symbolic engine, against pyrung's prover). bench/lsp_memory.py is left out: it
+# takes about 15 minutes (docs/bench.md)
 BENCH_VENV := .venv-bench
 BENCH_BIN := $(BENCH_VENV)/bin
 BENCH_STAMP := $(BENCH_VENV)/.installed
@@ -61,7 +64,7 @@ $(BENCH_STAMP): pyproject.toml
 	$(PY) -m venv $(BENCH_VENV)
 	$(BENCH_BIN)/pip install --quiet --upgrade pip
 	$(BENCH_BIN)/pip install --quiet awlsim pyrung
-	$(BENCH_BIN)/pip install --quiet -e '.[cluster,native,verify]'
+	$(BENCH_BIN)/pip install --quiet -e '.[cluster,native,opcua,verify]'
 	touch $(BENCH_STAMP)
 
 bench: $(BENCH_STAMP)
@@ -71,6 +74,11 @@ bench: $(BENCH_STAMP)
 	$(BENCH_BIN)/python bench/sim_speed.py
 	$(BENCH_BIN)/python bench/batch_speed.py
 	$(BENCH_BIN)/python bench/start_memory.py
+	$(BENCH_BIN)/python bench/nc5_speed.py
+	$(BENCH_BIN)/python bench/debug_speed.py
+	$(BENCH_BIN)/python bench/lsp_speed.py
+	$(BENCH_BIN)/python bench/server_speed.py
+	$(BENCH_BIN)/python bench/commission_speed.py
 	$(BENCH_BIN)/python bench/verify_speed.py
 
 clean:

@@ -9,7 +9,7 @@
 - word lanes: 1024 scenarios of mixed-words (sim_speed.py: TMR, CNT, MOV, ADD, SUB, MUL, LD>,
   DADD; numpy lanes) against the same scenarios one by one (compiled engine); goal >= 10x.
 - cluster: the same bool1000 campaign and a one-by-one campaign (lanes off) run locally and
-  on a Dask LocalCluster of 2 worker processes (mlctool/sim/cluster.py); scenarios/s, wall
+  on a Dask LocalCluster of 2 worker processes (mlctool/sim/campaign/cluster.py); scenarios/s, wall
   time (the work is in other processes).
 
 Every ratio is printed after a check that the compared runs did the same work: the same
@@ -32,7 +32,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 from sim_speed import NC5, bool1000_il, build, executed_per_scan, mixed_words_il  # noqa: E402
 
-from mlctool.sim.batch import Options, run_batch  # noqa: E402
+from mlctool.sim.campaign.batch import Options, run_batch  # noqa: E402
 
 ROUNDS = int(os.environ.get("BENCH_ROUNDS", "3"))
 N, SCANS = 1024, 1000

@@ -3,8 +3,9 @@
 
 Both run the same scans on the compiled engine with no stimulus; the debug session checks a
 `break if` condition that never holds and a watch on a device that never changes after every
-scan, and takes its time-travel checkpoints (every 100 scans). Prints scans/s of each and the
-ratio; exits 1 below 50 %.
+scan, and takes its time-travel checkpoints (every 100 scans). Prints scans/s of each, the
+ratio and whether it meets the goal (a miss exits 0, as bench/sim_speed.py's goals do: `make
+bench` goes on to the next bench on a busy machine).
 
     python bench/debug_speed.py [SCANS]
 """
@@ -21,8 +22,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from sim_speed import NC5, bool1000_il, build  # noqa: E402
 
 from mlctool.debug.session import DebugSession  # noqa: E402
-from mlctool.sim.run import Simulation  # noqa: E402
-from mlctool.sim.stimulus import Stimulus  # noqa: E402
+from mlctool.sim.run.run import Simulation  # noqa: E402
+from mlctool.sim.stimulus.stimulus import Stimulus  # noqa: E402
 
 
 def main() -> int:
@@ -44,8 +45,8 @@ def main() -> int:
     assert stop.reason == "step", stop
     ratio = debug / plain
     print(f"bool1000: mlc sim {plain:,.0f} scans/s, mlc debug run with a condition and a watch "
-          f"{debug:,.0f} scans/s: {ratio:.0%}")
-    return 0 if ratio >= 0.5 else 1
+          f"{debug:,.0f} scans/s: {ratio:.0%} (goal >= 50 %: {'met' if ratio >= 0.5 else 'missed'})")
+    return 0
 
 
 if __name__ == "__main__":

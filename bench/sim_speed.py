@@ -14,7 +14,7 @@ Method (issue 19 §1):
 - "Instructions" are the mlc program's instructions executed per scan, for every system (the
   equivalent work; awlsim executes ~3x as many AWL statements for mixed).
 - mlc's native engine (--engine native: the compiled engine's code built into a C extension by
-  Cython; sim/native.py) is a row of its own where Cython and a C compiler are present, built
+  Cython; sim/engines/native.py) is a row of its own where Cython and a C compiler are present, built
   before the rounds (its build time printed: once per program, then kept in the user cache).
 - When a C compiler (cc/gcc) is present, bool1000 is also generated as straight-line C and as a
   C switch-dispatch interpreter over (opcode, device) pairs, compiled with -O2 into a temp dir,
@@ -52,8 +52,8 @@ import time
 sys.path.insert(0, os.path.dirname(__file__))
 
 from mlctool.asm import program_from_paths  # noqa: E402
-from mlctool.sim.compile import compile_program  # noqa: E402
-from mlctool.sim.engine import Scanner, scanner  # noqa: E402
+from mlctool.sim.engines.compile import compile_program  # noqa: E402
+from mlctool.sim.engines.engine import Scanner, scanner  # noqa: E402
 from mlctool.sim.scan import load_program  # noqa: E402
 from mlctool.sim.state import Machine  # noqa: E402
 from mlctool.targetapi import load_target  # noqa: E402
@@ -365,7 +365,7 @@ class NativeMissing(Exception):
 
 
 def native_system(image, start: dict[int, int], names: list[str]) -> list:
-    """mlc's native engine (sim/native.py) as a system, built now (the build's wall time is
+    """mlc's native engine (sim/engines/native.py) as a system, built now (the build's wall time is
     printed: it is paid once per program and kept in the user cache), or [] saying why not."""
     t0, c0 = time.perf_counter(), time.process_time()
     try:

@@ -10,7 +10,14 @@ version (marshal and bytecode formats differ between Pythons).
 Where (DECISION): the user's cache folder, `$MLC_CACHE_DIR`, else `$XDG_CACHE_HOME/mlctool`,
 else `~/.cache/mlctool` (`%LOCALAPPDATA%\\mlctool\\cache` on Windows); never beside the
 project: entries hold code that is run, and a project folder comes from others (a cloned
-repository could ship a crafted `.mlc-cache/`). `MLC_CACHE=off` (or 0, no, false) disables it.
+repository could ship a crafted `.mlc-cache/`). So a relative `$MLC_CACHE_DIR` is refused (it
+names a folder inside whatever folder a command runs in: a project's): the cache is off and
+it says so (W612) where it would have been used. `MLC_CACHE=off` (or 0, no, false) disables it.
+
+Trust model: the cache trusts its folder, not its entries' seals. An entry's SHA-256 is an
+unkeyed hash: it finds truncation and corruption, but anyone who can write the folder can
+write an entry with a matching hash, whose code mlc then runs. What keeps others out is the
+folder rule below (private, ours, written by no one else), as for ~/.bashrc.
 
 Safety:
 - the folder is created private (0700) and used only if it belongs to this user and no one
@@ -41,8 +48,32 @@ _HEAD = len(MAGIC) + 1 + 32 + 32  # magic, format, key digest, payload digest
 _fingerprint: str | None = None
 
 
+_said: set[str] = set()  # the refusals already shown (once per process)
+
+
 def enabled() -> bool:
-    return os.environ.get(ENV_SWITCH, "").strip().lower() not in ("off", "0", "no", "false")
+    if os.environ.get(ENV_SWITCH, "").strip().lower() in ("off", "0", "no", "false"):
+        return False
+    why = refusal()
+    if why is not None:
+        if why not in _said:  # W612 where the cache would have been used, once
+            from mlctool.diagnostics import Span, diag
+            from mlctool.report import render_text
+
+            _said.add(why)
+            render_text([diag("<environment>", Span.at(1), "W612", why)], {}, sys.stderr)
+        return False
+    return True
+
+
+def refusal() -> str | None:
+    """Why the cache folder named by the environment is refused (a relative MLC_CACHE_DIR),
+    or None."""
+    explicit = os.environ.get(ENV_DIR)
+    if explicit and not os.path.isabs(explicit):
+        return (f"{ENV_DIR}={explicit!r} is not an absolute path: the on-disk cache is off (a relative "
+                "folder lies in whatever folder a command runs in, such as a project's; give an absolute one)")
+    return None
 
 
 def folder() -> str:
@@ -66,14 +97,7 @@ def fingerprint() -> str:
         import mlctool
 
         h = hashlib.sha256(f"{sys.version}\0{sys.implementation.cache_tag}\0".encode())
-        root = os.path.dirname(os.path.abspath(mlctool.__file__))
-        for path, dirs, files in os.walk(root):
-            dirs[:] = sorted(d for d in dirs if d != "__pycache__")
-            for name in sorted(files):
-                if name.endswith((".py", ".toml", ".json", ".lark")):
-                    st = os.stat(os.path.join(path, name))
-                    h.update(f"{os.path.relpath(os.path.join(path, name), root)}\0{st.st_size}\0"
-                             f"{st.st_mtime_ns}\n".encode())
+        h.update(_files_digest(_package_root(mlctool)).encode())
         _fingerprint = h.hexdigest()
     return _fingerprint
 
@@ -88,10 +112,58 @@ def key(*parts: str | bytes) -> bytes:
     return h.digest()
 
 
+_IDENTITIES: dict[int, tuple[object, str]] = {}  # id(target) -> (the target, kept alive; its identity)
+
+
 def target_identity(target) -> str:
-    """What of a target (as a command sees it: model, capacity, settings from mlc.toml) an
-    entry derived for it can depend on beyond its packaged tables (those are fingerprint()'s)."""
-    return repr((target.name, target.model, target.capacity, target.settings, sorted(target.devices.items())))
+    """Everything of a target an entry derived for it can depend on: the tables as the command
+    sees them (model, capacity, settings from mlc.toml, devices, every instruction with its op
+    and operands) and the files of the package that declares it. fingerprint() covers only
+    mlctool's own files: a third-party target's tables and routines are not among them (issue
+    30.15: a toy target whose MOV changed ran the old cached code). Computed once per Target
+    (some 20 ms for VS's tables)."""
+    found = _IDENTITIES.get(id(target))
+    if found is not None and found[0] is target:
+        return found[1]
+    from mlctool.targetapi.registry import target_package
+
+    tables = (sorted(target.devices.items()), sorted(target.instructions.items()), sorted(target.variants.items()),
+              sorted(target.unavailable))
+    h = hashlib.sha256(repr((target.name, target.model, target.capacity, target.settings, tables)).encode())
+    try:
+        package = target_package(target.name)
+    except (KeyError, TypeError):  # a Target built by hand (tests): its tables are all there is
+        package = None
+    if package is not None:  # a built-in target's files are fingerprint()'s already
+        import mlctool
+
+        folder = os.path.dirname(os.path.abspath(package.tables))
+        if not folder.startswith(_package_root(mlctool) + os.sep):
+            h.update(_files_digest(folder).encode())
+    if len(_IDENTITIES) > 64:
+        _IDENTITIES.clear()
+    identity = h.hexdigest()
+    _IDENTITIES[id(target)] = (target, identity)
+    return identity
+
+
+def _package_root(module) -> str:
+    return os.path.dirname(os.path.abspath(module.__file__))
+
+
+def _files_digest(root: str) -> str:
+    """The name, size and modification time of every source or table file below `root`."""
+    h = hashlib.sha256()
+    for path, dirs, files in os.walk(root):
+        dirs[:] = sorted(d for d in dirs if d != "__pycache__")
+        for name in sorted(files):
+            if name.endswith((".py", ".toml", ".json", ".lark")):
+                try:
+                    st = os.stat(os.path.join(path, name))
+                except OSError:
+                    continue
+                h.update(f"{os.path.relpath(os.path.join(path, name), root)}\0{st.st_size}\0{st.st_mtime_ns}\n".encode())
+    return h.hexdigest()
 
 
 def _usable(path: str) -> bool:

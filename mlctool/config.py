@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
+from mlctool.fileio import read_input
 from mlctool.limits import long_number, too_long_message
 from mlctool.suggest import did_you_mean
 
@@ -157,11 +158,18 @@ def key_positions(text: str) -> dict[tuple[str, ...], tuple[int, int, int]]:
 
 # ------------------------------------------------------------------ reading and validating
 
+MAX_CONFIG_BYTES = 1024 * 1024
+
+
 def _read(path: Path) -> tuple[str, dict]:
     try:
-        text = path.read_text("utf-8")
+        data = read_input(str(path), MAX_CONFIG_BYTES + 1)  # noted as an input: never an output (fileio.py)
     except OSError as e:
         raise MlcError(diag(str(path), Span.at(1), "E100", f"cannot read configuration: {e.strerror or e}")) from e
+    if len(data) > MAX_CONFIG_BYTES:
+        raise MlcError(diag(str(path), Span.at(1), "E104", f"configuration is more than {MAX_CONFIG_BYTES} bytes"))
+    try:
+        text = data.decode("utf-8").replace("\r\n", "\n").replace("\r", "\n")  # as text mode reads it
     except UnicodeDecodeError as e:
         raise MlcError(diag(str(path), Span.at(1), "E110", f"configuration is not UTF-8 ({e.reason})")) from e
     try:

@@ -3,11 +3,21 @@
 A command that writes files goes through an `Outputs` plan (docs/reliability.md); a missing
 folder on the way to an output is created (`-o build/x.mlx`, `--junit out/j.xml`):
 
-    plan = Outputs(inputs=[source, stimulus])      # the files the command reads
+    plan = Outputs()
     plan.add(vcd_path, "--vcd")                    # E606 (exit 2): an input or another output
     plan.validate()                                # E605 (exit 2): a folder that cannot take it
     ...work...
     plan.write({vcd_path: data, ...})              # every file staged, then all renamed
+
+The inputs are not listed by the command: every input file is opened here (`read_input`,
+`open_input`), and opening one notes it in the command's register of inputs. An output is
+compared with that register when it is planned, an input with the planned outputs when it is
+opened, and every output once more when it is written; whichever comes second is E606. So a
+file the command reads is never one it writes, whatever the order and whoever reads it (the
+sources, --config and mlc.toml, stimulus files, --table files, --comments of an import, a
+reader added later). `note_input` notes a file the command will have read elsewhere (the
+stimulus files a batch hands to its worker processes). The CLI starts each command with an
+empty register (`begin_command`).
 
 Nothing is written before every output is known to be distinct from every input and from the
 other outputs (the same resolved path, a symlink to one, or a hard link: the same device and
@@ -25,6 +35,7 @@ import os
 import signal
 import stat
 import threading
+import weakref
 from collections.abc import Iterable
 from typing import IO
 
@@ -42,12 +53,77 @@ def _cannot_write(path: str, why: object) -> MlcError:
 
 def _identity(path: str) -> tuple[str, tuple[int, int] | None]:
     """(resolved path, (device, inode) if the file exists): two names for one file share one."""
-    real = os.path.realpath(path)
     try:
+        real = os.path.realpath(path)
         st = os.stat(path)
+    except ValueError:  # a name no file can have (NUL): writing it is E605
+        return path, None
     except OSError:
         return real, None
     return real, (st.st_dev, st.st_ino)
+
+
+# The command's register of inputs: (device, inode) -> the path as given, which names it
+# however it is spelt (a symlink or hard link to it, `./x`); and by resolved path, for an
+# output whose folder is still missing (`-o sub/../x` names x, though no `sub` exists yet).
+# Paths are resolved only when an output is checked, each once (a batch reads thousands).
+_INPUTS: dict[tuple[int, int], str] = {}
+_UNRESOLVED: list[tuple[str, str]] = []  # (absolute path, the path as given)
+_RESOLVED: dict[str, str] = {}  # resolved path -> the path as given
+# The plans with outputs not written yet: an input opened now is checked against them.
+_PLANS: weakref.WeakSet[Outputs] = weakref.WeakSet()
+_LOCK = threading.Lock()
+
+
+def begin_command() -> None:
+    """A new command: no input read yet, no output planned (run_guarded calls it)."""
+    with _LOCK:
+        _INPUTS.clear()
+        _UNRESOLVED.clear()
+        _RESOLVED.clear()
+        _PLANS.clear()
+
+
+def note_input(path: str) -> None:
+    """`path` is an input of this command (read here or by a worker): E606 if an output
+    planned and not written yet is that file. A missing file is no input of the command."""
+    try:
+        st = os.stat(path)
+    except (OSError, ValueError):
+        return
+    _noted(path, st)
+
+
+def _noted(path: str, st: os.stat_result) -> None:
+    key = (st.st_dev, st.st_ino)
+    with _LOCK:
+        if key in _INPUTS:
+            return
+        _INPUTS[key] = path
+        _UNRESOLVED.append((os.path.abspath(path), path))
+        outputs = [out for plan in _PLANS for out in plan.outputs]
+    if outputs:
+        real = os.path.realpath(path)
+        for out, what, ident in outputs:
+            if ident[1] == key or ident[0] == real:
+                raise _clash(out, f"{what} {out} is the input {path}: refusing to overwrite it")
+
+
+def inputs_read() -> list[str]:
+    """The input files of this command so far, as they were named (tests/test_inputs_are_never_outputs.py)."""
+    with _LOCK:
+        return list(_INPUTS.values())
+
+
+def _read_as(ident: tuple) -> str | None:
+    """The input that `ident` (an output's identity) is, if the command read it."""
+    with _LOCK:
+        if ident[1] is not None and ident[1] in _INPUTS:
+            return _INPUTS[ident[1]]
+        for absolute, path in _UNRESOLVED:
+            _RESOLVED.setdefault(os.path.realpath(absolute), path)
+        _UNRESOLVED.clear()
+        return _RESOLVED.get(ident[0])
 
 
 def same_file(a: str, b: str) -> bool:
@@ -59,32 +135,21 @@ def same_file(a: str, b: str) -> bool:
 class Outputs:
     """The output files of one command run (see the module doc)."""
 
-    def __init__(self, inputs: Iterable[str] = (), make_dirs: bool = True):
-        self.inputs: list[tuple[str, tuple]] = []
+    def __init__(self, make_dirs: bool = True):
         self.outputs: list[tuple[str, str, tuple]] = []  # (path, what, identity)
         self.make_dirs = make_dirs
         self._staged: list[tuple[str, str]] = []  # (temporary file, target)
-        for p in inputs:
-            self.add_input(p)
-
-    def add_input(self, path: str) -> None:
-        """An input (found late, such as the files a glob matched); E606 if it is an output."""
-        ident = _identity(path)
-        for p, what, other in self.outputs:
-            if _same(ident, other):
-                raise _clash(p, f"{what} {p} is the input {path}: refusing to overwrite it")
-        self.inputs.append((path, ident))
 
     def add(self, path: str, what: str = "output") -> str:
-        """Plan `path` as an output; E606 if it is an input or another output."""
+        """Plan `path` as an output; E606 if the command read it or it is another output."""
         ident = _identity(path)
-        for p, other in self.inputs:
-            if _same(ident, other):
-                raise _clash(path, f"{what} {path} is the input {p}: refusing to overwrite it")
+        _refuse_input(path, what, ident)
         for p, w, other in self.outputs:
             if _same(ident, other):
                 raise _clash(path, f"{what} {path} is also {w} {p}: one file cannot be both")
         self.outputs.append((path, what, ident))
+        with _LOCK:
+            _PLANS.add(self)
         return path
 
     def validate(self) -> None:
@@ -110,8 +175,11 @@ class Outputs:
 
     def write(self, files: dict[str, bytes | str] | Iterable[tuple[str, bytes | str]]) -> None:
         """Stage every file (and the streams), then rename them all over their targets."""
-        items = files.items() if isinstance(files, dict) else files
+        items = list(files.items() if isinstance(files, dict) else files)
         try:
+            # inputs opened since the outputs were planned, and files written without a plan
+            for path in [p for _, p in self._staged] + [p for p, _ in items]:
+                _refuse_input(path, self._what(path), _identity(path))
             for path, data in items:
                 tmp, fd = self._temp(path)
                 _fill(fd, data.encode("utf-8") if isinstance(data, str) else data, path)
@@ -128,13 +196,19 @@ class Outputs:
             self.discard()
 
     def discard(self) -> None:
-        """Remove every staged temporary file (a failed run leaves nothing behind)."""
+        """Remove every staged temporary file (a failed run leaves nothing behind); the plan
+        is over (its outputs no longer refuse an input)."""
         for tmp, _ in self._staged:
             try:
                 os.unlink(tmp)
             except OSError:
                 pass
         self._staged.clear()
+        with _LOCK:
+            _PLANS.discard(self)
+
+    def _what(self, path: str) -> str:
+        return next((w for p, w, _ in self.outputs if p == path), "output")
 
     def __enter__(self) -> Outputs:
         return self
@@ -159,6 +233,24 @@ class Outputs:
                 raise _cannot_write(path, e.strerror or e) from e
             self._staged.append((tmp, path))
         return tmp, fd
+
+
+def _refuse_input(path: str, what: str, ident: tuple) -> None:
+    read = _read_as(ident)
+    if read is not None:
+        raise _clash(path, f"{what} {path} is the input {read}: refusing to overwrite it")
+
+
+def distinct(paths: Iterable[str], what: str) -> None:
+    """E606 when two of `paths` are one file (`mlc fmt a.il ./a.il`: rewritten in place, each
+    is its own input and output, but one file is not rewritten twice)."""
+    seen: list[tuple[str, tuple]] = []
+    for path in paths:
+        ident = _identity(path)
+        for p, other in seen:
+            if _same(ident, other):
+                raise _clash(path, f"{what} {path} is also {what} {p}: one file cannot be both")
+        seen.append((path, ident))
 
 
 def _clash(path: str, message: str) -> MlcError:
@@ -206,10 +298,12 @@ def held_interrupts():
         signal.pthread_sigmask(signal.SIG_SETMASK, held)
 
 
-def _open_regular(path: str) -> tuple[int, os.stat_result]:
+def _open_regular(path: str, note: bool = True) -> tuple[int, os.stat_result]:
     """A file descriptor of `path` and its fstat; OSError for anything but a regular file (a
     FIFO or a device would block the command forever or never end; a folder cannot be read).
-    The descriptor is still non-blocking (without effect on a regular file's reads)."""
+    The descriptor is still non-blocking (without effect on a regular file's reads). The file
+    is noted as an input of the command (E606 if it is a planned output) unless `note` is
+    False: only for a peek at an output itself (is the .gtkw beside --vcd mlc sim's own?)."""
     fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))  # a FIFO opens at once
     try:
         st = os.fstat(fd)
@@ -217,15 +311,18 @@ def _open_regular(path: str) -> tuple[int, os.stat_result]:
             raise OSError(errno.EISDIR if stat.S_ISDIR(st.st_mode) else errno.EINVAL,
                           "Is a directory" if stat.S_ISDIR(st.st_mode) else
                           "not a regular file (a pipe, FIFO, socket or device)")
+        if note:
+            _noted(path, st)
     except BaseException:
         os.close(fd)
         raise
     return fd, st
 
 
-def open_input(path: str, mode: str = "rb", encoding: str | None = None) -> IO:
-    """An input file opened for reading; OSError for anything but a regular file."""
-    fd, _ = _open_regular(path)
+def open_input(path: str, mode: str = "rb", encoding: str | None = None, note: bool = True) -> IO:
+    """An input file opened for reading; OSError for anything but a regular file. Noted as
+    an input of the command (see `_open_regular` for `note`)."""
+    fd, _ = _open_regular(path, note)
     try:
         os.set_blocking(fd, True)
         return os.fdopen(fd, mode, encoding=encoding)
@@ -235,7 +332,8 @@ def open_input(path: str, mode: str = "rb", encoding: str | None = None) -> IO:
 
 
 def read_input(path: str, limit: int) -> bytes:
-    """At most `limit` bytes of an input file (OSError for anything but a regular file), by
+    """At most `limit` bytes of an input file (OSError for anything but a regular file; noted
+    as an input of the command), by
     plain reads of the file descriptor: no file object, one fstat (a batch reads thousands of
     small stimulus files; open_input + read cost ~6 us a file more). The first read asks for
     the size fstat gave plus one byte, not `limit` (reading a 100-byte file with read(64 MB)
@@ -312,8 +410,8 @@ def _overwrite_in_place(real: str, data: bytes, path: str) -> None:
         raise _cannot_write(path, e.strerror or e) from e
     plan = Outputs(make_dirs=False)
     tmp, fd = plan._temp(real)  # the saved copy of the old bytes
-    _fill(fd, old, path)
-    try:
+    try:  # (a full disk fails here already: the empty copy is removed below)
+        _fill(fd, old, path)
         with open(real, "r+b") as f:
             try:
                 f.write(data)

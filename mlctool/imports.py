@@ -1,5 +1,6 @@
 """Vendor exports -> plain IL (`mlc import`): GX Works2 and GX Developer instruction-list CSV,
-WPLSoft CSV, plain IL text.
+WPLSoft CSV, plain IL text; and GX Works2 projects (.gxw, decoded by mlctool/gxw.py), whose
+instructions take the path of the CSV rows (import_project).
 
 The shapes read (docs/vs.md "Imports"):
 - GX Works2 "CSV": UTF-16 with BOM, tab-separated quoted fields; a program-name row and a
@@ -27,6 +28,7 @@ import io
 import re
 
 from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.limits import is_decimal
 from mlctool.syntax.operands import OperandSyntaxError, format_operand, parse_operand
 from mlctool.syntax.source import decode, read_source
 from mlctool.targetapi.model import Target
@@ -50,8 +52,51 @@ _DELTA_HEADER = ("step", "instruction", "operand1")  # Step,Instruction,Operand1
 _STEP6 = re.compile(r"\s*[0-9]{6}\s*[,\t]")
 _LABEL = re.compile(r"[PI][0-9]+", re.IGNORECASE)
 _FX_POINTER = re.compile(r"I([0-9]{1,3})", re.IGNORECASE)
+# an X/Y written with a number: in an FX export octal, so X58 and X5B are no device (E913)
+_IO_NUMBER = re.compile(r"[XY][0-9][0-9A-F]*", re.IGNORECASE)
 # the family of each export's special devices (targets/<name>/specials.toml)
-SOURCE_FAMILY = {"gxworks2": "fx", "gxdeveloper": "fx", "wplsoft": "dvp", "delta": "dvp"}
+SOURCE_FAMILY = {"gxworks2": "fx", "gxdeveloper": "fx", "wplsoft": "dvp", "delta": "dvp", "gxw": "fx"}
+
+
+# the CPU row of a GX export: GX Works2 `"PLC Information:"<TAB>"FXCPU FX3U/FX3UC"` (Japanese
+# `PC情報:`, Simplified Chinese `PLC信息:`, Traditional `PLC資訊:`), GX Developer `"PLC Type:FX3U(C)"`
+_CPU_ROW = re.compile(r"(plc information|plc type|pc情報|pcタイプ|plc信息|plc資訊|plc类型|plc類型)\s*[:：]\s*(.*)",
+                      re.IGNORECASE)
+# FX0-FX3 (FX0S, FX1N, FX2N(C), FX3G, FX3U/FX3UC, FX3S ...): the dialect the VS follows
+_FX_CPU = re.compile(r"FX\s*(0|1|2|3)", re.IGNORECASE)
+# the MELSEC series whose programs the VS cannot run: hexadecimal X/Y, SM/SD, other steps
+_OTHER_CPU = re.compile(r"\b(L\s*CPU|Q\s*CPU|QnA|QCPU|A\s*CPU|R\s*CPU|LCPU|Q[0-9]{2}|L[0-9]{2}|R[0-9]{2}|"
+                        r"A[0-9][A-Z]|iQ-R)", re.IGNORECASE)
+
+
+def export_cpu(text: str) -> str | None:
+    """The CPU an export names in its first rows (GX Works2 / GX Developer), None if none."""
+    for line in text.splitlines()[:4]:
+        cells = [c.strip().strip('"').strip() for c in re.split(r"[\t,]", line)]
+        for k, cell in enumerate(cells):
+            m = _CPU_ROW.fullmatch(cell)
+            if m:
+                named = m[2].strip() or next((c for c in cells[k + 1:] if c), "")
+                return named or None
+    return None
+
+
+def cpu_problem(path: str, cpu: str, target: Target) -> Diagnostic | None:
+    """E910 for a CPU whose programs the target cannot run, W911 for one the importer does not
+    know as an FX0-FX3; None for an FX0-FX3 or a model of the target itself (VS3)."""
+    if _FX_CPU.search(cpu) or any(re.search(rf"\b{re.escape(m)}\b", cpu, re.IGNORECASE) for m in target.models):
+        return None
+    if _OTHER_CPU.search(cpu):
+        return diag(path, Span.at(2), "E910", f"the export is from a {cpu}, not an FX CPU: its X/Y are hexadecimal "
+                    f"(X62 is input 0x62, not the octal X62 of target {target.name}), its specials SM/SD, its "
+                    "interrupts IMASK/IC*, and its steps count line statements and notes",
+                    f"rewrite the program for target {target.name} (or an FX CPU, then export that): its X/Y "
+                    "numbers, SM/SD specials and interrupt instructions have no one-to-one FX counterpart, so "
+                    "nothing is converted (docs/formats.md, CPU and dialect)")
+    return diag(path, Span.at(2), "W911", f"the export names CPU {cpu!r}, not one of FX0-FX3 whose dialect "
+                f"target {target.name} follows: its rows are read as FX ones",
+                f"check the result with `mlc check --target {target.name}`; an FX5 (iQ-F) program uses SM/SD "
+                "specials the target does not have (docs/formats.md, CPU and dialect)")
 
 
 def decode_export(path: str, data: bytes, encoding: str | None = None) -> tuple[str | None, list[Diagnostic]]:
@@ -98,9 +143,33 @@ def detect(text: str) -> str:
             return "delta"
     if any(_STEP6.match(line) for line in head):
         return "wplsoft"
+    if _delta_rows(head):
+        return "delta"
     if _headerless(head):
         return "gxworks2" if any("\t" in line for line in head) else "gxdeveloper"
     return "il"
+
+
+_MNEMONIC = re.compile(r"[a-z][a-z0-9<>=]*")
+
+
+def _delta_rows(head: list[str]) -> bool:
+    """Delta rows without the `Step,Instruction,...` header: `0,LD,X0,,` (a step number, the
+    mnemonic in the second cell) or `LD,X0` (comma-separated IL, the mnemonic first), at least
+    two rows and every instruction row so. GX's headerless rows have the mnemonic in the third
+    cell, the second (the line statement) empty."""
+    rows = [_cells(line) for line in head if line.strip() and not line.lstrip().startswith((";", "//"))]
+    if len(rows) < 2 or any("\t" in line for line in head):
+        return False
+
+    def delta(r: list[str]) -> bool:
+        if len(r) < 2 and not (r and _MNEMONIC.fullmatch(r[0]) and r[0] in ("end", "fend", "mpp", "mps", "mrd",
+                                                                            "anb", "orb", "ret", "nop")):
+            return False
+        first = r[1:] if r[0].isdigit() else r
+        return bool(first) and bool(_MNEMONIC.fullmatch(first[0])) and not any(" " in c for c in first)
+
+    return all(delta(r) for r in rows)
 
 
 def _headerless(head: list[str]) -> bool:
@@ -117,10 +186,14 @@ def _headerless(head: list[str]) -> bool:
 class _Writer:
     """Collects IL lines; rewrites mnemonics and operands as the target writes them."""
 
-    def __init__(self, path: str, target: Target, family: str = "", comments: dict[str, str] | None = None):
+    def __init__(self, path: str, target: Target, family: str = "", comments: dict[str, str] | None = None,
+                 places: dict[int, str] | None = None):
         from mlctool.targetapi.specials import families
 
         self.path, self.t = path, target
+        # row -> where it is in a binary file (a .gxw's POU and offset); there the row is the
+        # instruction's number, the line of its diagnostics
+        self.places = places
         self.family = families(target.name).get(family)  # the source's special devices
         self.comments = dict(comments or {})  # device as the target writes it -> its comment
         if self.family is not None:  # a comment on M8000 is one on the M9000 it becomes
@@ -132,13 +205,19 @@ class _Writer:
         self.lines: list[str] = []
         self.diags: list[Diagnostic] = []
         self.pending: list[str] | None = None  # the instruction whose operands may continue
-        self.pending_step: tuple[int, int] | None = None  # (row, export step) of the pending one
+        self.pending_step: tuple[int, int, str] | None = None  # (row, export step, row as written) of it
         self.kinds: list[str] = []  # of each diagnostic: rows of one kind are reported once
         self.referenced: set[str] = set()  # operands written, upper case: the labels jumped to
         self.maybe_labels: list[tuple[int, str, int]] = []  # (line index, name, row)
-        self.steps: dict[int, tuple[int, int]] = {}  # IL line index -> (row, the export's step)
+        self.steps: dict[int, tuple[int, int, str]] = {}  # IL line index -> (row, the export's step, its words)
         self.mapped: dict[str, dict[str, str]] = {}  # device kind -> {source: target (function)}
         self.unmapped: dict[str, list[int]] = {}  # source device -> rows
+        self.renamed: dict[str, str] = {}  # the family's mnemonic -> the target's (DRVI -> DRVR)
+        self.absent: dict[str, tuple[str, list[int]]] = {}  # source device the target lacks -> (area, rows)
+
+    def at(self, row: int) -> str:
+        """Where a row is, as messages say it: `row 5`, or a .gxw's `MAIN.Program.pou offset 0x5A`."""
+        return f"row {row}" if self.places is None else self.places.get(row, f"instruction {row}")
 
     def error(self, row: int, kind: str, message: str, *notes: str) -> None:
         self.diags.append(diag(self.path, Span.at(row), "E907", message, *notes))
@@ -177,9 +256,19 @@ class _Writer:
         name = text.rstrip(":：").upper()
         if _FX_POINTER.fullmatch(name):
             name = self.pointer(name, row)
-        if step.isdigit():
-            self.steps[len(self.lines)] = (row, int(step))
+        if self.step_number(step, row) is not None:
+            self.steps[len(self.lines)] = (row, int(step), text)
         self.lines.append(f"{name}:")
+
+    def step_number(self, step: str, row: int) -> int | None:
+        """The step field of a row: empty, or ASCII digits (mlctool/limits.py); anything else
+        ("0²", "٣") is E907 at the row."""
+        if not step:
+            return None
+        if not is_decimal(step):
+            self.error(row, f"step {step}", f"row {row}: step number {step!r} is not a number (ASCII digits)")
+            return None
+        return int(step)
 
     def pointer(self, text: str, row: int) -> str:
         """FX interrupt pointer I001 / I610 / I010 (I0 = I000) -> the target's name (IX0P,
@@ -190,7 +279,7 @@ class _Writer:
             return text
         p = pointer_numbered(int(text[1:]), self.t)
         if p is None:
-            self.error(row, f"pointer {text}", f"row {row}: interrupt pointer {text} has no counterpart on target "
+            self.error(row, f"pointer {text}", f"{self.at(row)}: interrupt pointer {text} has no counterpart on target "
                        f"{self.t.name}", "the target's pointers are IX0P-IX7P/IX0F-IX7F (FX I001-I701/I000-I700), "
                        "ITA01-ITC99 (I601-I899), IHC0-IHC7 (I010-I080), IHHC1/IHHC2; rewrite the routine "
                        "for one of them (docs/vs.md, Interrupts)")
@@ -211,10 +300,22 @@ class _Writer:
                                        f"function: {shown}", "targets/" + self.t.name + "/specials.toml cites the "
                                        "manual's row of each"))
                 self.kinds.append(f"mapped {kind}")
+        if self.renamed:
+            shown = ", ".join(f"{a} -> {b}" for a, b in sorted(self.renamed.items()))
+            self.diags.append(diag(self.path, Span.at(1), "N911", f"{self.family.title} instructions written as "
+                                   f"target {self.t.name}'s of the same function and operands: {shown}",
+                                   f"targets/{self.t.name}/specials.toml cites the manual's section of each"))
+            self.kinds.append("renamed")
+        for device, (area, rows) in self.absent.items():
+            self.diags.append(diag(self.path, Span.at(rows[0]), "E911", f"{self.at(rows[0])}: {device} is a "
+                                   f"{self.family.title} special device that target {self.t.name} does not have "
+                                   f"({area}); `mlc check` refuses it too (E205)", *_absent_notes(device, self.t),
+                                   *((f"also at {', '.join(map(self.at, rows[1:11]))}",) if rows[1:] else ())))
+            self.kinds.append(f"absent {device}")
         for device, rows in self.unmapped.items():
-            self.warn(rows[0], f"unmapped {device}", "W910", f"row {rows[0]}: {device} is a {self.family.title} special "
+            self.warn(rows[0], f"unmapped {device}", "W910", f"{self.at(rows[0])}: {device} is a {self.family.title} special "
                       f"device with no counterpart known on target {self.t.name}; kept as {device}, an ordinary "
-                      "device there", *((f"also in rows {', '.join(map(str, rows[1:11]))}",) if rows[1:] else ()))
+                      "device there", *((f"also at {', '.join(map(self.at, rows[1:11]))}",) if rows[1:] else ()))
 
     def is_label(self, text: str) -> bool:
         """A label written alone in the instruction cell: P10 / I001, or on a target with named
@@ -233,16 +334,19 @@ class _Writer:
         self.flush()
         self.referenced.update(o.upper() for o in operands)
         self.pending = [self.mnemonic(mnemonic, row), *(self.operand(o, row) for o in operands if o)]
-        if step.isdigit():
-            self.pending_step = (row, int(step))
+        if self.step_number(step, row) is not None:
+            self.pending_step = (row, int(step), " ".join([mnemonic, *operands]))
         if note:
             self.pending.append(f"; {note}")
 
     def more(self, operand: str, row: int) -> None:
         if self.pending is None:
-            self.error(row, "orphan", f"row {row}: operand {operand!r} without an instruction")
+            self.error(row, "orphan", f"{self.at(row)}: operand {operand!r} without an instruction")
             return
         self.referenced.add(operand.upper())
+        if self.pending_step is not None:
+            row0, step, words = self.pending_step
+            self.pending_step = (row0, step, f"{words} {operand}")
         at = next((k for k, w in enumerate(self.pending) if w.startswith(";")), len(self.pending))
         self.pending.insert(at, self.operand(operand, row))
 
@@ -265,6 +369,7 @@ class _Writer:
         # the family's own spellings (Delta DVP's TMR T0 K50, CNT C0 K10, DCNT C200 K10 are the
         # target's OUT T0 K50 / OUT C0 K10 / OUT C200 K10: specials.toml `mnemonics`)
         if self.family is not None and m in self.family.mnemonics:
+            self.renamed[m] = self.family.mnemonics[m]
             return self.family.mnemonics[m]
         # another vendor's spelling of a 32-bit comparison (DLD>= for LDD>=): the same FNC
         short = self.t.instructions.get(m[1:]) if m.startswith("D") else None
@@ -280,7 +385,7 @@ class _Writer:
         from mlctool.check.resolve import unknown_instruction_hint
 
         suggestion, notes = unknown_instruction_hint(self.t, mnemonic)
-        self.error(row, f"unknown {mnemonic}", f"row {row}: unknown instruction {mnemonic!r} for target "
+        self.error(row, f"unknown {mnemonic}", f"{self.at(row)}: unknown instruction {mnemonic!r} for target "
                    f"{self.t.name}{suggestion}", *notes)
 
     def operand(self, text: str, row: int = 0) -> str:
@@ -290,14 +395,25 @@ class _Writer:
             return self.pointer(text.upper(), row)  # DHSCS K100 C235 I010
         try:
             op = parse_operand(text, self.t.operand_syntax)
-        except OperandSyntaxError:
+        except OperandSyntaxError as e:
+            if _IO_NUMBER.fullmatch(text):  # the rule of the device-comment rows too (read_comments)
+                self.diags.append(diag(self.path, Span.at(row), "E913", f"{self.at(row)}: {_octal_reason(text, e)}",
+                                       _OCTAL_NOTE))
+                self.kinds.append(f"octal {text.upper()}")
             return text  # a symbol, a label name, or an error `mlc check` reports
         if self.family is not None and not op.is_const and not op.is_group and not op.index \
                 and self.family.is_special(op.kind, op.number):
             source = f"{op.kind}{op.number}"
             special = self.family.mapping.get((op.kind, op.number))
             if special is None:
-                self.unmapped.setdefault(source, []).append(row)
+                dev = self.t.devices.get(op.kind)
+                gap = next((a for a in dev.areas if a.write == "absent" and a.lo <= op.number <= a.hi),
+                           None) if dev is not None else None
+                if gap is not None:  # `mlc check` refuses it (E205): so does the import
+                    self.absent.setdefault(source, (f"{dev.name_of(gap.lo)}-{dev.name_of(gap.hi)}: {gap.name}",
+                                                    []))[1].append(row)
+                else:
+                    self.unmapped.setdefault(source, []).append(row)
                 return format_operand(op)
             self.mapped.setdefault(op.kind, {})[source] = f"{special.device} ({special.function})"
             mapped = parse_operand(special.device, self.t.operand_syntax)
@@ -305,6 +421,30 @@ class _Writer:
                 return f"{special.device}.{op.bit:X}"
             return format_operand(mapped)
         return format_operand(op) if not op.is_const or op.kind in ("K", "H") else text
+
+
+_OCTAL_NOTE = ("FX numbers X and Y in octal; a hexadecimal X/Y (X5B) comes from a Q/L CPU's export, "
+               "whose program the target cannot run (E910)")
+
+
+def _octal_reason(text: str, e: OperandSyntaxError) -> str:
+    reason = str(e)
+    if "octal" not in reason:
+        reason = f"{text!r}: {text[0].upper()} devices are numbered in octal; {text!r} is no octal number"
+    return reason
+
+
+def _absent_notes(device: str, target: Target) -> tuple[str, ...]:
+    """What to do with an FX special the target has no device for."""
+    kind, number = _natural(device)
+    notes = ["FX3U/FX3G number the set-up relays of their extended functions M8192-M8511; rewrite "
+             f"that part of the program for target {target.name} (its specials: manual 2-14), or delete it"]
+    if kind == "M" and 8400 <= number <= 8439:
+        notes.insert(0, "M8400-M8439 set up the FX3U's serial ports (M8411: the Modbus-slave set-up rung "
+                     "`LD M8411 / MOV H.. D8400 ...`); on the VS a port's application, MODBUS Slave among "
+                     "them, and its parameters are set in Ladder Master S, not by the program (VS manual "
+                     "7-3-1, 7-3-5): delete the rung and set the port there")
+    return tuple(notes)
 
 
 def _natural(device: str) -> tuple[str, int]:
@@ -385,22 +525,18 @@ def _delta_row(w: _Writer, k: int, rest: list[str]) -> None:
 
 def _delta(w: _Writer, text: str) -> None:
     """Delta's `Step,Instruction,Operand1,Operand2,Operand3` CSV: a header row, then one row per
-    instruction with its operands in their own cells; `;` rows are comments."""
-    header = False
+    instruction with its operands in their own cells; `;` rows are comments. The header row
+    is optional, and so is the step number (`0,LD,X0,,` and `LD,X0` rows)."""
     for k, row in enumerate(_rows(text, ","), 1):
         cells = [c for c in row if c != ""]
         if not cells:
             continue
-        if not header:
-            header = tuple(c.lower() for c in row[:3]) == _DELTA_HEADER
+        if k == 1 and tuple(c.lower() for c in row[:3]) == _DELTA_HEADER:
             continue
         if cells[0].startswith((";", "//")):
             w.comment(",".join(row).lstrip(";/ "))
             continue
-        if not re.fullmatch(r"[0-9]+", row[0].strip()):
-            w.error(k, "step", f"row {k}: expected a step number, got {row[0]!r}")
-            continue
-        _delta_row(w, k, [c for c in row[1:] if c != ""])
+        _delta_row(w, k, cells[1:] if cells[0].isdigit() else cells)
 
 
 def import_text(path: str, text: str, target: Target, fmt: str | None = None,
@@ -414,7 +550,14 @@ def import_text(path: str, text: str, target: Target, fmt: str | None = None,
                                    "name the format with --from if it is one (docs/vs.md, Imports)")]
     if fmt == "il":
         return (text if text.endswith("\n") else text + "\n"), fmt, []
+    cpu = export_cpu(text) if fmt in ("gxworks2", "gxdeveloper") else None
+    said = cpu_problem(path, cpu, target) if cpu else None
+    if said is not None and said.severity == "error":
+        return None, fmt, [said]
     w = _Writer(path, target, SOURCE_FAMILY.get(fmt, ""), comments)
+    if said is not None:
+        w.diags.append(said)
+        w.kinds.append("cpu")
     try:
         if fmt in ("gxworks2", "gxdeveloper"):
             _gx(w, text, "\t" if fmt == "gxworks2" or "\t" in text.split("\n", 3)[-1] else ",")
@@ -425,54 +568,69 @@ def import_text(path: str, text: str, target: Target, fmt: str | None = None,
     except _BadRow as e:
         return None, fmt, [diag(path, Span.at(e.line), "E907", e.message)]
     w.finish()
-    lines = w.lines
-    if w.comments:
-        lines = [f"; {dev}  {text}" for dev, text in sorted(w.comments.items(), key=lambda x: _natural(x[0]))] + lines
-        offset = len(w.comments)
-        w.steps = {k + offset: v for k, v in w.steps.items()}
+    return _assemble(path, fmt, w, target, _step_counts(w.steps) if SOURCE_FAMILY.get(fmt) == "fx" else {})
+
+
+def _assemble(path: str, fmt: str, w: _Writer, target: Target, counts: dict[int, tuple[int, int, str, str]]
+              ) -> tuple[str | None, str, list[Diagnostic]]:
+    """The IL of what the writer read (finished): the dialect, the device comments, the lines;
+    W107 where the source's own step count of an instruction (`counts`: IL line index -> (row,
+    count, the row as written, the source's word for it)) is not the target's."""
+    if not any(line and not line.startswith(";") and not line.endswith(":") for line in w.lines) \
+            and not any(d.severity == "error" for d in w.diags):
+        return None, fmt, [diag(path, Span.at(1), "E912", f"no instruction read from the file as a {fmt} export",
+                                "name the format with --from if it is another (docs/vs.md, Imports)")]
+    head = [f"; {dev}  {text}" for dev, text in sorted(w.comments.items(), key=lambda x: _natural(x[0]))]
+    if w.family is not None:  # the dialect of origin, for the checker's W217 (docs/formats.md)
+        head.insert(0, f".dialect {w.family.name}")
+    lines = head + w.lines
     out = "\n".join(lines) + "\n"
-    if SOURCE_FAMILY.get(fmt) == "fx" and w.steps and not any(d.severity == "error" for d in w.diags):
-        for d, kind in _step_check(path, out, target, w.steps):
+    if counts and not any(d.severity == "error" for d in w.diags):
+        for d, kind in _count_check(w, out, target, {k + len(head): v for k, v in counts.items()}):
             w.diags.append(d)
             w.kinds.append(kind)
-    diags = _once_per_kind(w.diags, w.kinds)
+    diags = _once_per_kind(w.diags, w.kinds, "row" if w.places is None else "instruction")
     if any(d.severity == "error" for d in diags):
         return None, fmt, diags
     return out, fmt, diags
 
 
-def _step_check(path: str, text: str, target: Target, steps: dict[int, tuple[int, int]]
-                ) -> list[tuple[Diagnostic, str]]:
-    """W107 at each export row whose instruction the export counts in other steps than the
-    target's step convention does (the export's step column against the computed addresses:
-    the difference of consecutive step numbers is the row's own count)."""
+def _step_counts(steps: dict[int, tuple[int, int, str]]) -> dict[int, tuple[int, int, str, str]]:
+    """An export's step column -> each row's own count: the difference of consecutive step
+    numbers (the last row, END, has no successor and is not counted)."""
+    rows = sorted(steps.items())
+    return {index: (row, next_step - step, words, f"the export (step {step} to {next_step})")
+            for (index, (row, step, words)), (_, (_, next_step, _)) in zip(rows, rows[1:], strict=False)}
+
+
+def _count_check(w: _Writer, text: str, target: Target, counts: dict[int, tuple[int, int, str, str]]
+                 ) -> list[tuple[Diagnostic, str]]:
+    """W107 at each row whose instruction the source counts in other steps than the target's
+    step convention does. The message quotes the row as the source writes it (M8000, not the
+    M9000 it became; every operand)."""
     # the resolver alone (addresses), not mlctool.check: the checker imports this module
     from mlctool.check.labels import assign_named_labels, restrict_names
     from mlctool.check.resolve import resolve
     from mlctool.syntax.parser import parse
     from mlctool.syntax.source import SourceText
 
-    parsed = restrict_names(parse(SourceText(path, text)), target)
+    parsed = restrict_names(parse(SourceText(w.path, text)), target)
     names, _ = assign_named_labels([parsed], target)
     module, _ = resolve(parsed, target, {}, names.get(parsed.path))
     by_line = {ins.line: ins for ins in module.instrs}
-    rows = sorted(steps.items())
     out = []
-    for (index, (row, step)), (_next_index, (_, next_step)) in zip(rows, rows[1:], strict=False):
+    for index, (row, count, words, source) in sorted(counts.items()):
         ins = by_line.get(index + 1)
-        if ins is None:
+        if ins is None or count == ins.steps:
             continue
-        if next_step - step != ins.steps:
-            shown = " ".join([ins.spec.mnemonic, *ins.texts])
-            kind = f"steps {ins.spec.mnemonic} {ins.operands[0].kind if ins.operands else ''}"
-            out.append((diag(path, Span.at(row), "W107", f"row {row}: {shown} is {next_step - step} steps in the "
-                            f"export (step {step} to {next_step}), {ins.steps} by target {target.name}'s step "
-                            "convention", "the export's step column is the exporting tool's count; the target's "
-                            "addresses follow its own convention (docs/vs.md, Steps)"), kind))
+        kind = f"steps {ins.spec.mnemonic} {ins.operands[0].kind if ins.operands else ''}"
+        out.append((diag(w.path, Span.at(row), "W107", f"{w.at(row)}: {words} is {count} steps in {source}, "
+                         f"{ins.steps} by target {target.name}'s step convention", "the source's step count is the "
+                         "vendor tool's; the target's addresses follow its own convention (docs/vs.md, Steps)"), kind))
     return out
 
 
-def _once_per_kind(diags: list[Diagnostic], kinds: list[str]) -> list[Diagnostic]:
+def _once_per_kind(diags: list[Diagnostic], kinds: list[str], unit: str = "row") -> list[Diagnostic]:
     """One diagnostic per kind of problem (a file that is no WPLSoft export gave 220 identical
     "expected a 6-digit step number"): the first, with the rows of the others in a note."""
     first: dict[str, int] = {}
@@ -487,7 +645,7 @@ def _once_per_kind(diags: list[Diagnostic], kinds: list[str]) -> list[Diagnostic
         d, more = diags[k], rows[kind]
         if more:
             shown = ", ".join(map(str, more[:10])) + (", ..." if len(more) > 10 else "")
-            d = dataclasses.replace(d, notes=d.notes + (f"and {len(more)} more row{'s' if len(more) > 1 else ''} "
+            d = dataclasses.replace(d, notes=d.notes + (f"and {len(more)} more {unit}{'s' if len(more) > 1 else ''} "
                                                        f"like it: {shown}",))
         out.append(d)
     return sorted(out, key=Diagnostic.sort_key)
@@ -544,7 +702,10 @@ def read_comments(path: str, target: Target, encoding: str | None = None
             continue
         try:
             op = parse_operand(row[cols[0]], target.operand_syntax)
-        except OperandSyntaxError:
+        except OperandSyntaxError as e:
+            if _IO_NUMBER.fullmatch(row[cols[0]]):  # one rule with the program's rows (_Writer.operand)
+                return None, [diag(path, Span.at(k), "E913", f"row {k}: {_octal_reason(row[cols[0]], e)}",
+                                   _OCTAL_NOTE)]
             return None, [diag(path, Span.at(k), "E907", f"row {k}: {row[cols[0]]!r} is no device of target "
                                f"{target.name}")]
         out[format_operand(op)] = " ".join(row[cols[1]].split())
@@ -557,7 +718,127 @@ def read_comments(path: str, target: Target, encoding: str | None = None
 # The target of each export's dialect, when the command line names none: GX Works2 and GX
 # Developer export Mitsubishi FX programs, WPLSoft Delta DVP ones, both FX-style IL, which the
 # Vigor VS target follows (docs/vs.md).
-DIALECT_TARGET = {"gxworks2": "vs", "gxdeveloper": "vs", "wplsoft": "vs", "delta": "vs"}
+DIALECT_TARGET = {"gxworks2": "vs", "gxdeveloper": "vs", "wplsoft": "vs", "delta": "vs", "gxw": "vs"}
+
+
+# Vendor project files (binary) not read: what each is and what the public record holds about
+# it (docs/formats.md). Their program bodies are not publicly described well enough to decode
+# reliably, and a guess is never written (E914 says what to do instead). A GX Works2 `.gxw`,
+# and any other compound (OLE2) file, goes to the project reader (import_project); a FATEK
+# WinProladder `.pdw` / `.ldr` to import_winproladder.
+PROJECT_FILES = {
+    ".gx3": ("GX Works3 project", "undocumented"),
+    ".wpg": ("GX Developer program", "undocumented container around the FX program body"),
+    ".dvp": ("WPLSoft project", "undocumented"),
+    ".isp": ("ISPSoft project", "undocumented"),
+}
+_TEXT_EXPORT = {"GX Developer program": "open it in GX Developer or GX Works2 and write the program as CSV, then "
+                "`mlc import` that CSV"}
+
+
+def project_file(path: str, head: bytes) -> Diagnostic | None:
+    """E914 for a vendor's binary project file mlctool does not read (by its name), else None."""
+    import os
+
+    what = PROJECT_FILES.get(os.path.splitext(path)[1].lower())
+    if what is None:
+        return None
+    name, facts = what
+    return diag(path, Span.at(1), "E914", f"offset 0: a {name}: starting {head[:8].hex(' ') or '(empty)'}; "
+                f"mlctool reads no such file ({facts} in public sources: docs/formats.md)",
+                "export the program as text from the vendor's tool and import that: "
+                + _TEXT_EXPORT.get(name, "its instruction-list or CSV export (WPLSoft and ISPSoft: the instruction "
+                                   "list as text)"))
+
+
+def is_gx_project(path: str, head: bytes) -> bool:
+    """A GX Works2 project to read with import_project: named .gxw, or a compound file."""
+    import os
+
+    from mlctool.gxw import is_compound_file
+
+    return os.path.splitext(path)[1].lower() == ".gxw" or is_compound_file(head)
+
+
+def import_project(path: str, data: bytes, target: Target, comments: dict[str, str] | None = None,
+                   program: str | None = None) -> tuple[str | None, str, list[Diagnostic]]:
+    """A GX Works2 project (.gxw) -> (IL or None, "gxw", diagnostics): its program POU decoded
+    (mlctool/gxw.py), then the path of the CSV imports (the FX dialect's specials and
+    spellings, the device comments of --comments, `.dialect fx`). Each application
+    instruction's stored width is its step count in GX Works2; W107 where the target counts
+    otherwise. The diagnostics of a decoded instruction are at the line of its number in the
+    POU and name its offset."""
+    from mlctool.gxw import GxwError, read_program
+
+    try:
+        prog = read_program(data, program)
+    except GxwError as e:
+        return None, "gxw", [diag(path, Span.at(1), e.code, e.message, *e.notes)]
+    places = {k: f"{prog.name} offset 0x{ins.offset:X}" for k, ins in enumerate(prog.instructions, 1)}
+    w = _Writer(path, target, "fx", comments, places)
+    for code, message, notes in prog.warnings:
+        if code == "W912" and comments is not None:
+            continue  # the comments came from --comments
+        w.diags.append(diag(path, Span.at(1), code, message, *notes))
+        w.kinds.append(code)
+    counts = {}
+    for k, ins in enumerate(prog.instructions, 1):
+        w.instruction(ins.mnemonic, list(ins.operands), k)
+        if ins.width is not None:  # one IL line per instruction, in order
+            counts[k - 1] = (k, ins.width, " ".join([ins.mnemonic, *ins.operands]), "the project (its stored width)")
+    w.finish()
+    return _assemble(path, "gxw", w, target, counts)
+
+
+# the target a WinProladder program is for: its words are FATEK FBs instructions and devices
+WINPROLADDER_TARGET = "fbs"
+
+
+def is_winproladder(path: str, head: bytes) -> bool:
+    """A FATEK WinProladder project (.pdw) or ladder resource (.ldr): by its name or signature."""
+    import os
+
+    from mlctool.winproladder import kind_of
+
+    return os.path.splitext(path)[1].lower() in (".pdw", ".ldr") or kind_of(head) is not None
+
+
+def import_winproladder(path: str, data: bytes, target: Target) -> tuple[str | None, str, list[Diagnostic]]:
+    """A WinProladder .pdw / .ldr -> (IL or None, "winproladder", diagnostics): its program's
+    words decoded (mlctool/winproladder.py), one IL line per form, END last (the file keeps
+    the program's length, no END word). A form with no counterpart on the target is E927 at
+    its offset; W107 where the target's step count of an instruction is not its words."""
+    import os
+
+    from mlctool.winproladder import FatekError, read
+
+    fmt = "winproladder"
+    if target.name != WINPROLADDER_TARGET:
+        return None, fmt, [diag(path, Span.at(1), "E927", f"a WinProladder program is a FATEK FBs program; target "
+                                f"{target.name} is another PLC", f"import it with --target {WINPROLADDER_TARGET}")]
+    try:
+        prog = read(data, os.path.splitext(path)[1])
+    except FatekError as e:
+        return None, fmt, [diag(path, Span.at(1), e.code, e.message, *e.notes)]
+    places = {k: f"offset 0x{it.offset:X} (program word {it.index})" for k, it in enumerate(prog.items, 1)}
+    w = _Writer(path, target, "", None, places)
+    for code, message in prog.warnings:
+        w.warn(1, code, code, message)
+    counts = {}
+    for k, it in enumerate(prog.items, 1):
+        shown = " ".join(f"{x:04X}" for x in it.words)
+        if it.il == ";":
+            w.comment(f"{it.fatek} ({shown})")
+        elif not it.il:
+            w.warn(k, f"none {it.fatek}", "E927", f"{w.at(k)}: {shown}: {it.fatek}: no counterpart on target "
+                   f"{target.name}: {it.why}", "rewrite that rung for the target's instructions (docs/formats.md)")
+        else:
+            w.flush()
+            counts[len(w.lines)] = (k, len(it.words), it.fatek, "the file (its words)")
+            w.instruction(it.il, [it.operand] if it.operand else [], k)
+    w.instruction("END", [], len(prog.items) + 1)
+    w.finish()
+    return _assemble(path, fmt, w, target, counts)
 
 
 def import_file(path: str, target: Target, fmt: str | None = None) -> tuple[str | None, str, list[Diagnostic]]:

@@ -45,6 +45,7 @@ class Module:
     exports: set[int] = field(default_factory=set)  # exported P numbers
     symbols: dict[str, str] = field(default_factory=dict)  # name -> operand text
     library: bool = False
+    dialect: str = ""  # `.dialect fx`: the family the program was written for (check/specials.py)
 
     @property
     def total_steps(self) -> int:

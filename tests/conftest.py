@@ -75,7 +75,7 @@ SIM_MODULES = ("test_sim", "test_vs_sim", "test_vs_samples", "test_fbs_sim", "te
 
 def pytest_generate_tests(metafunc):
     """Every simulator test module (SIM_MODULES: NC5, VS, FBs, co-simulation) runs on both
-    engines (mlctool/sim/compile.py and engine.py; a program it cannot compile, such as step ladder, runs on
+    engines (mlctool/sim/engines/compile.py and engine.py; a program it cannot compile, such as step ladder, runs on
     the interpreter either way)."""
     if "sim_engine" in metafunc.fixturenames and metafunc.module.__name__.startswith(SIM_MODULES):
         metafunc.parametrize("sim_engine", SIM_ENGINES, indirect=True, scope="module")
@@ -89,7 +89,7 @@ def sim_engine(request):
         yield None
         return
     import simkit
-    from mlctool.sim.engine import ENGINE_ENV
+    from mlctool.sim.engines.engine import ENGINE_ENV
 
     old_env, old = os.environ.get(ENGINE_ENV), simkit.ENGINE
     os.environ[ENGINE_ENV] = simkit.ENGINE = engine
@@ -109,7 +109,7 @@ def pytest_report_header(config):
 
 def junit_schema():
     """Jenkins xUnit's junit-10.xsd (tests/data, unchanged) extended by the two optional
-    testcase attributes `file` and `line` that mlctool writes (mlctool/sim/junit.py): GitLab,
+    testcase attributes `file` and `line` that mlctool writes (mlctool/sim/campaign/junit.py): GitLab,
     pytest's xunit1 files and Jenkins' JUnit plugin read them. Nothing else is relaxed."""
     from lxml import etree
 

@@ -8,9 +8,9 @@ import os
 import tempfile
 
 import simkit
-from mlctool.sim.run import RunResult, Simulation, build_models, plan_scans
+from mlctool.sim.run.run import RunResult, Simulation, build_models, plan_scans
 from mlctool.sim.state import parse_device_name
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.targetapi.signals import device_signal
 
 NC5 = simkit.NC5
@@ -37,7 +37,7 @@ def run(il: str, stim: str, part: str | None = None, period_us: int = 10_000,
 
 
 def outcome(il: str, stim: str, part: str | None = None, period_us: int = 10_000,
-            watch: tuple[str, ...] = ()) -> RunResult:
+            watch: tuple[str, ...] = (), trace: bool = False) -> RunResult:
     image = simkit.image_of(BASE + il + "\nEND\n")
     with tempfile.TemporaryDirectory() as tmp:
         if part is not None:
@@ -49,7 +49,7 @@ def outcome(il: str, stim: str, part: str | None = None, period_us: int = 10_000
     assert not mdiags, [(d.file, d.span.line, d.span.col, d.code, d.message) for d in mdiags]
     n = plan_scans(st, st.scan_us or period_us, None, None)
     views = [parse_device_name(w, NC5) for w in watch]
-    return Simulation(image, NC5, st, models, st.scan_us or period_us, views, False,
+    return Simulation(image, NC5, st, models, st.scan_us or period_us, views, trace,
                       engine=simkit.ENGINE).run(n)
 
 

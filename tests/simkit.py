@@ -6,11 +6,11 @@ import os
 import tempfile
 
 from mlctool.asm import program_from_paths
-from mlctool.sim.engine import scanner
-from mlctool.sim.run import RunResult, Simulation, build_models, plan_scans
+from mlctool.sim.engines.engine import scanner
+from mlctool.sim.run.run import RunResult, Simulation, build_models, plan_scans
 from mlctool.sim.scan import load_program
 from mlctool.sim.state import Machine, parse_device_name
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.targetapi import load_target
 
 NC5 = load_target("nc5")

@@ -38,6 +38,33 @@ def test_the_engine_imports_no_target():
     assert {m: t for m, t in bad.items() if t} == {}
 
 
+# mlctool/sim/'s parts, each importing only the machine (the modules at mlctool/sim/ itself)
+# and the parts before it (docs/architecture.md)
+SIM_PARTS = ("hardware", "engines", "stimulus", "run", "campaign")
+
+
+def sim_part(module: str) -> int | None:
+    """The rank of a module of mlctool/sim/: 0 the machine, then SIM_PARTS in order."""
+    parts = module.split(".")
+    if parts[:2] != ["mlctool", "sim"]:
+        return None
+    return SIM_PARTS.index(parts[2]) + 1 if len(parts) > 2 and parts[2] in SIM_PARTS else 0
+
+
+def test_the_engine_parts_import_only_the_parts_before_them():
+    assert set(SIM_PARTS) == {p.name for p in (ROOT / "mlctool" / "sim").iterdir()
+                              if (p / "__init__.py").exists()}
+    bad = sorted((m, t) for m, deps in GRAPH.items() if sim_part(m) is not None for t in deps
+                 if sim_part(t) is not None and sim_part(t) > sim_part(m))
+    assert bad == []
+
+
+def test_the_parts_rule_finds_a_part_importing_a_later_one():
+    assert sim_part("mlctool.sim.engines.engine") > sim_part("mlctool.sim.state")
+    assert sim_part("mlctool.sim.campaign.batch") > sim_part("mlctool.sim.run.run") > sim_part("mlctool.sim.engines.engine")
+    assert sim_part("mlctool.sim.hardware") == sim_part("mlctool.sim.hardware.pulses") and sim_part("mlctool.check") is None
+
+
 def test_lazy_imports_are_seen():
     """The graph reads imports inside functions (a lazy import still names a dependency)."""
     assert "mlctool.syntax.lark_parser" in GRAPH["mlctool.syntax.parser"]

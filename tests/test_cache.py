@@ -1,5 +1,5 @@
 """The on-disk cache (mlctool/cache.py) and the compiled code kept in it
-(mlctool/sim/codecache.py): entries are used only when sound, anything else is ignored and
+(mlctool/sim/engines/codecache.py): entries are used only when sound, anything else is ignored and
 rebuilt, the cache can be switched off, and results never depend on it."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import pytest
 
 from conftest import run_mlc
 from mlctool import cache
-from mlctool.sim import codecache
+from mlctool.sim.engines import codecache
 
 SOURCE = "LD X0\nOR M0\nANI X1\nOUT M0\nLD M0\nTMR T0 K5\nLD T0\nOUT Y0\nMOV K7 D0\nEND\n"
 
@@ -87,6 +87,22 @@ def test_switched_off_or_unsafe_folder_is_not_used(folder, monkeypatch):
         assert cache.load("t", k) is None
         folder.chmod(0o700)
         assert cache.load("t", k) == 1
+
+
+def test_a_relative_cache_folder_is_refused_with_w612(tmp_path, monkeypatch):
+    """A relative MLC_CACHE_DIR lies in whatever folder the command runs in (a cloned
+    project's): refused, W612 once, the run goes on without the cache (issue 30, What to
+    build 2)."""
+    (tmp_path / "p.il").write_text(SOURCE)
+    assert run_mlc("build", "p.il", "-o", "p.mlx", cwd=tmp_path).code == 0
+    monkeypatch.setenv(cache.ENV_DIR, "mlc-cache")
+    monkeypatch.delenv(cache.ENV_SWITCH, raising=False)
+    monkeypatch.setattr(cache, "_said", set())
+    codecache._MEMO.clear()
+    r = run_mlc("sim", "p.mlx", "--scans", "30", "--json", cwd=tmp_path)
+    assert r.code == 0 and r.err.count("warning[W612]") == 1 and "'mlc-cache' is not an absolute path" in r.err, r.err
+    assert not (tmp_path / "mlc-cache").exists()
+    assert not cache.store("t", cache.key("t"), 1)
 
 
 def _sim(d, *extra):

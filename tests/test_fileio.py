@@ -166,9 +166,9 @@ def test_vcd_replaces_its_own_gtkw(project):
 # ---------------------------------------------------------------- the streamed VCD
 
 def test_streamed_vcd_equals_the_vcd_of_the_kept_trace(project):
-    from mlctool.sim.run import Simulation, build_models
-    from mlctool.sim.stimulus import load_stimulus
-    from mlctool.sim.vcd import to_vcd
+    from mlctool.sim.run.run import Simulation, build_models
+    from mlctool.sim.run.vcd import to_vcd
+    from mlctool.sim.stimulus.stimulus import load_stimulus
     from mlctool.targetapi import load_target
 
     r = run_mlc("sim", "c.il", "--stimulus", "c.stim", "--vcd", "s.vcd", cwd=project)
@@ -194,9 +194,9 @@ def _vcd_peak(tmp_path, scans: int, stream: bool) -> int:
     the VCD streamed to a file as `mlc sim --vcd` does (or the trace kept, as before)."""
     from mlctool.asm import program_from_paths
     from mlctool.config import Config
-    from mlctool.sim.run import Simulation
-    from mlctool.sim.stimulus import Stimulus
-    from mlctool.sim.vcd import VcdStream
+    from mlctool.sim.run.run import Simulation
+    from mlctool.sim.run.vcd import VcdStream
+    from mlctool.sim.stimulus.stimulus import Stimulus
     from mlctool.targetapi import load_target
 
     (tmp_path / "t.il").write_text(_toggler(64))

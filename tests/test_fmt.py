@@ -216,3 +216,38 @@ def test_failed_in_place_write_restores_the_old_text(tmp_path, monkeypatch):
     monkeypatch.undo()
     assert (tmp_path / "b.il").read_bytes() == b"OLD TEXT\n"
     assert sorted(x.name for x in tmp_path.iterdir()) == ["a.il", "b.il"]
+
+
+def test_a_full_disk_leaves_no_temporary_file_beside_a_hard_linked_file(tmp_path, monkeypatch):
+    """The in-place rewrite first saves the old bytes beside the file: when even that copy
+    cannot be written (a full disk), the empty copy is removed and the file is unchanged
+    (issue 30.18: an empty .mlc-*.tmp was left)."""
+    import os
+
+    from mlctool import fileio
+    from mlctool.diagnostics import MlcError
+
+    a = tmp_path / "a.il"
+    a.write_bytes(b"OLD TEXT\n")
+    (tmp_path / "b.il").hardlink_to(a)
+    real_fdopen = os.fdopen
+
+    class Full:
+        def __init__(self, f):
+            self.f = f
+
+        def write(self, data):
+            raise OSError(28, "No space left on device")
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            return self.f.__exit__(*exc)
+
+    monkeypatch.setattr(fileio.os, "fdopen", lambda fd, mode="r", *a, **k: Full(real_fdopen(fd, mode, *a, **k)))
+    with pytest.raises(MlcError, match="No space left"):
+        fileio.rewrite(str(a), b"NEW TEXT\n")
+    monkeypatch.undo()
+    assert a.read_bytes() == b"OLD TEXT\n"
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["a.il", "b.il"]

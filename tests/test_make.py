@@ -40,3 +40,13 @@ def test_demo_after_test_installs_nothing_more(tmp_path):
     (venv / ".installed-test").touch()
     (venv / ".installed-run").touch()  # as the test install's recipe leaves it
     assert planned(tmp_path, "demo") == []  # .ci/run: make test, then make demo
+
+
+def test_bench_runs_every_bench_script_but_the_long_one(tmp_path):
+    """`make bench` runs each script of bench/ (the files with a __main__) but lsp_memory.py
+    (about 15 minutes; docs/bench.md), and its venv holds the extras they import."""
+    lines = (ROOT / "Makefile").read_text(encoding="utf-8").split("\nbench:", 1)[1].split("\n\n", 1)[0]
+    run = {line.split("bench/", 1)[1] for line in lines.splitlines() if "python bench/" in line}
+    scripts = {p.name for p in (ROOT / "bench").glob("*.py") if "__main__" in p.read_text(encoding="utf-8")}
+    assert run == scripts - {"lsp_memory.py"}
+    assert planned(tmp_path, "bench")[-1].endswith("pip install --quiet -e '.[cluster,native,opcua,verify]'")

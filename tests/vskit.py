@@ -9,8 +9,8 @@ from pathlib import Path
 from mlctool.asm import program_from_paths
 from mlctool.check import check_texts
 from mlctool.program import Image
-from mlctool.sim.run import RunResult, Simulation, plan_scans
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.run.run import RunResult, Simulation, plan_scans
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.syntax.source import decode
 from mlctool.targetapi import load_target
 

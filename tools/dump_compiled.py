@@ -21,7 +21,7 @@ sys.path.insert(0, ROOT)
 sys.path.insert(0, os.path.join(ROOT, "bench"))
 
 from mlctool.asm import program_from_paths  # noqa: E402
-from mlctool.sim.compile import Unsupported, _Gen, program_key  # noqa: E402
+from mlctool.sim.engines.compile import Unsupported, _Gen, program_key  # noqa: E402
 from mlctool.sim.scan import load_program  # noqa: E402
 from mlctool.targetapi import load_target  # noqa: E402
 

@@ -78,12 +78,16 @@ OPERANDS = {
     "SFTL": [op("S", BS), op("D", BD, "w"), n("n1", 1, 1024), n("n2", 1, 1024)],
     "WSFR": [op("S", WS), op("D", WD, "w"), n("n1", 1, 512), n("n2", 1, 512)],
     "WSFL": [op("S", WS), op("D", WD, "w"), n("n1", 1, 512), n("n2", 1, 512)],
-    "SFWR": [op("S", WS), op("D", WD, "rw"), n(lo=2, hi=512)],
-    "SFRD": [op("S", WD, "rw"), op("D", WD, "w"), n(lo=2, hi=512)],
+    # the file of n points: the pointer, then n-1 data (6-5 FNC 38/39)
+    "SFWR": [op("S", WS), op("D", WD, "rw", span="n"), n(lo=2, hi=512)],
+    "SFRD": [op("S", WD, "rw", span="n"), op("D", WD, "w"), n(lo=2, hi=512)],
     "ZRST": [op("D1", "Y M S T C D R", "w"), op("D2", "Y M S T C D R", "w")],
-    "DECO": [op("S", "X Y M S K H T C D R V Z"), op("D", "Y M S T C D R", "w"),
+    # the low n bits of S decoded into 2^n bits of D; ENCO the reverse (6-6 FNC 41/42): a bit
+    # device S covers n bits (DECO) or 2^n (ENCO), a bit device D 2^n; a word one word
+    "DECO": [op("S", "X Y M S K H T C D R V Z", span="n", span_kinds="bit"),
+             op("D", "Y M S T C D R", "w", span="2^n", span_kinds="bit"),
              op("n", "K H", range=[1, 8], word_range=[1, 4], word_range_of="D")],
-    "ENCO": [op("S", "X Y M S T C D R V Z"), op("D", "T C D R V Z", "w"),
+    "ENCO": [op("S", "X Y M S T C D R V Z", span="2^n", span_kinds="bit"), op("D", "T C D R V Z", "w"),
              op("n", "K H", range=[1, 8], word_range=[1, 4], word_range_of="S")],
     "BON": [op("S", WS), op("D", BD, "w"), n(lo=0, hi=15, lo32=0, hi32=31)],
     "MEAN": [op("S", "KnX KnY KnM KnS T C D R"), op("D", WD, "w"), n(lo=1, hi=64)],
@@ -108,10 +112,11 @@ OPERANDS = {
              op("D", "Y", "w", ranges=Y03)],
     "SER": [op("S1", "KnX KnY KnM KnS T C D R"), op("S2", WS), op("D", WD, "w", words=[5, 10]),
             n(lo=1, hi=256, lo32=1, hi32=128)],
-    "ABSD": [op("S1", "KnX KnY KnM KnS T C D R"), op("S2", "C", devices16=[0, 199], devices32=[200, 255]),
-             op("D", BD, "w"), n(lo=1, hi=64)],
-    "INCD": [op("S1", "KnX KnY KnM KnS T C D R"), op("S2", "C", ranges={"C": [[0, 198]]}),
-             op("D", BD, "w"), n(lo=1, hi=64)],
+    # n points: S1 a table of n (on, off) pairs (ABSD) or n values (INCD), D n outputs (6-7)
+    "ABSD": [op("S1", "KnX KnY KnM KnS T C D R", words=[2, 4], span="n"),
+             op("S2", "C", devices16=[0, 199], devices32=[200, 255]), op("D", BD, "w", span="n"), n(lo=1, hi=64)],
+    "INCD": [op("S1", "KnX KnY KnM KnS T C D R", span="n"), op("S2", "C", ranges={"C": [[0, 198]]}),
+             op("D", BD, "w", span="n"), n(lo=1, hi=64)],
     "TTMR": [op("D", "D R", "rw", words=[2, 4]), n(lo=0, hi=2, kinds="K H")],
     "STMR": [op("S", "T", ranges={"T": [[0, 199]]}), n("m", 1, 32767, kinds="K H"), op("D", BD, "w", bits=4)],
     "ALT": [op("D", BD, "rw")],
@@ -124,30 +129,36 @@ OPERANDS = {
     "HKY": [op("S", "X", bits=4), op("D1", "Y", "w", bits=4), op("D2", WD, "w"), op("D3", BD, "w", bits=8)],
     "DSW": [op("S", "X", bits=4), op("D1", "Y", "w", bits=4), op("D2", WD, "w"), n(lo=1, hi=2, kinds="K H")],
     "SEGL": [op("S", WS), op("D", "Y", "w", bits=8), n(lo=0, hi=7, kinds="K H")],
-    "ASC": [op("S", "$"), op("D", "T C D R", "w")],
+    "ASC": [op("S", "$"), op("D", "T C D R", "w", words=[4, 4])],  # 8 characters, 4 words (6-9)
     "PR": [op("S", "T C D R"), op("D", "Y", "w", bits=10)],
-    "FROM": [n("m1", 1, 16), n("m2", 0, 32767), op("D", WD, "w"), n(lo=1, hi=32767)],
-    "TO": [n("m1", 1, 16), n("m2", 0, 32767), op("S", WS), n(lo=1, hi=32767)],
+    # n words (32-bit: n pairs) from the module's buffer memory into D / from S (6-9)
+    "FROM": [n("m1", 1, 16), n("m2", 0, 32767), op("D", WD, "w", span="n"), n(lo=1, hi=32767)],
+    "TO": [n("m1", 1, 16), n("m2", 0, 32767), op("S", WS, span="n"), n(lo=1, hi=32767)],
     "RS": [op("S", "D R"), n("m", 0, 4096), op("D", "D R", "w"), n(lo=0, hi=4096), n("n1", 1, 5, kinds="K H")],
     "PRUN": [op("S", "KnX KnM"), op("D", "KnY KnM", "w")],
     "ASCI": [op("S", WS), op("D", WD, "w"), n(lo=1, hi=256)],
     "HEX": [op("S", WS), op("D", WD, "w"), n(lo=1, hi=256)],
     "CCD": [op("S", "KnX KnY KnM KnS T C D R"), op("D", "T C D R", "w", words=[2, 4]), n(lo=1, hi=256)],
     "CPUL": [op("S1", "Q"), op("S2", "D R", "rw"), n(lo=1, hi=5, kinds="K H")],
-    "PID": [op("S1", "D R"), op("S2", "D R"), op("S3", "D R", "rw"), op("D", "D R", "w")],
+    # S3 the parameter block: 20 registers (25 with the output limits, known at run time) (6-10)
+    "PID": [op("S1", "D R"), op("S2", "D R"), op("S3", "D R", "rw", words=[20, 20]), op("D", "D R", "w")],
     "LINK": [op("S1", "Q"), op("S2", "D R", "rw"), n(lo=1, hi=5, kinds="K H")],
     "MBUS": [op("S1", "Q"), op("S2", "D R", "rw"), n(lo=1, hi=5, kinds="K H")],
     "DBRD": [op("S", WS, range=[0, 655359], words=[2, 2]), op("D", "D R", "w"), n(lo=1, hi=32767)],
     "DBWR": [op("S", "D R"), op("D", WS, range=[0, 655359], words=[2, 2]), n(lo=1, hi=32767)],
-    "TPID": [op("S1", "D R"), op("S2", "D R"), op("S3", "D R"), op("S4", "D R", "rw"), n(lo=1, hi=16, kinds="K H")],
+    # n loops: S1/S2 n set and present values, S3 10 common + 10 a loop, S4 6 a loop (6-11)
+    "TPID": [op("S1", "D R", span="n"), op("S2", "D R", span="n"), op("S3", "D R", words=[10, 10], span="n+1"),
+             op("S4", "D R", "rw", words=[6, 6], span="n"), n(lo=1, hi=16, kinds="K H")],
     "DTRD": [op("S1", "Q"), op("S2", WS), op("D", WD, "w"), n()],
-    "ZPUSH": [op("D", "D R", "rw")], "ZPOP": [op("D", "D R", "rw")],
+    # D: the nesting count, then 16 registers a level (Z0-Z7, V0-V7) (6-12 FNC 102/103)
+    "ZPUSH": [op("D", "D R", "rw", words=[17, 17])], "ZPOP": [op("D", "D R", "rw", words=[17, 17])],
     "UNI": [op("S", "KnX KnY KnM KnS T C D R"), op("D", WD, "w"), n(lo=0, hi=4)],
     "DIS": [op("S", WS), op("D", "KnY KnM KnS T C D R", "w"), n(lo=0, hi=4)],
     "SWAP": [op("S", WD, "rw")],
     # m1 = 1-32, m2 = 1-6, n = 1-m2 (6-13 FNC 148 note, as SORT)
     "SORT2": [op("S", WS), n("m1", 1, 32), n("m2", 1, 6), op("D", WD, "w"), n("n", 1, 6)],
-    "WSUM": [op("S", WS), op("D", WD, "w"), n(lo=1, hi=32767)],  # n > 0 (6-13 FNC 140 note)
+    # n > 0 (6-13 FNC 140 note); the sum of n values (32-bit: pairs) is 32 bits (64) in D
+    "WSUM": [op("S", WS, span="n"), op("D", WD, "w", words=[2, 4]), n(lo=1, hi=32767)],
     # S1 hour 0-23, S2 minute and S3 second 0-59 (6-14 FNC 160 note)
     "TCMP": [n("S1", 0, 23, kinds=WS), n("S2", 0, 59, kinds=WS), n("S3", 0, 59, kinds=WS),
              op("S", "T C D R", words=[3, 6]), op("D", BD, "w", bits=3)],
@@ -175,16 +186,34 @@ OPERANDS = {
     "LIA": [op("S", "D R", words=[9, 18]), op("D", "K H", range=[0, 1])],
     # S 3 words (32-bit: 6), D 4 words (32-bit: 6) (6-21 FNC 260/261 notes)
     "DABIN": [op("S", WS, words=[3, 6]), op("D", WD, "w")],
+    # S: hours, minutes, seconds (3 registers); STOH D likewise (6-15 FNC 165/166)
+    "HTOS": [op("S", WS, words=[3, 6]), op("D", WD, "w")], "STOH": [op("S", WS), op("D", WD, "w", words=[3, 6])],
+    # FLT: the float result is a pair of D or R whatever the width; INT: the float source (6-6
+    # FNC 49, 6-12 FNC 129; 5-1 "all floats occupy two words")
+    "FLT": [op("S", WS), op("D", FD, "w", words=[2, 2])],
+    "INT": [op("S", FS, words=[2, 2]), op("D", FD, "w")],
+    # STR: S1 the format (characters, decimals: two registers), S2 the binary value (6-18 FNC 200
+    # "S1：指定轉換格式的元件, S2：欲轉換之 2進制值"); MIDR/MIDW S2: position and count (two)
+    "STR": [op("S1", "D R", words=[2, 2]), op("S2", WS), op("D", STRD, "w")],
+    "MIDR": [op("S1", STRS), op("D", STRD, "w"), op("S2", "D R", words=[2, 2])],
+    "MIDW": [op("S1", STRS), op("D", STRD, "rw"), op("S2", "D R", words=[2, 2])],
+    # DESTR S2: form, total characters, decimals (three registers); DEVAL S: the string to
+    # read (6-12 FNC 116/117: "float->string", "string->float": a K/H/E is no string)
+    "ESTR": [op("S1", FS), op("S2", "D R", words=[3, 3]), op("D", STRD, "w")],
+    "EVAL": [op("S", STRS), op("D", FD, "w")],
     "BINDA": [op("S", WS), op("D", WD, "w", words=[4, 6])],
     "SCL": [op("S1", WS), op("S2", "D R"), op("D", WD, "w")],
     "SCL2": [op("S1", WS), op("S2", "D R"), op("D", WD, "w")],
     "SFR": [op("D", WD, "rw"), n(lo=0, hi=15, kinds="K H")],
     "SFL": [op("D", WD, "rw"), n(lo=0, hi=15, kinds="K H")],
-    "WTOB": [op("S", WS), op("D", WD, "w"), n()], "BTOW": [op("S", WS), op("D", WD, "w"), n()],
-    "POP": [op("S", WS), op("D", WD, "w"), n(lo=2, hi=512)],
+    # n bytes: two a word in the packed operand (WTOB S, BTOW D), one a word in the other (6-19)
+    "WTOB": [op("S", WS, span="n/2"), op("D", WD, "w", span="n"), n()],
+    "BTOW": [op("S", WS, span="n"), op("D", WD, "w", span="n/2"), n()],
+    # S: the pointer, then the n-1 data (as SFWR's file); it counts down, so it is written (6-19)
+    "POP": [op("S", WD, "rw", span="n"), op("D", WD, "w"), n(lo=2, hi=512)],
     # n > 0 (6-19: "n的值必須>0"; its upper bound, the table's count, is known at run time only)
     "FDEL": [op("S", WD, "rw"), op("D", WD, "w"), n(lo=1, hi=32767)],
-    "FINS": [op("S", WS), op("D", WD, "rw"), n(lo=1, hi=32767)],
+    "FINS": [op("S", WS), op("D", WD, "rw", span="n"), n(lo=1, hi=32767)],
     # n >= 0 (6-18: a negative n is an operation error; n = 0 gives the empty string)
     "RIGHT": [op("S", STRS), op("D", STRD, "w"), n(lo=0, hi=32767)],
     "LEFT": [op("S", STRS), op("D", STRD, "w"), n(lo=0, hi=32767)],

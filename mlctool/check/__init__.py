@@ -94,18 +94,17 @@ def check_texts(sources: list[SourceText], target: Target, config: Config | None
     The cyclic garbage collector is paused meanwhile: checking builds many small objects
     (statements, instructions, operands) that all live to the end and form no cycles, and the
     collector walking them again and again took about half the time of checking a 64k-step
-    program (issue 19). Memory is what the live objects need either way. Afterwards the
-    objects alive are frozen (gc.freeze: still freed by reference counting when dropped, only
-    skipped by the collector), else its first collections after resuming would walk them all
-    as young objects (about 0.3 s after a 64k-step check); the next check unfreezes them."""
+    program (issue 19). Memory is what the live objects need either way. Nothing is frozen
+    here: a one-shot command freezes what it loaded (mlctool.cli.common.collector_paused);
+    `mlc lsp` checks after every edit, and a check that froze the objects alive kept every
+    earlier analysis's reference cycles from the collector (issue 30.12: 1.4 MB an edit of a
+    10k-line file)."""
     paused = gc.isenabled()
     gc.disable()
-    gc.unfreeze()
     try:
         return _check_texts(sources, target, config, ignore, initial, memo)
     finally:
         if paused:
-            gc.freeze()
             gc.enable()
 
 

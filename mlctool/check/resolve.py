@@ -18,6 +18,7 @@ from mlctool.syntax.operands import (
     CJK_CHAR,
     CONSTANT_KINDS,
     DEFAULT_SYNTAX,
+    INDEX_REGISTERS,
     Operand,
     OperandSyntax,
     OperandSyntaxError,
@@ -72,6 +73,7 @@ class _Resolver:
         self.diags: list[Diagnostic] = list(parsed.diagnostics)
         self.module = Module(parsed.path, target.name, [])
         self.addr = 0
+        self.numbered: tuple[int, int, int] | None = None  # the last step number: (number, address, line)
         self.label_spec = next(s for s in target.instructions.values() if s.cls == "label")
         caches = ResolverCaches() if caches is None else caches
         self.cache = caches.lines  # (mnemonic, operand texts) -> resolution of the line
@@ -179,6 +181,8 @@ class _Resolver:
                     self.err(st.line, w, "E105", f".export takes P labels, not {w.text!r}")
         elif name == ".library" and not ops:
             self.module.library = True
+        elif name == ".dialect" and len(ops) == 1:
+            self.dialect(st, ops[0])
         elif name == ".table" and _table_kinds(self.t):  # a communication-table row (check/tables.py)
             from mlctool.check.tables import parse_row
 
@@ -186,7 +190,19 @@ class _Resolver:
                 self.err(st.line, st.name if p.index < 0 else ops[p.index], p.code, p.message)
         else:
             self.err(st.line, st.name, "E105", f"unknown or malformed directive {st.name.text!r}",
-                     "directives: .define NAME OPERAND, .export P10, .library")
+                     "directives: .define NAME OPERAND, .export P10, .library, .dialect fx")
+
+    def dialect(self, st: Statement, w: Word) -> None:
+        """`.dialect fx`: the program comes from that family (`mlc import` writes it); its specials
+        decide W217, another family's numbers are ordinary devices (check/specials.py)."""
+        from mlctool.targetapi.specials import families
+
+        known = families(self.t.name)
+        if w.text.lower() not in known:
+            self.err(st.line, w, "E105", f".dialect {w.text}: target {self.t.name} knows "
+                     + (f"the dialects {', '.join(sorted(known))}" if known else "no other family's dialect"))
+        else:
+            self.module.dialect = w.text.lower()
 
     def wide_name_over(self, text: str) -> int | None:
         """The counted length of a `.define` name with Chinese characters past the target's name
@@ -429,7 +445,7 @@ class _Resolver:
         if plain is None:
             plain = self.plain_forms[id(spec)] = not (
                 spec.table or spec.constraints
-                or any(o.word_range_of or "P" in o.kinds or "I" in o.kinds for o in spec.operands))
+                or any(o.word_range_of or o.span or "P" in o.kinds or "I" in o.kinds for o in spec.operands))
         return plain
 
     def plainly_resolved(self, spec: InstrSpec, texts: tuple[str, ...]) -> tuple[Operand, ...] | None:
@@ -490,6 +506,9 @@ class _Resolver:
         # index modification
         if op.index:
             ix, ixn = op.index
+            if ix not in INDEX_REGISTERS or ix not in t.devices:  # only an object can say another (crafted)
+                self.report(w, "E209", f"{w.text}: {ix!s:.10} is not an index register of target {t.name}")
+                return False
             if not spec.index or not o.index or op.kind not in t.indexable:
                 self.report(w, "E209", f"{w.text}: {spec.mnemonic} operand {o.role} cannot be index-modified")
                 return False
@@ -542,7 +561,9 @@ class _Resolver:
             if not 1 <= op.digits <= maxn:
                 self.report(w, "E207", f"K{op.digits}{op.device}: n must be 1-{maxn} in a {width}-bit instruction")
                 return False
-            last = op.number + 4 * op.digits - 1
+            # a group standing for several registers (MUL D, SER D) is as many groups in a row
+            words = o.words[1] if width == 32 else o.words[0]
+            last = op.number + 4 * op.digits * max(1, words // (width // 16)) - 1
             first = op.number
         else:
             first = op.number
@@ -644,11 +665,49 @@ class _Resolver:
         if dev.kind in ("bit",) or op.is_bit_of_word or spec.cls in ("load", "and", "or") and dev.kind in ("timer", "counter") \
                 and spec.api is None:
             return o.bits
-        if dev.kind == "pointer" or (dev.kind == "counter" and self.t.is_counter32(op.number)):
+        words = o.words[1] if spec.width == 32 else o.words[0]
+        if dev.kind == "pointer":
             return 1
-        if op.kind in ("V", "Z") or spec.api is None:
-            return 1
-        return o.words[1] if spec.width == 32 else o.words[0]
+        if dev.kind == "counter" and self.t.is_counter32(op.number):
+            return max(1, words // 2)  # C200-C255 / C64-C79 hold 32 bits each (DMUL D: 4 words, 2 counters)
+        if op.kind in ("V", "Z"):
+            # a 32-bit V/Z operand is one index register (its pair); a result longer than the
+            # form's width (MUL D: 2 words, DMUL D: 4) goes into consecutive registers
+            return 1 if words <= spec.width // 16 else words
+        return words
+
+    def check_span(self, spec: InstrSpec, o: OperandSpec, ops: list[Operand], w: _Arg, k: int) -> bool:
+        """An operand that covers as many elements as another operand counts (`span`: DECO D
+        2^n bits): when the count is a constant and the operand a device as written, its last
+        element must exist (E208). A count in a register or an index-modified operand is the
+        run time's (the engine's fault, E604)."""
+        role, rule = o.span
+        c = next((i for i, s in enumerate(spec.operands) if s.role == role), None)
+        op = ops[k]
+        if c is None or c >= len(ops) or op.is_const or op.index or op.unit or op.is_bit_of_word:
+            return True
+        count = ops[c]
+        dev = self.t.devices.get(op.device)
+        if dev is None or count.kind not in ("K", "H") or count.index or not isinstance(count.value, int):
+            return True
+        if o.span_kinds == "bit" and (dev.kind != "bit" or op.is_group):
+            return True
+        if count.value < 1 or count.value > 1 << 20:
+            return True  # (its own range check says what is wrong with it)
+        n = o.span_count(count.value) if rule != "2^n" or count.value <= 16 else 1 << 17
+        if op.is_group:
+            size = n * 4 * op.digits
+        elif op.kind in ("V", "Z"):  # a block of index registers is consecutive registers
+            size = n * (o.words[1] if spec.width == 32 else o.words[0])
+        else:
+            size = n * self.extent(spec, o, op)
+        last = op.number + size - 1
+        if last <= dev.hi:
+            return True
+        what = f"{role} = {count.value}" + (f", {rule.replace('n', role)} = {n}" if rule != "n" else "")
+        self.report(w, "E208", f"{w.text} would occupy {dev.name_of(op.number)}-{dev.name_of(last)}, past "
+                    f"{dev.name_of(dev.hi)}: {what} (the instruction covers that many, {spec.section})")
+        return False
 
     def check_const(self, w, spec, o: OperandSpec, op: Operand, all_ops) -> bool:
         if op.is_float:
@@ -694,6 +753,10 @@ class _Resolver:
 
     def check_constraints(self, spec: InstrSpec, ops: list[Operand], args: list[_Arg]) -> bool:
         ok = True
+        if len(ops) == len(args):
+            for k, o in enumerate(spec.operands):
+                if o.span is not None and k < len(ops):
+                    ok = self.check_span(spec, o, ops, args[k], k) and ok
         if len(ops) == len(args):
             for k, code, msg in constraint_problems(self.t, spec, ops, [a.text for a in args]):
                 self.report(args[k], code, msg)
@@ -776,11 +839,27 @@ class _Resolver:
             return self.t.instr_steps(spec, ops)
         return spec.steps
 
+    def step_number(self, st: Statement) -> None:
+        """W107 where a leading step number disagrees: the first against the computed address,
+        each later one by its distance from the previous number (the steps of the lines between),
+        so one instruction counted otherwise is one warning, not one on every line after it."""
+        number = int(st.step.text)
+        last, self.numbered = self.numbered, (number, self.addr, st.line)
+        if last is None:
+            if number != self.addr:
+                self.err(st.line, st.step, "W107", f"step number {st.step.text} but the computed address is {self.addr}")
+            return
+        said, computed = number - last[0], self.addr - last[1]
+        if said != computed:
+            self.err(st.line, st.step, "W107", f"step number {st.step.text}: the lines from step {last[0]} (line "
+                     f"{last[2]}) are {said} steps by the numbering, {computed} by target {self.t.name}'s step "
+                     f"counts (computed address {self.addr})")
+
     def emit(self, st: Statement, spec: InstrSpec, ops, texts, table=(), steps: int | None = None) -> None:
         if steps is None:
             steps = self.steps(spec, ops)
-        if st.step is not None and int(st.step.text) != self.addr:
-            self.err(st.line, st.step, "W107", f"step number {st.step.text} but the computed address is {self.addr}")
+        if st.step is not None:
+            self.step_number(st)
         col = st.name.col
         self.module.instrs.append(Instr(spec, ops, texts, steps, self.addr, self.path, st.line, col, table))
         self.addr += steps
@@ -826,6 +905,9 @@ def unknown_instruction_hint(t: Target, name: str) -> tuple[str, tuple[str, ...]
 
 
 def _unknown_instruction_hint(t: Target, name: str) -> tuple[str, tuple[str, ...]]:
+    family = _family_hint(t, name)
+    if family:  # the family's mnemonic, then the target's form of it written out
+        return "", family + _form_hint(t, name)
     spelled = _spelling_hint(t, name)
     if spelled:
         return "", spelled
@@ -900,6 +982,18 @@ class OperandRules:
         if ok:
             r.check_constraints(spec, ops, args)
         return [msg for _idx, code, msg, _notes in r._problems if code.startswith("E")]
+
+
+def _family_hint(t: Target, name: str) -> tuple[str, ...]:
+    """Delta DVP's TMR T0 K10 (or FX's DRVI) in IL for the VS: the target's instruction of that
+    function (targets/<name>/specials.toml `mnemonics`), not the nearest spelling (TTMR)."""
+    from mlctool.targetapi.specials import families
+
+    for fam in families(t.name).values():
+        if name in fam.mnemonics:
+            return (f"{name} is {fam.title}'s; target {t.name} writes it {fam.mnemonics[name]} with the same operands "
+                    f"(`mlc import --from {'delta' if fam.name == 'dvp' else 'gxworks2'}` rewrites an export)",)
+    return ()
 
 
 def _spelling_hint(t: Target, name: str) -> tuple[str, ...]:

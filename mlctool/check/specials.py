@@ -6,7 +6,9 @@ a device read (a contact, or a source operand) and never written anywhere in the
 (OUT/SET/RST/PLS/PLF, ZRST, a destination of an application instruction, or through a Kn
 group) that is in FX's special ranges (M8000-M8511, D8000-D8511), or that Delta DVP numbers as
 a special with a VS counterpart (M1000, M1002, M1013, D1010 ...). A program that writes the
-device uses it as an ordinary one, and says nothing here.
+device uses it as an ordinary one, and says nothing here. A module with `.dialect fx` (or `dvp`; `mlc import`
+writes it) is judged by that family alone: an FX program's M1000 is an ordinary relay, not
+Delta's RUN monitor.
 
 The other way round: a device of those ranges written and never read is a setting for the
 CPU (the FX set-up `LD M8002 / MOV H0C87 D8120` of public Modbus-slave listings: D8120 the
@@ -29,6 +31,7 @@ def foreign_specials(modules: list[Module], target: Target) -> list[Diagnostic]:
     if not fams:
         return []
     instrs = [ins for m in modules for ins in m.instrs]
+    dialects = {m.path: m.dialect for m in modules}
     written: set[tuple[str, int]] = set()
     spans: list[tuple[str, int, int]] = []
     reads: list[tuple[Instr, str, int]] = []
@@ -61,7 +64,8 @@ def foreign_specials(modules: list[Module], target: Target) -> list[Diagnostic]:
             key = (kind, number)
             if key in seen or key in ordinary or any(k == kind and lo <= number <= hi for k, lo, hi in ranges):
                 continue
-            found = _foreign(fams, ins, kind, number, target, how)
+            dialect = dialects.get(ins.file)
+            found = _foreign({dialect: fams[dialect]} if dialect in fams else fams, ins, kind, number, target, how)
             if found is not None:
                 seen.add(key)
                 out.append(found)

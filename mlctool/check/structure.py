@@ -116,10 +116,22 @@ def check_rungs(module: Module, target: Target, broken: frozenset[int] = frozens
     return out
 
 
-def _call_nesting(instrs: list[Instr], labels: dict[int, int], sub_start: int, limit: int) -> list[Diagnostic]:
-    """E307 at a CALL that would open level limit+1 (VS 6-2 "巢狀式子程序呼叫不可超過 5層": the
-    CPU does not run it, error 6702). A subroutine runs from its label to its first SRET; only
-    CALLs of a written P number are followed (an indexed one is the simulator's to see)."""
+def _cited(target: Target, key: str) -> str:
+    """" (SECTION)" of the target's manual for a rule (target.toml `key`), or ""."""
+    section = target.settings.get(key)
+    return f" ({section})" if section else ""
+
+
+def _call_nesting(instrs: list[Instr], labels: dict[int, int], sub_start: int, target: Target) -> list[Diagnostic]:
+    """A CALL that would open level call_depth+1, as the target's manual rules it (target.toml
+    `call_beyond`, issue 30.17): "error", E307 (VS 6-2 "巢狀式子程序呼叫不可超過 5層", error
+    6702); "skipped" (the default), W613: the CPU does not run that subroutine and the scan
+    goes on (NC5 4.1 API-01 "若進入第六層則該副程式不執行"), as the simulator does on every
+    target. A subroutine runs from its label to its first SRET; only CALLs of a written P
+    number are followed (an indexed one is the simulator's to see)."""
+    limit = target.settings["call_depth"]
+    error = target.settings.get("call_beyond", "skipped") == "error"
+    section = _cited(target, "call_section")
     def calls(first: int, last: int) -> list[Instr]:
         return [i for i in instrs[first:last] if i.spec.op == "call" and not i.operands[0].index]
 
@@ -139,8 +151,8 @@ def _call_nesting(instrs: list[Instr], labels: dict[int, int], sub_start: int, l
             if id(ins) not in reported:
                 reported.add(id(ins))
                 path = " -> ".join(f"P{q}" for q in chain + (p,))
-                out.append(_at(ins, "E307", f"CALL nested {level} deep ({path}); the limit is {limit}: "
-                               "the CPU does not run it (6-2 CALL, error 6702)"))
+                out.append(_at(ins, "E307" if error else "W613", f"CALL nested {level} deep ({path}); the "
+                               f"limit is {limit}: the CPU does not run it{section}"))
             return
         for inner in body(p):
             walk(inner, level + 1, chain + (p,))
@@ -219,7 +231,8 @@ def check_layout(module: Module, target: Target, exported: dict[int, str], is_ca
         if op == "for":
             stack.append(ins)
             if len(stack) > limit:
-                out.append(_at(ins, "E307", f"FOR nested {len(stack)} deep; the limit is {limit} (4.1 API-07)"))
+                out.append(_at(ins, "E307", f"FOR nested {len(stack)} deep; the limit is {limit}"
+                               f"{_cited(target, 'for_section')}"))
         elif op == "next":
             if not stack:
                 out.append(_at(ins, "E306", "NEXT without FOR"))
@@ -231,7 +244,7 @@ def check_layout(module: Module, target: Target, exported: dict[int, str], is_ca
             stack.clear()
     for f in stack:
         out.append(_at(f, "E306", "FOR without NEXT"))
-    out += _call_nesting(instrs, labels, sub_start, target.settings["call_depth"])
+    out += _call_nesting(instrs, labels, sub_start, target)
 
     capacity = target.capacity
     total = module.total_steps

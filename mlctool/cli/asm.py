@@ -27,12 +27,12 @@ from mlctool.asm.objfile import ObjectFile, encode
 from mlctool.asm.project import project_build, project_scope
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    collector_paused,
     config_option,
     encoding_option,
     examples,
     get_config,
     get_target,
-    output_plan,
     quiet_option,
     show,
     target_option,
@@ -76,10 +76,10 @@ def _exit_for(diags: list[Diagnostic]) -> None:
         sys.exit(1)
 
 
-def _plan(inputs, config, outputs: dict[str, str | None]) -> Outputs:
-    """The outputs (what -> path) checked against the inputs and each other, and their folders
-    (E606, E605: exit 2), before any work (mlctool/fileio.py)."""
-    plan = output_plan(inputs, config)
+def _plan(outputs: dict[str, str | None]) -> Outputs:
+    """The outputs (what -> path) checked against the inputs read and each other, and their
+    folders (E606, E605: exit 2), before any work (mlctool/fileio.py)."""
+    plan = Outputs()
     for what, path in outputs.items():
         if path:
             plan.add(path, what)
@@ -144,9 +144,9 @@ def build_cmd(target_name, config_path, output, compile_only, listing_path, map_
         map_path = map_path or job.map
     _check_request(sources, output, compile_only, listing_path, map_path)
     if compile_only:
-        plan = _plan(sources, config, _object_paths(sources, output))
+        plan = _plan(_object_paths(sources, output))
     else:
-        plan = _plan(sources, config, {f"{where}output" if where else "-o": output,
+        plan = _plan({f"{where}output" if where else "-o": output,
                                        f"{where}listing" if where else "--listing": listing_path,
                                        f"{where}map" if where else "--map": map_path})
     # objects name their sources relative to the project (else the current folder), never
@@ -154,7 +154,8 @@ def build_cmd(target_name, config_path, output, compile_only, listing_path, map_
     root = str(config.root) if config.root else os.getcwd()
     # objects compile separately: a CALL into another module is the linker's to resolve
     separate = compile_only or output.lower().endswith(".mlo") or any(is_object(s) for s in sources)
-    inputs = load_inputs(list(sources), target, config, root, separate)
+    with collector_paused():
+        inputs = load_inputs(list(sources), target, config, root, separate)
     _report(inputs.diagnostics, inputs.lines)
     _exit_for(inputs.diagnostics)
     if inputs.programs:
@@ -197,7 +198,7 @@ def _build_positioning(sources, output, sr, config) -> None:
         raise _usage("build one positioning program (.pos/.mpos) at a time")
     if output is None or not is_image(output):
         raise _usage("a positioning program builds a register image: give -o TABLE.json or -o TABLE.csv")
-    plan = _plan(sources, config, {"-o": output})
+    plan = _plan({"-o": output})
     checked = check_positioning(list(sources), config)
     _report(checked.diagnostics, checked.lines)
     _exit_for(checked.diagnostics)
@@ -254,7 +255,7 @@ def link_cmd(target_name, config_path, output, listing_path, map_path, objects):
                            config)
     if not output.lower().endswith(".mlx"):
         raise _usage(f"output {output!r}: a linked program is written as .mlx")
-    plan = _plan(objects, config, {"-o": output, "--listing": listing_path, "--map": map_path})
+    plan = _plan({"-o": output, "--listing": listing_path, "--map": map_path})
     inputs = Inputs()
     for p in objects:
         obj, problem = read_object(p, target)
@@ -324,7 +325,7 @@ def objdump_cmd(target_name, as_json, as_il, il_dir, config_path, file):
     if as_json:
         click.echo(objdump_json(obj), nl=False)
     elif il_dir:
-        plan = output_plan([file], None)
+        plan = Outputs()
         files = {}
         for k, u in enumerate(obj.units):
             path = os.path.join(il_dir, *u.path.split("/"))

@@ -11,6 +11,7 @@ from mlctool.check import check_files
 from mlctool.check.other_target import likely_targets, wrong_target_note
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    collector_paused,
     config_option,
     encoding_option,
     examples,
@@ -71,7 +72,8 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
     # FBs positioning programs (.pos/.mpos) have their own language: mlctool/targets/fbs
     positioning = [f for f in files if _positioning_source(f)]
     il_files = [f for f in files if f not in positioning]
-    result = check_files(il_files, target, config, ignored)
+    with collector_paused():
+        result = check_files(il_files, target, config, ignored)
     diags, lines = result.diagnostics, result.lines
     if positioning:
         from mlctool.targets.fbs.files import check_positioning

@@ -16,7 +16,8 @@ import click
 
 from mlctool.config import Config, load_config
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
-from mlctool.fileio import Outputs
+from mlctool.fileio import Outputs, begin_command
+from mlctool.limits import integer
 from mlctool.report import render_text
 from mlctool.targetapi import Target, available_targets, load_target
 from mlctool.targetapi.model import UnknownModel
@@ -37,7 +38,7 @@ def _start_wall_limit(_ctx, _param, text: str | None) -> None:
     output being written is discarded (mlctool/fileio.py); run_guarded says why."""
     if text is None:
         return
-    from mlctool.sim.stimulus import StimError, parse_time
+    from mlctool.sim.stimulus.stimulus import StimError, parse_time
 
     try:
         us = parse_time(text)
@@ -72,6 +73,7 @@ def _interrupted() -> int:
 def run_guarded(group: click.Group, argv: list[str] | None) -> int:
     """Run the click group; turn every failure into a message and an exit code."""
     _WALL.update(timer=None, hit=False, text="")
+    begin_command()  # no input read, no output planned (mlctool/fileio.py)
     try:
         return _run_guarded(group, argv)
     finally:
@@ -145,10 +147,10 @@ _ENCODING_KEY = "mlc.encoding"
 
 def _remember_encoding(ctx: click.Context, _param, value: str | None) -> None:
     if value:
-        from mlctool.syntax.source import known_encoding
+        from mlctool.syntax.source import encoding_refusal, known_encoding
 
         if known_encoding(value) is None:
-            raise click.BadParameter(f"unknown encoding {value!r} (e.g. cp950, big5, gb18030, cp932, utf-8)")
+            raise click.BadParameter(encoding_refusal(value))
         ctx.meta[_ENCODING_KEY] = value
 
 
@@ -157,16 +159,6 @@ def encoding_option(fn):
     return click.option("--encoding", default=None, metavar="NAME", expose_value=False, callback=_remember_encoding,
                         help="encoding of sources that are not UTF-8 (cp950, gb18030, cp932...; default: "
                              "mlc.toml `encoding`, else UTF-8, with a guess for other bytes)")(fn)
-
-
-def output_plan(inputs, config: Config | None = None) -> Outputs:
-    """The outputs of a command reading `inputs` (and its configuration file): mlctool/fileio.py."""
-    plan = Outputs(inputs)
-    if config is not None and config.root is not None:
-        for name in ("mlc.toml", "pyproject.toml"):
-            if os.path.isfile(config.root / name):
-                plan.add_input(str(config.root / name))
-    return plan
 
 
 # An output's extension names its format (docs/reliability.md, "Outputs"); these are the
@@ -343,6 +335,21 @@ def target_option(fn):
                       help="model of the target family (e.g. VS1; default: from mlc.toml, else the target's default)")(fn)
     return click.option("--target", "target_name", default=None, metavar="NAME",
                         help="target PLC (default: from mlc.toml, else nc5)")(fn)
+class Integer(click.IntRange):
+    """An integer option (within a range), read as every number is: ASCII digits only
+    (mlctool/limits.py; click's own reading, int(), takes "٣" as 3)."""
+
+    name = "integer"
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str):
+            try:
+                integer(value.strip())
+            except ValueError as e:
+                self.fail(str(e), param, ctx)
+        return super().convert(value, param, ctx)
+
+
 config_option = click.option("--config", "config_path", default=None, type=click.Path(dir_okay=False),
                              help="configuration file (default: mlc.toml or pyproject.toml found upward)")
 
@@ -354,8 +361,9 @@ def collector_paused():
     accessors, which form no cycles and live to the end), then those objects frozen
     (gc.freeze: still freed by reference counting, skipped by the collector), so that its
     next collections do not walk them all again. About 0.4 s of the 64k-step program's start
-    under load (issue 19). What an earlier block froze is thawed first (as check_texts does),
-    so in a process that runs many commands (the tests) frozen garbage does not pile up."""
+    under load (issue 19). What an earlier block froze is thawed first, so in a process that
+    runs many commands (the tests) frozen garbage does not pile up. Not for a long-lived
+    process that loads again and again (mlc lsp): frozen objects' cycles are never collected."""
     paused = gc.isenabled()
     gc.disable()
     gc.unfreeze()

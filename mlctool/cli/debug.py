@@ -9,18 +9,20 @@ import click
 
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    Integer,
     command_scope,
     config_option,
     encoding_option,
     examples,
     get_config,
     get_target,
+    load_tables,
     show,
     target_option,
 )
 from mlctool.diagnostics import Span, diag
-from mlctool.sim.engine import ENGINE_ENV, ENGINES
-from mlctool.sim.stimulus import StimError, parse_time
+from mlctool.sim.engines.engine import ENGINE_ENV, ENGINES
+from mlctool.sim.stimulus.stimulus import StimError, parse_time
 
 
 @main_group.command("debug", epilog=examples(
@@ -36,19 +38,24 @@ from mlctool.sim.stimulus import StimError, parse_time
 @click.option("--scan-time", default=None, metavar="TIME", help="scan period (default 10ms)")
 @click.option("--engine", type=click.Choice(ENGINES), default=None, envvar=ENGINE_ENV,
               help="engine of whole scans: compiled (default), native or interp (docs/simulator.md)")
-@click.option("--checkpoint-every", type=click.IntRange(1), default=100, show_default=True,
+@click.option("--checkpoint-every", type=Integer(1), default=100, show_default=True,
               help="scans between time-travel checkpoints (at most 64 kept)")
+@click.option("--table", "tables", multiple=True, metavar="[SR=]FILE",
+              help="load a register table with the program, as mlc sim --table (FBs: R5000=home.pos); "
+                   "in a project, its mlc.toml `tables` are loaded too")
 @click.option("--dap", is_flag=True, help="serve the Debug Adapter Protocol on stdin/stdout")
-@click.option("--dap-port", type=click.IntRange(1, 65535), default=None, metavar="N",
+@click.option("--dap-port", type=Integer(1, 65535), default=None, metavar="N",
               help="serve the Debug Adapter Protocol on 127.0.0.1:N (one client, which gives the printed "
                    "token in its launch request)")
 @click.option("--web", is_flag=True,
-              help="serve the live ladder monitor (power flow, values, force by clicking) on 127.0.0.1")
-@click.option("--port", type=click.IntRange(0, 65535), default=None, metavar="N",
+              help="serve the live ladder monitor on 127.0.0.1: contacts and coils lit by their devices' "
+                   "values (docs/ladder.md \"Lighting\"), a device table to watch, set and force values, "
+                   "force by clicking")
+@click.option("--port", type=Integer(0, 65535), default=None, metavar="N",
               help="the --web monitor's port (default: a free one; the URL is printed)")
 @click.argument("program", nargs=-1, type=click.Path(), metavar="[FILE]...")
-def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint_every, dap, dap_port, web, port,
-              program):
+def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint_every, tables, dap, dap_port, web,
+              port, program):
     """Debug a program on the simulator: breakpoints, stepping, time travel (console or DAP).
 
     With no FILE, the program of the project of mlc.toml; a FILE that is a module of the
@@ -69,6 +76,8 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
         raise click.UsageError("--web and --dap/--dap-port are different front ends: give one")
     if port is not None and not web:
         raise click.UsageError("--port is the --web monitor's port (the DAP server's is --dap-port)")
+    if tables and (dap or dap_port is not None):
+        raise click.UsageError("--table is for the console and --web (a DAP session does not load register tables)")
     config = get_config(config_path)
     if dap or dap_port is not None:
         from mlctool.debug.dap import listen, serve_port, serve_stdio, session_token
@@ -90,17 +99,22 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
         serve_port(srv, token, defaults)
         return
     # no FILE: the project; a module of the project: the whole project runs
-    program = command_scope(program, config, "program FILE... (or --dap)").files
+    scope = command_scope(program, config, "program FILE... (or --dap)")
+    program = scope.files
+    from mlctool.asm.project import table_file
     from mlctool.debug.console import Console, interactive
     from mlctool.debug.load import LoadError, load_session
 
     target = get_target(target_name, config)
+    specs = [*scope.tables, *tables]  # the project's register tables, then --table (as mlc sim)
+    preload = load_tables(tables, scope.tables, target, config)
     try:
-        session = load_session(list(program), stim_path, target, config, scan_us, engine, checkpoint_every)
+        session = load_session(list(program), stim_path, target, config, scan_us, engine, checkpoint_every,
+                               preload=preload, table_files=[table_file(t) for t in specs])
     except LoadError as e:
         show(e.diagnostics, e.lines)
         sys.exit(2)
-    from mlctool.sim.unmodelled import unmodelled_writes
+    from mlctool.sim.run.unmodelled import unmodelled_writes
 
     show(unmodelled_writes(session.image, target), session.lines)  # W608, as mlc sim says it
     if web:

@@ -15,10 +15,10 @@ import sys
 import click
 
 from mlctool.cli import main_group
-from mlctool.cli.common import examples
+from mlctool.cli.common import Integer, examples
 from mlctool.diagnostics import MlcError, Span, diag
-from mlctool.limits import clip
-from mlctool.sim.stimulus import StimError, parse_time
+from mlctool.limits import clip, real
+from mlctool.sim.stimulus.stimulus import StimError, parse_time
 
 LOOPBACK = {"127.0.0.1", "localhost"}
 BAUDS = ("9600", "19200", "38400", "57600", "115200")
@@ -43,6 +43,11 @@ class FiniteRange(click.FloatRange):
     comparison with nan is false; issue 21 #17)."""
 
     def convert(self, value, param, ctx):
+        if isinstance(value, str):  # ASCII digits (mlctool/limits.py; float() takes "٣" as 3)
+            try:
+                real(value.strip(), finite=False)
+            except ValueError as e:
+                self.fail(str(e), param, ctx)
         number = super().convert(value, param, ctx)
         if not math.isfinite(number):
             self.fail(f"{value!r} is not a finite number", param, ctx)
@@ -71,7 +76,7 @@ def device_group() -> None:
                    "(MBAP header, unit id = station) for HMIs and SCADA")
 @click.option("--ascii", "ascii_flag", is_flag=True, help="same as --framing ascii")
 @click.option("--rtu", "rtu_flag", is_flag=True, help="same as --framing rtu")
-@click.option("--station", type=click.IntRange(1, 16), multiple=True, show_default="1",
+@click.option("--station", type=Integer(1, 16), multiple=True, show_default="1",
               help="Modbus station = rotary switch CH + 1 (8.2); repeat it for several devices "
                    "on one line, each its own model")
 @click.option("--baud", type=click.Choice(BAUDS), default="19200", show_default=True)
@@ -97,7 +102,9 @@ def serve_cmd(kind, tcp, serial, framing, ascii_flag, rtu_flag, station, baud, d
     stations = station or (1,)
     if len(set(stations)) != len(stations):
         raise _fail("E801", f"--station {stations}: a station number may be used once on a line")
-    address = parse_tcp(tcp) if tcp else None
+    if serial is not None and not serial.strip():
+        raise _fail("E801", "--serial '': give the serial device, e.g. /dev/ttyUSB0 or COM3")
+    address = parse_tcp(tcp) if tcp is not None else None  # --tcp "" is a bad address, not no address
     seconds = None
     if duration is not None:
         try:

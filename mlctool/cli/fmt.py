@@ -21,7 +21,7 @@ from mlctool.cli.common import (
     target_option,
 )
 from mlctool.diagnostics import unreadable
-from mlctool.fileio import Outputs, rewrite
+from mlctool.fileio import distinct, rewrite
 from mlctool.fmt import FormatOptions, format_source
 from mlctool.syntax.source import GUESSED, read_source, source_encoding
 
@@ -53,9 +53,7 @@ def fmt_cmd(target_name, config_path, check_only, steps, files):
     target = get_target(target_name, config)
     encoding, _ = source_encoding(config)
     if not check_only:  # each file is rewritten in place: two names for one file are refused (E606)
-        plan = Outputs()
-        for path in files:
-            plan.add(path, "the file")
+        distinct(files, "the file")
     worst = 0
     for path in files:
         src, diags = read_source(path, encoding)

@@ -1,4 +1,5 @@
-"""`mlc import`: a vendor export (GX Works2 / GX Developer / WPLSoft / Delta CSV, plain IL) -> IL."""
+"""`mlc import`: a vendor export (GX Works2 / GX Developer / WPLSoft / Delta CSV, plain IL), a
+GX Works2 project (.gxw) or a FATEK WinProladder project / ladder resource (.pdw / .ldr) -> IL."""
 
 from __future__ import annotations
 
@@ -13,21 +14,33 @@ from mlctool.cli.common import (
     examples,
     get_config,
     get_target,
-    output_plan,
     quiet_option,
     show,
     target_option,
     write_outputs,
 )
 from mlctool.diagnostics import unreadable
-from mlctool.imports import DIALECT_TARGET, FORMATS, detect, import_text, read_comments, read_export
+from mlctool.fileio import Outputs
+from mlctool.imports import (
+    DIALECT_TARGET,
+    FORMATS,
+    detect,
+    import_project,
+    import_text,
+    import_winproladder,
+    is_gx_project,
+    is_winproladder,
+    project_file,
+    read_comments,
+    read_export,
+)
 from mlctool.syntax.source import source_encoding
 
 
 @main_group.command("import", epilog=examples(
     "mlc import --target vs export.csv -o prog.il      # the format is recognised",
-    "mlc import --target vs --from gxworks2 export.csv -o prog.il",
     "mlc import --comments COMMENT.csv MAIN.csv -o prog.il   # device comments too",
+    "mlc import --target fbs project.pdw -o fatek.il   # FATEK WinProladder (.pdw / .ldr)",
 ))
 @target_option
 @encoding_option
@@ -39,37 +52,111 @@ from mlctool.syntax.source import source_encoding
 @click.option("--comments", "comments_file", default=None, type=click.Path(dir_okay=False),
               help="a GX device-comment CSV: each device's comment on the lines using it")
 @quiet_option
+@click.option("--program", default=None, metavar="NAME",
+              help="a GX Works2 project's program POU to read (default: its only one)")
 @click.argument("file", type=click.Path())
-def import_cmd(target_name, config_path, fmt, output, comments_file, file):
-    """Convert an editor's export to plain IL for the target (docs/vs.md, Imports).
+def import_cmd(target_name, config_path, fmt, output, comments_file, program, file):
+    """Convert an editor's export or a GX Works2 / WinProladder project to plain IL (docs/formats.md).
 
-    Without --target, a GX Works2, GX Developer, WPLSoft or Delta export (FX dialect) is imported
-    for target vs; plain IL for the target of mlc.toml, else nc5.
+    Without --target, a GX Works2, GX Developer, WPLSoft or Delta export or a GX Works2 project
+    (FX dialect) is imported for target vs, a WinProladder .pdw / .ldr for fbs; plain IL for
+    the target of mlc.toml, else nc5.
 
     Exit 0: converted; 1: rows that cannot be placed; 2: unreadable input or not an export.
     """
     config = get_config(config_path)
-    plan = output_plan([file], config)
+    plan = Outputs()
     if output:
         plan.add(output, "-o")
         plan.validate()
+    head = _head(file)
+    project = project_file(file, head)
+    if project is not None:
+        show([project], {})
+        sys.exit(2)
+    if is_gx_project(file, head):
+        _import_project(file, target_name, config, output, comments_file, program, plan)
+        return
+    if is_winproladder(file, head):
+        _import_winproladder(file, target_name, config, output, comments_file, program, plan)
+        return
+    if program is not None:
+        raise click.UsageError("--program names a program POU of a GX Works2 project (.gxw); "
+                               f"{file} is none")
     text, diags = read_export(file, source_encoding(config)[0])
     found_fmt = fmt or (detect(text) if text is not None else "")
     # an FX-dialect export is a VS program unless the command line says otherwise
     dialect = DIALECT_TARGET.get(found_fmt) if not target_name else None
     target = get_target(target_name or dialect, config)
-    comments = None
-    if text is not None and comments_file:
-        comments, found = read_comments(comments_file, target, source_encoding(config)[0])
-        if comments is None:
-            show(found, {})
-            sys.exit(2 if unreadable(found) or any(d.code == "E909" for d in found) else 1)
+    comments = _comments(comments_file, target, config) if text is not None else None
     if text is not None:
         text, found_fmt, converted = import_text(file, text, target, fmt, comments)
         diags = diags + converted
     show(diags, {})
     if text is None:
-        sys.exit(2 if unreadable(diags) or any(d.code == "E909" for d in diags) else 1)
+        sys.exit(2 if unreadable(diags) or any(d.code in ("E909", "E910", "E912") for d in diags) else 1)
+    _write(file, text, found_fmt, target, dialect, output, plan)
+
+
+def _import_project(file, target_name, config, output, comments_file, program, plan):
+    """A GX Works2 project: exit 2 for a file it cannot read (E915-E922), 1 for instructions
+    the target cannot place, as the CSV's rows."""
+    from mlctool.diagnostics import Span, diag
+    from mlctool.fileio import read_input
+    from mlctool.gxw import MAX_FILE
+
+    dialect = DIALECT_TARGET["gxw"] if not target_name else None
+    target = get_target(target_name or dialect, config)
+    try:
+        data = read_input(file, MAX_FILE + 1)
+    except OSError as e:
+        show([diag(file, Span.at(1), "E100", f"cannot read: {e.strerror or e}")], {})
+        sys.exit(2)
+    comments = _comments(comments_file, target, config)
+    text, _, diags = import_project(file, data, target, comments, program)
+    show(diags, {})
+    if text is None:
+        sys.exit(2 if any("E915" <= d.code <= "E922" for d in diags) else 1)
+    _write(file, text, "gxw", target, dialect, output, plan)
+
+
+def _import_winproladder(file, target_name, config, output, comments_file, program, plan):
+    """A FATEK WinProladder .pdw / .ldr: exit 2 for a file it cannot read or forms the target
+    cannot place (E923-E929), as the issue asks of vendor project files."""
+    from mlctool.diagnostics import Span, diag
+    from mlctool.fileio import read_input
+    from mlctool.imports import WINPROLADDER_TARGET
+    from mlctool.winproladder import MAX_FILE
+
+    if comments_file or program is not None:
+        raise click.UsageError("--comments and --program are for GX projects and exports; a WinProladder file "
+                               "takes neither")
+    dialect = WINPROLADDER_TARGET if not target_name else None
+    target = get_target(target_name or dialect, config)
+    try:
+        data = read_input(file, MAX_FILE + 1)
+    except OSError as e:
+        show([diag(file, Span.at(1), "E100", f"cannot read: {e.strerror or e}")], {})
+        sys.exit(2)
+    text, fmt, diags = import_winproladder(file, data, target)
+    show(diags, {})
+    if text is None:
+        sys.exit(2 if unreadable(diags) or any("E923" <= d.code <= "E929" for d in diags) else 1)
+    _write(file, text, fmt, target, dialect, output, plan)
+
+
+def _comments(comments_file, target, config) -> dict[str, str] | None:
+    """The device comments of --comments (None without it); exits on an unusable file."""
+    if not comments_file:
+        return None
+    comments, found = read_comments(comments_file, target, source_encoding(config)[0])
+    if comments is None:
+        show(found, {})
+        sys.exit(2 if unreadable(found) or any(d.code == "E909" for d in found) else 1)
+    return comments
+
+
+def _write(file, text, found_fmt, target, dialect, output, plan):
     how = (f"target {target.name}, the dialect of a {found_fmt} export; --target chooses another"
            if dialect else f"target {target.name}")
     if output:
@@ -80,3 +167,13 @@ def import_cmd(target_name, config_path, fmt, output, comments_file, file):
         sys.stdout.write(text)
         if dialect:
             click.echo(f"{file}: {found_fmt} ({how}); check it with `mlc check --target {target.name}`", err=True)
+
+
+def _head(path: str) -> bytes:
+    """The first bytes of the file (b"" if it cannot be read: read_export reports why)."""
+    from mlctool.fileio import read_input
+
+    try:
+        return read_input(path, 16)
+    except OSError:
+        return b""

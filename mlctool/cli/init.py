@@ -7,9 +7,10 @@ import os
 import click
 
 from mlctool.cli import main_group
-from mlctool.cli.common import examples, get_target, output_plan, quiet, quiet_option, write_outputs
+from mlctool.cli.common import examples, get_target, quiet, quiet_option, write_outputs
 from mlctool.config import Config
 from mlctool.diagnostics import MlcError, Span, diag
+from mlctool.fileio import Outputs
 from mlctool.starter import project_files
 from mlctool.targetapi import available_targets
 
@@ -41,7 +42,7 @@ def init_cmd(target_name, folder):
         raise MlcError(diag(taken[0], Span.at(1), "E122", f"mlc init: {taken[0]} exists; nothing written "
                             f"({len(taken)} of the {len(paths)} files of a new project are there already: "
                             "run it in an empty folder or name a new one)"))
-    plan = output_plan(())
+    plan = Outputs()
     for path in paths:
         plan.add(path, "a file of the new project")
     plan.validate()

@@ -8,6 +8,7 @@ import click
 
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    Integer,
     command_scope,
     config_option,
     encoding_option,
@@ -15,14 +16,13 @@ from mlctool.cli.common import (
     get_config,
     get_target,
     output_format,
-    output_plan,
     quiet_option,
     show,
     target_option,
     write_outputs,
 )
 from mlctool.diagnostics import unreadable
-from mlctool.fileio import same_file
+from mlctool.fileio import Outputs, same_file
 from mlctool.ladder import sheets_from_files
 from mlctool.report import summary_line
 
@@ -41,7 +41,7 @@ WRITERS = {".svg": "SVG", ".html": "HTML", ".htm": "HTML"}
               help="write OUT.svg (rungs stacked) or OUT.html (self-contained page)")
 @click.option("--term", is_flag=True, help="print the ladder on the terminal (default without -o)")
 @click.option("--title", default="", help="title of the HTML page")
-@click.option("--width", type=click.IntRange(60, 1000), default=None, metavar="N",
+@click.option("--width", type=Integer(60, 1000), default=None, metavar="N",
               help="terminal ladder N characters wide (default: the terminal's; 100 when not a terminal)")
 @click.option("--comments", is_flag=True, help="show device comments (line and .define comments) under contacts")
 @quiet_option
@@ -57,7 +57,7 @@ def ladder_cmd(target_name, config_path, out_path, term, title, width, comments,
     kind = output_format(out_path, "-o", WRITERS) if out_path is not None else None
     config = get_config(config_path)
     scope = command_scope(files, config, "sources to draw")
-    plan = output_plan(scope.files, config)
+    plan = Outputs()
     if out_path is not None:
         plan.add(out_path, "-o")
         plan.validate()

@@ -12,9 +12,9 @@ import time
 import click
 
 from mlctool.asm import program_from_paths
-from mlctool.asm.project import table_file
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    Integer,
     collector_paused,
     command_scope,
     config_option,
@@ -25,7 +25,6 @@ from mlctool.cli.common import (
     load_tables,
     max_wall_option,
     output_format,
-    output_plan,
     quiet_option,
     show,
     target_option,
@@ -33,11 +32,12 @@ from mlctool.cli.common import (
 )
 from mlctool.cli.sim_batch import batch_cmd, expand, is_batch
 from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
+from mlctool.fileio import Outputs, note_input
 from mlctool.sim.decode import unsimulated
-from mlctool.sim.engine import ENGINE_ENV, ENGINES
-from mlctool.sim.output import json_value, run_diagnostics, summary, to_json
-from mlctool.sim.pin_window import EDGE_LIMIT, parse_window
-from mlctool.sim.run import (
+from mlctool.sim.engines.engine import ENGINE_ENV, ENGINES
+from mlctool.sim.hardware.pin_window import EDGE_LIMIT, parse_window
+from mlctool.sim.run.output import json_value, run_diagnostics, summary, to_json
+from mlctool.sim.run.run import (
     DEFAULT_SCAN_US,
     RunResult,
     RunTooLong,
@@ -45,10 +45,10 @@ from mlctool.sim.run import (
     build_models,
     plan_scans,
 )
+from mlctool.sim.run.unmodelled import unmodelled_writes
 from mlctool.sim.scan import DEFAULT_WATCHDOG
 from mlctool.sim.state import NameError_, parse_device_name
-from mlctool.sim.stimulus import MAX_SCANS, StimError, Stimulus, load_stimulus, parse_time
-from mlctool.sim.unmodelled import unmodelled_writes
+from mlctool.sim.stimulus.stimulus import MAX_SCANS, StimError, Stimulus, load_stimulus, parse_time
 from mlctool.targetapi.registry import simulation_of
 from mlctool.targetapi.signals import device_signal
 
@@ -65,6 +65,15 @@ def _time_option(value: str | None, flag: str) -> int | None:
     if flag == "--scan-time" and us <= 0:
         raise click.BadParameter("must be positive", param_hint=flag)
     return us
+
+
+def _check_formats(vcd_path, junit_path, report_path) -> None:
+    """E120 for an output named as another format. Called once the inputs are read, so that
+    an output onto an input is E606 (which says more), and before the run."""
+    for path, what, formats in ((vcd_path, "--vcd", {".vcd": "VCD"}), (junit_path, "--junit", {".xml": "XML"}),
+                                (report_path, "--report", {".html": "HTML", ".htm": "HTML"})):
+        if path:
+            output_format(path, what, formats, formats[next(iter(formats))])
 
 
 def _errors(diags: list[Diagnostic]) -> bool:
@@ -84,21 +93,21 @@ def _errors(diags: list[Diagnostic]) -> bool:
               help="stimulus file (docs/stimulus.md)")
 @click.option("--scan-time", default=None, metavar="TIME", help="scan period (default 10ms)")
 @click.option("--until", default=None, metavar="TIME", help="run the scans that start before TIME")
-@click.option("--scans", type=click.IntRange(0, MAX_SCANS), default=None, help="run N scans")
+@click.option("--scans", type=Integer(0, MAX_SCANS), default=None, help="run N scans")
 @click.option("--vcd", "vcd_path", default=None, type=click.Path(dir_okay=False),
               help="write a VCD waveform (and a .gtkw save file beside it)")
 @click.option("--watch", multiple=True, metavar="DEV,...", help="devices to report and show")
 @click.option("--json", "as_json", is_flag=True, help="print the result as JSON on stdout")
 @click.option("--junit", "junit_path", default=None, type=click.Path(dir_okay=False),
               help="write JUnit XML, one test case per expectation line")
-@click.option("--watchdog", type=click.IntRange(1), default=DEFAULT_WATCHDOG, show_default=True,
+@click.option("--watchdog", type=Integer(1), default=DEFAULT_WATCHDOG, show_default=True,
               help="steps one scan may execute before it is stopped as a runaway")
 @click.option("--report", "report_path", default=None, type=click.Path(dir_okay=False),
               help="write an HTML page: every expectation, the ladder lit by scan, waveforms (docs/ladder.md)")
 @click.option("--engine", type=click.Choice(ENGINES), default=None, envvar=ENGINE_ENV,
               help="compiled (default), native (compiled to C: needs Cython and a C compiler) or "
                    "interp, the reference interpreter (docs/simulator.md)")
-@click.option("--jobs", "-j", type=click.IntRange(1, 64), default=1, show_default=True,
+@click.option("--jobs", "-j", type=Integer(1, 64), default=1, show_default=True,
               help="worker processes for a batch (--stimulus 'tests/*.stim')")
 @click.option("--cluster", default=None, metavar="tcp://HOST:PORT",
               help="run a batch's scenarios on this Dask scheduler's workers (docs/scale.md)")
@@ -132,12 +141,10 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     program = scope.files
     # every output is checked against the inputs and the other outputs, and its folder, before
     # anything runs (mlctool/fileio.py); all are written at the end, or none
-    stims = expand(stim_path)[0] if is_batch(stim_path) else [stim_path] if stim_path else []
-    plan = output_plan([*program, *stims,
-                        *(table_file(t) for t in [*scope.tables, *tables])], config)
+    plan = Outputs()
     keep_gtkw = None
     if vcd_path:
-        from mlctool.sim.vcd import gtkw_is_ours, gtkw_path
+        from mlctool.sim.run.vcd import gtkw_is_ours, gtkw_path
 
         plan.add(vcd_path, "--vcd")
         if gtkw_is_ours(gtkw_path(vcd_path)):
@@ -148,11 +155,6 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         if path:
             plan.add(path, what)
     plan.validate()
-    # an output named as another format (E120), after E606: an output onto an input says more
-    for path, what, formats in ((vcd_path, "--vcd", {".vcd": "VCD"}), (junit_path, "--junit", {".xml": "XML"}),
-                                (report_path, "--report", {".html": "HTML", ".htm": "HTML"})):
-        if path:
-            output_format(path, what, formats, formats[next(iter(formats))])
     # however the command ends (an error, Ctrl-C, --max-wall), no staged output is left behind
     click.get_current_context().with_resource(plan)
     target = get_target(_object_target(list(program), target_name) or target_name, config)
@@ -181,9 +183,12 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
         if watch_diags:
             show(watch_diags, {})
             sys.exit(2)
-        from mlctool.sim.batch import Options  # (numpy: only batches need it)
+        from mlctool.sim.campaign.batch import Options  # (numpy: only batches need it)
 
         opts = Options(scan_us, until_us, scans, watch_views, watchdog, engine, preload)
+        for path in expand(stim_path)[0]:  # the scenarios the batch reads are its inputs (E606 first)
+            note_input(path)
+        _check_formats(vcd_path, junit_path, report_path)
         sys.exit(batch_cmd(image, target, stim_path, opts, jobs, cluster, as_json, junit_path, program, lines, plan,
                            unmodelled))
 
@@ -195,10 +200,8 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     if st is None or _errors(bad):
         show(bad, {stim_path: st.lines} if st is not None else {})
         sys.exit(2)
-    for model in models:  # the files models read (an NC part program) are inputs too (fileio.py)
-        for path in model.inputs():
-            plan.add_input(path)
 
+    _check_formats(vcd_path, junit_path, report_path)
     period = st.scan_us or scan_us or DEFAULT_SCAN_US
     try:
         n_scans = plan_scans(st, period, until_us, scans)
@@ -217,7 +220,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     if vcd_path and window is None and report_path is None:
         # streamed to a temporary file beside the VCD as the run goes (memory bounded by the
         # devices, not the changes); --pulse-window and --report need the whole trace kept
-        from mlctool.sim.vcd import VcdStream
+        from mlctool.sim.run.vcd import VcdStream
 
         vcd_file = plan.stream(vcd_path)
         vcd_stream = VcdStream(vcd_file, sim.views, image, target)
@@ -234,7 +237,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     _report(result, st, lines, as_json, watch_views, unmodelled, target)
     files = {}
     if vcd_path:
-        from mlctool.sim.vcd import gtkw_path, to_gtkw, to_vcd
+        from mlctool.sim.run.vcd import gtkw_path, to_gtkw, to_vcd
 
         if vcd_stream is not None:
             vcd_stream.close(result.time_us)
@@ -248,8 +251,8 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
             click.echo(f"note: {keep_gtkw} was not written by mlc sim: kept as it is "
                        "(remove it to get mlc sim's view)", err=True)
     if junit_path:
-        from mlctool.sim.junit import to_junit
-        from mlctool.sim.suite import Scenario
+        from mlctool.sim.campaign.junit import to_junit
+        from mlctool.sim.campaign.suite import Scenario
 
         scenario = Scenario(st.path, result, run_diagnostics(result, st.path), st.lines, seconds=seconds)
         files[junit_path] = to_junit([scenario], " ".join(program))
@@ -264,7 +267,7 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
 def _native_notes(ahead: bool) -> None:
     """Say on stderr when --engine native cannot run here (before: no Cython, no compiler)
     or did not run a program (after: too long, a failed build); the compiled engine ran."""
-    from mlctool.sim import native
+    from mlctool.sim.engines import native
 
     missing = native.unavailable()
     if ahead:

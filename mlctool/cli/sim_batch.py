@@ -1,7 +1,7 @@
 """`mlc sim PROGRAM --stimulus 'tests/*.stim'`: many scenarios against one program.
 
 Per scenario, the diagnostics, JSON document and JUnit test suite are those of
-`mlc sim PROGRAM --stimulus FILE` (mlctool/sim/batch.py runs them, as lanes or in processes).
+`mlc sim PROGRAM --stimulus FILE` (mlctool/sim/campaign/batch.py runs them, as lanes or in processes).
 """
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ import click
 
 from mlctool.cli.common import show, write_outputs
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.fileio import Outputs
-from mlctool.sim.cluster import ClusterError, cluster_diagnostic
-from mlctool.sim.output import summary, to_json
+from mlctool.fileio import Outputs, note_input
+from mlctool.sim.campaign.cluster import ClusterError, cluster_diagnostic
+from mlctool.sim.run.output import summary, to_json
 
 GLOB_CHARS = "*?["
 
@@ -36,20 +36,21 @@ def batch_cmd(image, target, pattern: str, opts, jobs: int, cluster: str | None,
               junit_path: str | None, program: tuple[str, ...], lines: dict[str, list[str]],
               plan: Outputs, unmodelled: list[Diagnostic] = ()) -> int:
     """Run, report and return the exit status (0 all passed, 1 a scenario failed, 2 bad input).
-    `unmodelled`: the program's W608 (sim/unmodelled.py), shown once, in every JSON document."""
+    `unmodelled`: the program's W608 (sim/run/unmodelled.py), shown once, in every JSON document."""
     paths, problems = expand(pattern)
     if problems:
         show(problems, {})
         return 2
-    for p in paths:  # E606: the planned --junit is one of the stimulus files the pattern found
-        plan.add_input(p)
-    from mlctool.sim.batch import run_batch  # (numpy: imported by batches only)
+    from mlctool.sim.campaign.batch import run_batch  # (numpy: imported by batches only)
 
     try:
         scenarios, stats = run_batch(image, target, paths, opts, jobs, cluster=cluster)
     except ClusterError as e:
         show([cluster_diagnostic(e)], {})
         return 2
+    for sc in scenarios:  # the files its models read (an NC part program) are inputs too
+        for p in sc.inputs:
+            note_input(p)
     show(list(unmodelled), lines)
     bad_input = False
     docs = {}
@@ -72,7 +73,7 @@ def batch_cmd(image, target, pattern: str, opts, jobs: int, cluster: str | None,
         click.echo(f"batch: {len(scenarios)} scenarios, {passed} passed, {len(scenarios) - passed} "
                    f"failed ({stats.lanes} run as lanes, {stats.single + stats.reruns} one by one)")
     if junit_path:
-        from mlctool.sim.junit import to_junit
+        from mlctool.sim.campaign.junit import to_junit
 
         write_outputs(plan, {junit_path: to_junit(scenarios, " ".join(program))})
     if bad_input:

@@ -11,15 +11,16 @@ from pathlib import Path
 import click
 
 from mlctool.asm import program_from_paths
-from mlctool.asm.project import project_tables, table_file
+from mlctool.asm.project import project_tables
 from mlctool.cli import main_group
 from mlctool.cli.common import (
+    Integer,
+    collector_paused,
     encoding_option,
     examples,
     get_target,
     load_tables,
     max_wall_option,
-    output_plan,
     quiet_option,
     said_written,
     show,
@@ -28,11 +29,11 @@ from mlctool.cli.common import (
 )
 from mlctool.config import load_config
 from mlctool.diagnostics import MlcError, Span, diag
-from mlctool.sim import coverage as cov
-from mlctool.sim.cluster import ClusterError, cluster_diagnostic
-from mlctool.sim.junit import to_junit
-from mlctool.sim.output import ms, to_json
-from mlctool.sim.suite import (
+from mlctool.fileio import Outputs, note_input
+from mlctool.sim.campaign import coverage as cov
+from mlctool.sim.campaign.cluster import ClusterError, cluster_diagnostic
+from mlctool.sim.campaign.junit import to_junit
+from mlctool.sim.campaign.suite import (
     ARTIFACT_DIR,
     artifact_paths,
     discover,
@@ -40,8 +41,9 @@ from mlctool.sim.suite import (
     merged_probe,
     run_all,
 )
-from mlctool.sim.unmodelled import unmodelled_writes
-from mlctool.sim.vcd import gtkw_path
+from mlctool.sim.run.output import ms, to_json
+from mlctool.sim.run.unmodelled import unmodelled_writes
+from mlctool.sim.run.vcd import gtkw_path
 
 COVERAGE_FILES = ("coverage.txt", "coverage.json", "coverage.xml")
 
@@ -79,7 +81,7 @@ def _enter_project(path: str | None):
 @target_option
 @encoding_option
 @max_wall_option
-@click.option("--jobs", "-j", type=click.IntRange(1, 64), default=1, show_default=True,
+@click.option("--jobs", "-j", type=Integer(1, 64), default=1, show_default=True,
               help="run scenarios in N worker processes")
 @click.option("--cluster", default=None, metavar="tcp://HOST:PORT",
               help="run the scenarios on this Dask scheduler's workers (docs/scale.md)")
@@ -121,7 +123,7 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
         sys.exit(2)
     stims = _selected(_inside(inside, sources, stims), keywords)
     tables = project_tables(config)
-    plan = output_plan([*sources, *stims, *map(table_file, tables)], config)
+    plan = Outputs()
     if junit_path:
         plan.add(junit_path, "--junit")
     out_dir = out_dir or (os.path.dirname(junit_path) or "." if junit_path else ARTIFACT_DIR)
@@ -134,15 +136,16 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
             plan.add(os.path.join(coverage_dir, name), "--coverage")
     plan.validate()
     preload = load_tables((), tables, target, config)
-    image, diags, lines = program_from_paths(sources, target, config)
+    with collector_paused():
+        image, diags, lines = program_from_paths(sources, target, config)
     if image is None:
         show([d for d in diags if d.severity == "error"], lines)
         sys.exit(2)
     try:
         if with_coverage:
-            scenarios = run_all(image, target, stims, sources, jobs, with_coverage, cluster, preload)
+            scenarios = run_all(image, target, stims, jobs, with_coverage, cluster, preload)
         else:  # a batch: bit-sliced or numpy lanes where the program and stimuli allow (same results)
-            from mlctool.sim.batch import Options, run_batch
+            from mlctool.sim.campaign.batch import Options, run_batch
 
             scenarios = run_batch(image, target, stims, Options(preload=preload), jobs, cluster=cluster)[0]
     except ClusterError as e:
@@ -177,6 +180,9 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
     for sc in scenarios:
         all_lines[sc.stim] = sc.stim_lines
         show(sc.diagnostics, all_lines)
+    for sc in scenarios:  # the files its models read (an NC part program) are inputs too
+        for p in sc.inputs:
+            note_input(p)
     files = {}
     for sc in scenarios:
         if sc.result is not None and not sc.ok:

@@ -15,8 +15,8 @@ from collections.abc import Callable, Iterable
 
 from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Interrupted, Stop
 from mlctool.limits import clip, is_decimal
-from mlctool.sim.quantities import MAX_SCANS
-from mlctool.sim.stimulus import StimError, parse_time
+from mlctool.sim.stimulus.quantities import MAX_SCANS
+from mlctool.sim.stimulus.stimulus import StimError, parse_time
 from mlctool.targetapi.signals import device_signal
 
 HELP = """commands:

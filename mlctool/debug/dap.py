@@ -35,7 +35,7 @@ from typing import BinaryIO
 
 from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Interrupted, Stop
 from mlctool.limits import MAX_DIGITS
-from mlctool.sim.stimulus import StimError
+from mlctool.sim.stimulus.stimulus import StimError
 from mlctool.targetapi.signals import device_signal
 
 THREAD = 1

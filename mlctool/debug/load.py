@@ -10,8 +10,8 @@ from mlctool.config import Config
 from mlctool.debug.session import DebugSession
 from mlctool.diagnostics import Diagnostic
 from mlctool.sim.decode import unsimulated
-from mlctool.sim.run import DEFAULT_SCAN_US, build_models
-from mlctool.sim.stimulus import Stimulus, load_stimulus
+from mlctool.sim.run.run import DEFAULT_SCAN_US, build_models
+from mlctool.sim.stimulus.stimulus import Stimulus, load_stimulus
 
 
 class LoadError(Exception):
@@ -23,9 +23,12 @@ class LoadError(Exception):
 
 def load_session(program: list[str], stim_path: str | None, target, config: Config | None = None,
                  scan_us: int | None = None, engine: str | None = None,
-                 checkpoint_every: int = 100, cwd: str | None = None) -> DebugSession:
+                 checkpoint_every: int = 100, cwd: str | None = None, preload: list = (),
+                 table_files: list[str] = ()) -> DebugSession:
     """`cwd`: the session's current folder (relative `save` paths; the folder `save` may write
-    into when the program is in no project), by default the process's."""
+    into when the program is in no project), by default the process's. `preload`: the register
+    tables loaded with the program (mlc.toml `tables`, `--table`: as mlc sim loads them), read
+    from `table_files` (inputs `save` never overwrites)."""
     image, diags, lines = program_from_paths(list(program), target, config)
     if image is None:
         raise LoadError([d for d in diags if d.severity == "error"], lines)
@@ -40,7 +43,8 @@ def load_session(program: list[str], stim_path: str | None, target, config: Conf
     if bad:
         raise LoadError(bad, {st.path: st.lines})
     period = st.scan_us or scan_us or DEFAULT_SCAN_US
-    session = DebugSession(image, target, st, models, period, engine=engine, checkpoint_every=checkpoint_every)
+    session = DebugSession(image, target, st, models, period, engine=engine, checkpoint_every=checkpoint_every,
+                           preload=preload)
     session.lines = lines
     session.cwd = cwd or os.getcwd()
     if config is not None and config.root is not None:
@@ -51,6 +55,7 @@ def load_session(program: list[str], stim_path: str | None, target, config: Conf
     config_files = [str(config.root / n) for n in ("mlc.toml", "pyproject.toml")] if config and config.root else []
     if config is not None and config.file is not None:
         config_files.append(str(config.file))
-    session.inputs = [p for p in [*program, *lines, *([stim_path] if stim_path else []), *config_files]
+    session.inputs = [p for p in [*program, *lines, *([stim_path] if stim_path else []), *config_files,
+                                  *table_files]
                       if os.path.isfile(p)]
     return session

@@ -35,11 +35,11 @@ from mlctool.debug.expr import Expr, ExprError, resolve_device
 from mlctool.devices.base import ModelIO
 from mlctool.limits import clip, is_decimal
 from mlctool.program import Image
-from mlctool.sim.quantities import MAX_SCANS
-from mlctool.sim.run import Simulation, plan_scans
+from mlctool.sim.run.run import Simulation, plan_scans
 from mlctool.sim.scan import DEFAULT_WATCHDOG, END_SCAN, Fault, begin_scan, end_of_scan
 from mlctool.sim.state import DeviceView, Machine, SimFault
-from mlctool.sim.stimulus import StimError, Stimulus, parse_value
+from mlctool.sim.stimulus.quantities import MAX_SCANS
+from mlctool.sim.stimulus.stimulus import StimError, Stimulus, parse_value
 
 BOUNDARY = -1
 POLL_STEPS = 4096  # instructions executed one by one between two looks at the poll hook
@@ -107,8 +107,9 @@ def check_hit_condition(cond: str) -> str:
 class DebugSession:
     def __init__(self, image: Image, target, stimulus: Stimulus, models: list, period_us: int,
                  engine: str | None = None, watchdog: int = DEFAULT_WATCHDOG,
-                 checkpoint_every: int = 100, max_checkpoints: int = 64):
-        self.sim = Simulation(image, target, stimulus, models, period_us, [], False, watchdog, engine=engine)
+                 checkpoint_every: int = 100, max_checkpoints: int = 64, preload: list = ()):
+        self.sim = Simulation(image, target, stimulus, models, period_us, [], False, watchdog, engine=engine,
+                              preload=preload)
         self.image, self.target, self.period = image, target, period_us
         self.prog = self.sim.prog
         self.steps = self.prog.steps
@@ -130,6 +131,10 @@ class DebugSession:
         # (`save` drops them from the stimulus it writes; an action taken before the scan
         # forgets them: the new timeline checks them again)
         self.failed_expects: dict[tuple[int, int], str] = {}
+        # run-time warnings (W330 ...): each said once per instruction and message, as mlc sim
+        # reports them; `_warnings_seen` counts the machine's list (shorter after going back)
+        self._warned: set[tuple[object, str, str]] = set()
+        self._warnings_seen = 0
         self.stops: list[tuple[Position, dict[str, int | float]]] = []  # watched values at stops
         # called between the scans of every long move (run, goto's replay, reverse-continue's
         # search, a console count's moves) and every POLL_STEPS instructions inside a scan,
@@ -207,6 +212,7 @@ class DebugSession:
         self.sim.models[:] = fresh["models"]
         self.sim.io = ModelIO(m)
         self.sim.irq = m.interrupts
+        self._warnings_seen = len(m.warnings)
 
     def _checkpoint(self) -> None:
         k = self.scan
@@ -301,11 +307,21 @@ class DebugSession:
                         self.output(f"expect failed: {sim.st.path}:{f.line}: {what}"
                                     + (f" (last written by {f.writer})" if f.writer else ""))
                     self.failed_expects.setdefault((k, e.line), what)
+        self._say_warnings()
         self.scan = k + 1
         self.n = BOUNDARY
         self._checkpoint()
         for action in self.actions.get((self.scan, BOUNDARY), ()):
             self._apply(action)
+
+    def _say_warnings(self) -> None:
+        warnings = self.m.warnings
+        for _, pc, code, message in warnings[self._warnings_seen:]:
+            if (pc, code, message) not in self._warned:
+                self._warned.add((pc, code, message))
+                _, path, line = self.sim.warned_at(pc)
+                self.output(f"warning: {path}:{line}: {code} {message}")
+        self._warnings_seen = len(warnings)
 
     def _faulted(self, f: Fault) -> None:
         self.fault = f

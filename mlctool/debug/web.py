@@ -3,14 +3,21 @@
 The page is `mlc ladder`'s (ladder/html.py, the same renderer) plus a control bar and a
 script; it is served on 127.0.0.1 with a WebSocket at `/ws` that carries JSON messages both
 ways. The server is a thin front end over one DebugSession: every request (step, scan, back,
-force, ...) is a call on the session under one lock, and after each one the new state (power
-flow, device values, forces, where the machine is) goes to every connected tab. `run` is the
+force, write, ...) is a call on the session under one lock, and after each one the new state
+(the lit elements, device values, forces, the device table, where the machine is) goes to
+every connected tab. `run` is the
 session's own `run(scans=N)` called every tick (50 ms) for the scans that virtual time owes
 wall-clock time at the chosen speed; a breakpoint, watch or fault ends it.
 
 Contacts, coils and STL state boxes are lit by the rule the simulation report uses
 (ladder/lighting.py, docs/ladder.md "Lighting"), with the devices' values where the machine
-stopped. Instruction boxes show their operands' values below them.
+stopped. Instruction boxes show their operands' values above them.
+
+The device table (docs/debug.md "Device table"), as a PLC tool's device monitor: one per
+session (every tab shows and edits the same rows, at most MAX_TABLE), each row a device
+added by name or symbol with its value, whether it is forced, and its signal's description
+(targetapi/signals.py). An edit is the console's `write` (set once), or `force` on a forced
+row; both are the session's logged actions, refused while it replays ("Pause it first").
 
 Hostile input: every message is parsed and checked; anything wrong gets an `error` reply and
 the connection and the server go on. Messages over MAX_MESSAGE bytes close that connection
@@ -46,9 +53,10 @@ from mlctool.ladder.document import RungView, build_sheet
 from mlctool.ladder.html import page, sheets_body
 from mlctool.ladder.lighting import lamps, lit
 from mlctool.limits import MAX_DIGITS
-from mlctool.sim.quantities import MAX_SCANS
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
-from mlctool.sim.stimulus import StimError
+from mlctool.sim.stimulus.quantities import MAX_SCANS
+from mlctool.sim.stimulus.stimulus import StimError
+from mlctool.targetapi.signals import describe_device
 
 MAX_MESSAGE = 64 * 1024
 TICK_S = 0.05  # a running machine's state goes out at most this often
@@ -61,8 +69,10 @@ MAX_QUEUE = 256  # messages waiting for one tab; past it the tab is disconnected
 # console lines the page may send: not `save` (it writes files) nor `quit`
 CONSOLE_REFUSED = ("save", "quit")
 CONSOLE_MOVES = ("step", "scan", "next", "run", "continue", "back", "reverse-continue", "goto")
+MAX_TABLE = 64  # rows of the device table (one table per session, every tab sees it)
+MAX_VALUE = 100  # characters of a value typed into the table (K10, H0F, -1.5e3 ...)
 COMMANDS = ("state", "step", "scan", "back", "back-scan", "goto", "run", "pause", "force", "release",
-            "toggle", "console")
+            "toggle", "write", "table-add", "table-remove", "console")
 
 
 class RequestError(ValueError):
@@ -149,6 +159,22 @@ class Element:
     bit: DeviceView | None = None  # the device a click forces (contacts and coils)
 
 
+@dataclass
+class Row:
+    """A row of the device table: the device, a symbol naming it, what the target's signal
+    table says it is (NC5 special M/D: `M21000 - 程式啟動 cycle start, MLC->NC ...`)."""
+    view: DeviceView
+    symbol: str
+    signal: str
+
+
+def _read(view: DeviceView, m) -> str:
+    try:
+        return _fmt(view.read(m))
+    except (IndexError, KeyError, ValueError):
+        return "?"
+
+
 def _view(text: str, target, width: int, box: bool) -> DeviceView | None:
     """An operand's view for display: words of 32-bit instructions as :d, timers and
     counters in boxes as their value (a contact shows their contact)."""
@@ -207,6 +233,7 @@ class Monitor:
         self.elements = elements_of(session, self.sheet)
         self.lamps = lamps(self.sheet)
         self.shown: dict[str, DeviceView] = {}
+        self.table: dict[str, Row] = {}  # the device table, in the order rows were added
         for el in self.elements.values():
             for v in ([el.bit] if el.bit else []) + el.values:
                 self.shown.setdefault(v.name, v)
@@ -232,12 +259,7 @@ class Monitor:
         s = self.s
         with self.lock:
             m = s.m
-            values = {}
-            for name, view in self.shown.items():
-                try:
-                    values[name] = _fmt(view.read(m))
-                except (IndexError, KeyError, ValueError):
-                    values[name] = "?"
+            values = {name: _read(view, m) for name, view in self.shown.items()}
             return {
                 "type": "state", "scan": s.scan, "time": _time(s.time_us), "where": s.where(),
                 "pc": s.pc if s.n != BOUNDARY else None, "running": self.running,
@@ -246,6 +268,8 @@ class Monitor:
                 "on": lit(self.lamps, s.steps, m),  # the report's rule (ladder/lighting.py)
                 "values": values,
                 "forced": {v.name: _fmt(value) for v, value in s.sim.forces.items()},
+                "table": [{"device": name, "symbol": row.symbol, "signal": row.signal, "value": _read(row.view, m)}
+                          for name, row in self.table.items()],
             }
 
     def page(self) -> str:
@@ -404,10 +428,7 @@ class Monitor:
     def cmd_force(self, msg):
         with self.lock:
             view = self._device(msg)
-            value = msg.get("value")
-            if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-                raise RequestError("`force` needs `value` (a number or a string such as \"K10\")")
-            v = self.s.value_for(view, str(value))
+            v = self._value(msg, view)
             self.s.force(view, v)
             return f"forced {view.name}={_fmt(v)}", True
 
@@ -416,6 +437,54 @@ class Monitor:
             view = self._device(msg)
             self.s.release(view)
             return f"released {view.name}", True
+
+    def _value(self, msg: dict, view: DeviceView) -> int | float:
+        """`value`: a number, or a string as the console takes it (1, K10, H0F, -1.5)."""
+        value = msg.get("value")
+        if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+            raise RequestError(f"`{msg['cmd']}` needs `value` (a number or a string such as \"K10\")")
+        if isinstance(value, str) and len(value) > MAX_VALUE:
+            raise RequestError(f"`value`: at most {MAX_VALUE} characters")
+        return self.s.value_for(view, str(value))
+
+    def cmd_write(self, msg):
+        """The device table's edit of a device that is not forced: a one-shot set, as the
+        console's `write` (the program may change it again; docs/debug.md "Device table")."""
+        with self.lock:
+            view = self._device(msg)
+            v = self._value(msg, view)
+            self.s.write(view, v)
+            return f"wrote {view.name}={_fmt(v)}", True
+
+    def cmd_table_add(self, msg):
+        with self.lock:
+            text = self._arg(msg, "device").strip()
+            view = self._device(msg)
+            if view.name in self.table:
+                raise RequestError(f"{view.name} is in the table already")
+            if len(self.table) >= MAX_TABLE:
+                raise RequestError(f"the table holds at most {MAX_TABLE} devices: remove one first")
+            self.table[view.name] = Row(view, self._symbol_of(text, view), self._signal_of(view))
+            return f"added {view.name}", True
+
+    def cmd_table_remove(self, msg):
+        with self.lock:
+            view = self._device(msg)
+            if self.table.pop(view.name, None) is None:
+                raise RequestError(f"{view.name} is not in the table")
+            return f"removed {view.name}", True
+
+    def _symbol_of(self, typed: str, view: DeviceView) -> str:
+        """The symbol the row was added by, else the first (sorted) symbol naming the device."""
+        symbols = self.s.symbols
+        if typed in symbols:
+            return typed
+        return next((name for name in sorted(symbols) if str(symbols[name]).upper() == view.name), "")
+
+    def _signal_of(self, view: DeviceView) -> str:
+        if view.view not in ("bit", "w", "d"):
+            return ""
+        return describe_device(self.s.target, view.kind, view.number) or ""
 
     def cmd_toggle(self, msg):
         """A click on a contact or coil: force its bit to the other value."""
@@ -719,11 +788,26 @@ MONITOR_STYLE = """
 .lad text.val{font-size:10px;fill:#1f4f9f}
 #out:empty{display:none}
 body.off main{opacity:.5}
+#devices{position:fixed;right:8px;bottom:8px;z-index:3;background:#fff;border:1px solid #bbb;
+box-shadow:0 2px 8px rgba(0,0,0,.15);font-size:12px;max-height:45vh;max-width:60vw;overflow:auto;padding:4px 8px}
+#devices form{display:flex;gap:4px;align-items:center}
+#devices b{margin-right:4px}
+#add-dev{font-family:monospace;width:16em}
+#devtable{border-collapse:collapse;margin-top:4px}
+#devtable th,#devtable td{border:1px solid #ddd;padding:1px 6px;text-align:left;vertical-align:middle}
+#devtable th{background:#f4f4f4;font-weight:normal}
+#devtable input.val{font-family:monospace;width:8em}
+#devtable tr.forced td,#devtable tr.forced input.val{color:#d35400;font-weight:bold}
+#devtable td.sig{color:#555;max-width:28em;overflow:hidden;text-overflow:ellipsis;white-space:nowrap}
+#devtable.empty{display:none}
+main{padding-bottom:45vh}
 """.strip()
 
 # The page's side: `data` says which device each element shows; a state message lights the
-# elements that conduct, writes values and marks forces. A click on a contact or coil forces
-# its device to the other value; shift-click (or the list's release button) releases it.
+# elements by the lighting rule, writes values and marks forces, and fills the device table.
+# A click on a contact or coil forces its device to the other value; shift-click (or the
+# list's release button) releases it. In the table, Enter in a value sets it once (`write`),
+# or forces it on a row whose force box is ticked; ticking the box forces the value shown.
 MONITOR_SCRIPT = r"""
 (function(){
   var data=JSON.parse(document.getElementById('monitor').textContent);
@@ -736,6 +820,58 @@ MONITOR_SCRIPT = r"""
   var out=document.createElement('pre'); out.id='out'; bar.parentNode.insertBefore(out,bar.nextSibling);
   var where=document.getElementById('where'), stopEl=document.getElementById('stop');
   var forcedEl=document.getElementById('forced'), cmd=document.getElementById('cmd');
+  // the device table: a panel of its own (docked bottom right), rows kept across states so
+  // that a value being typed is not overwritten by the next state
+  var panel=document.createElement('section'); panel.id='devices';
+  panel.innerHTML='<form id="add"><b>Devices</b><input id="add-dev" placeholder="device or symbol: D0, X0, M21000" '+
+    'aria-label="device to add"><button type="submit">Add</button></form><table id="devtable" class="empty"><thead><tr>'+
+    '<th>device</th><th>symbol</th><th title="Enter sets it once; on a forced row, forces the new value">value</th>'+
+    '<th title="held until released">force</th><th>signal</th><th></th></tr></thead><tbody></tbody></table>';
+  document.body.appendChild(panel);
+  var devtable=document.getElementById('devtable'), tbody=devtable.querySelector('tbody'), rows={}, last=null;
+  var addDev=document.getElementById('add-dev');
+  function newRow(r){
+    var tr=document.createElement('tr'); tr.setAttribute('data-device',r.device);
+    function cell(text,cls){ var td=document.createElement('td'); td.textContent=text; if(cls) td.className=cls;
+      tr.appendChild(td); return td; }
+    cell(r.device,'mon'); cell(r.symbol,'mon');
+    var input=document.createElement('input'); input.className='val'; input.setAttribute('aria-label','value of '+r.device);
+    cell('').appendChild(input);
+    var box=document.createElement('input'); box.type='checkbox'; box.setAttribute('aria-label','force '+r.device);
+    cell('').appendChild(box);
+    var sig=cell(r.signal,'sig'); sig.title=r.signal;
+    var del=document.createElement('button'); del.type='button'; del.textContent='remove';
+    cell('').appendChild(del);
+    input.addEventListener('keydown',function(ev){
+      if(ev.key==='Enter'&&input.value.trim()){  // set once; a forced row: force the new value
+        send({cmd:box.checked?'force':'write',device:r.device,value:input.value.trim()}); input.blur();
+      } else if(ev.key==='Escape'){ input.value=input.getAttribute('data-value'); input.blur(); }
+    });
+    box.addEventListener('change',function(){
+      if(box.checked) send({cmd:'force',device:r.device,value:input.value.trim()});
+      else send({cmd:'release',device:r.device});
+    });
+    del.addEventListener('click',function(){ send({cmd:'table-remove',device:r.device}); });
+    tbody.appendChild(tr);
+    return {tr:tr,input:input,box:box};
+  }
+  function showTable(st){
+    var keep={};
+    st.table.forEach(function(r){
+      keep[r.device]=1;
+      var row=rows[r.device]||(rows[r.device]=newRow(r)), forced=st.forced.hasOwnProperty(r.device);
+      row.tr.classList.toggle('forced',forced);
+      row.box.checked=forced;
+      row.input.setAttribute('data-value',r.value);
+      if(document.activeElement!==row.input) row.input.value=r.value;
+    });
+    Object.keys(rows).forEach(function(n){ if(!keep[n]){ tbody.removeChild(rows[n].tr); delete rows[n]; } });
+    devtable.classList.toggle('empty',!st.table.length);
+  }
+  document.getElementById('add').addEventListener('submit',function(ev){
+    ev.preventDefault();
+    if(addDev.value.trim()){ send({cmd:'table-add',device:addDev.value.trim()}); addDev.value=''; }
+  });
   var els={}, vals={};
   Array.prototype.forEach.call(document.querySelectorAll('.el[data-i]'),function(g){
     var i=g.getAttribute('data-i'), d=data.elements[i];
@@ -794,6 +930,8 @@ MONITOR_SCRIPT = r"""
       var r=els[st.pc][0].getBoundingClientRect();
       if(r.top<80||r.bottom>window.innerHeight) els[st.pc][0].scrollIntoView({block:'center'});
     }
+    showTable(st);
+    last=st;
     document.body.setAttribute('data-scan',st.scan);
   }
   function connect(){
@@ -803,7 +941,9 @@ MONITOR_SCRIPT = r"""
       var msg=JSON.parse(ev.data);
       if(msg.type==='state') show(msg);
       else if(msg.type==='output') log(msg.text);
-      else if(msg.type==='error'){ log('error: '+msg.message,'err'); delete pending[msg.id]; }
+      else if(msg.type==='error'){  // a refused edit: the table shows the state again
+        log('error: '+msg.message,'err'); delete pending[msg.id]; if(last) showTable(last);
+      }
       else if(msg.type==='reply'){ if(msg.text) log(msg.text); delete pending[msg.id]; }
     };
     ws.onclose=function(){ document.body.classList.add('off'); where.textContent='disconnected (is mlc debug --web still running?)'; };

@@ -10,7 +10,7 @@ from __future__ import annotations
 from mlctool.sim import signals
 from mlctool.sim.signals import SIGNAL
 from mlctool.sim.state import DeviceView, Machine, NameError_, parse_device_name
-from mlctool.sim.stimulus import StimError, parse_time
+from mlctool.sim.stimulus.stimulus import StimError, parse_time
 from mlctool.targetapi.model import Target
 
 
@@ -61,14 +61,26 @@ class ModelIO:
                     store[key] = v
         return put
 
+    def warn(self, model: DeviceModel, code: str, message: str) -> None:
+        """A run-time warning (a W code of codes.toml) of `model`, reported at its stimulus line
+        as the program's run-time warnings are at their instruction (sim/semantics.py warn):
+        once per message in a run; the run goes on."""
+        self._m.warnings.append((self._m.now_us, model.at, code, message))
+
+    def on_read(self, model: str, refresh) -> None:
+        """refresh() runs before a signal of `model` is read (an expectation, the trace, the
+        debugger): a model that skips steps while nothing but time passes (the NC5's virtual
+        NC) brings its signals up to date there."""
+        self._m.signal_refresh[SIGNAL + model] = refresh
+
     def set_pulse_mode(self, axis: int, mode: str) -> None:
         """The pulse output mode ("UD", "PR", "AB") of pulse axis `axis` for this run, over the
         project's setting; a target with pulse axes reads Machine.ext["pulse_modes"]."""
         self._m.ext.setdefault("pulse_modes", {})[axis] = mode
 
     def serial_port(self, name: str):
-        """The PLC's serial port `name` (CP1...), for models on a Modbus link (sim/seriallink.py)."""
-        from mlctool.sim.seriallink import port  # only models on a link need it
+        """The PLC's serial port `name` (CP1...), for models on a Modbus link (sim/hardware/seriallink.py)."""
+        from mlctool.sim.hardware.seriallink import port  # only models on a link need it
 
         return port(self._m, name)
 
@@ -79,6 +91,7 @@ class DeviceModel:
 
     kind = ""
     name = ""  # set by models that publish signals (sim/signals.py): `XC1` of `XC1.pos`
+    at: tuple[str, int] = ("<model>", 1)  # its stimulus file and line (build_models): where it warns
 
     def __init__(self, params: dict[str, str], target: Target):
         self.params = params
@@ -124,6 +137,11 @@ class DeviceModel:
                 raise ParamError(key, f"model {self.kind} has no parameter {key!r}")
 
     # -- simulation
+    def power_cycle(self) -> None:
+        """The PLC's power went off and on (a stimulus `power` line), after the step of that
+        scan. A device with its own supply ignores it (the default); the NC5's NC, the same
+        controller as its MLC, starts again."""
+
     def devices(self) -> list[DeviceView]:
         """Devices the model reads or drives (reported in JSON and waveforms)."""
         return []

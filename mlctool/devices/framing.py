@@ -4,7 +4,7 @@ stream receivers over bytes; nothing here reads a clock or opens a port (a recei
 the time of each chunk).
 
 Users: `mlc device serve` (devices/xc100/server.py: byte streams from TCP or a serial port),
-the simulated RS-485 line of `mlc sim` (sim/seriallink.py: whole frames with times, the PLC
+the simulated RS-485 line of `mlc sim` (sim/hardware/seriallink.py: whole frames with times, the PLC
 master's requests and the device models' answers). Modbus application protocol 1.1b; the
 XC100 manual 004 8.1 (frames), 8.4 (request lengths).
 

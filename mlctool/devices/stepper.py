@@ -26,6 +26,7 @@ Output 之工作模式" set in the programming tool: it overrides mlc.toml `puls
 from __future__ import annotations
 
 from mlctool.devices.base import DeviceModel, ModelIO, ParamError
+from mlctool.limits import is_decimal
 from mlctool.sim.signals import KINDS, MODEL_NAME
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
 from mlctool.sim.state import parse_signal_name as parse_signal
@@ -70,7 +71,7 @@ class Stepper(DeviceModel):
 
     def _int(self, key: str, default: str | None, lo: int, hi: int) -> int:
         text = self._param(key, default)
-        if not text.isdigit() or not lo <= int(text) <= hi:
+        if not is_decimal(text) or not lo <= int(text) <= hi:  # ASCII digits (mlctool/limits.py)
             raise ParamError(key, f"{key} takes {lo}..{hi}, not {text!r}")
         return int(text)
 

@@ -14,8 +14,8 @@ from __future__ import annotations
 
 from mlctool.devices.base import DeviceModel, ModelIO, ParamError
 from mlctool.limits import is_decimal
-from mlctool.sim.serial_stim import BAUDS
-from mlctool.sim.seriallink import PORT_NAMES, LineSettings
+from mlctool.sim.hardware.seriallink import PORT_NAMES, LineSettings
+from mlctool.sim.stimulus.serial_stim import BAUDS
 from mlctool.targetapi.model import Target
 
 

@@ -144,6 +144,16 @@ def comment_of(sheet: Sheet, index: int) -> str:
     return sheet.device_comments.get(sym.upper()) or sheet.device_comments.get(dev.upper(), "")
 
 
+def clip(s: str, n: int) -> str:
+    """s in at most n display columns (Chinese characters count two), cut with `…`: the one
+    rule of the SVG and the terminal drawings."""
+    if display_width(s) <= n:
+        return s
+    while s and display_width(s) > n - 1:
+        s = s[:-1]
+    return s + "…"
+
+
 def fold(text: str, width: int, lines: int) -> list[str]:
     """`text` in at most `lines` lines of `width` display columns (Chinese characters count
     two), broken at spaces where it can; what does not fit ends in `…`."""

@@ -16,7 +16,7 @@ from mlctool.ladder.document import RungView, Sheet, build_sheet
 from mlctool.ladder.html import _e, page, sheets_body
 from mlctool.ladder.lighting import lamps, lit
 from mlctool.ladder.svg import anchor
-from mlctool.sim.run import Failure, RunResult, Simulation
+from mlctool.sim.run.run import Failure, RunResult, Simulation
 from mlctool.sim.state import DeviceView, Machine
 from mlctool.targetapi.registry import simulation_of
 

@@ -15,6 +15,7 @@ from mlctool.ladder.document import (
     RowView,
     RungView,
     Sheet,
+    clip,
     comment_of,
     fold,
     instr_text,
@@ -126,14 +127,6 @@ def _output_end(ox: int, kind: str, geo: Geometry) -> int:
     return ox + {"coil": 46, "pin": 40}.get(kind, geo.out_w)
 
 
-def _clip(s: str, n: int) -> str:
-    """s in at most n display columns."""
-    if display_width(s) <= n:
-        return s
-    while s and display_width(s) > n - 1:
-        s = s[:-1]
-    return s + "…"
-
 
 def _text(x: float, y: float, s: str, cls: str = "", anchor: str = "middle") -> str:
     c = f' class="{cls}"' if cls else ""
@@ -161,9 +154,9 @@ def _labels(sheet: Sheet, index: int, x: float, y: int, geo: Geometry) -> list[s
     devs = operand_texts(ins)
     out = []
     if devs:
-        out.append(_text(x, y - 18, _clip(devs[0][0], CW // 7)))
+        out.append(_text(x, y - 18, clip(devs[0][0], CW // 7)))
         below = devs[0][1] or sheet.names.get(index, "")  # the written symbol, else a signal's name
-        under = [(_clip(below, DEVICE_COMMENT_CHARS), "small")] if below else []
+        under = [(clip(below, DEVICE_COMMENT_CHARS), "small")] if below else []
         if geo.comments:
             under += [(t, "dcomment") for t in fold(comment_of(sheet, index), DEVICE_COMMENT_CHARS,
                                                      DEVICE_COMMENT_LINES + 1 - len(under))]
@@ -195,9 +188,9 @@ def _cell(sheet: Sheet, c: Cell, geo: Geometry) -> str:
         rel = ("D" if c.ins.spec.width == 32 else "") + c.glyph
         parts += [_line(x0, y, x0 + 10, y), _line(x1 - 10, y, x1, y),
                   f'<rect class="box" x="{x0 + 10}" y="{y - 13}" width="{x1 - x0 - 20}" height="26"/>',
-                  _text(mid, y + 4, _clip(f"{s1} {rel} {s2}", 2 * CW // 7 - 3))]
+                  _text(mid, y + 4, clip(f"{s1} {rel} {s2}", 2 * CW // 7 - 3))]
         if sym1 or sym2:
-            parts.append(_text(mid, y + 26, _clip(f"{sym1 or s1} {rel} {sym2 or s2}", 2 * CW // 6 - 1), "small"))
+            parts.append(_text(mid, y + 26, clip(f"{sym1 or s1} {rel} {sym2 or s2}", 2 * CW // 6 - 1), "small"))
     elif c.kind == "inv":
         parts += [_line(x0, y, x1, y), _line(mid - 8, y + 12, mid + 8, y - 12, "sym"),
                   _text(mid, y - 18, "INV", "small")]
@@ -246,15 +239,15 @@ def _output(sheet: Sheet, geo: Geometry, ox: int, o: Output, y: int) -> list[str
         w = geo.out_w - 8
         chars = int((w - 8) / CHAR)
         g = [f'<rect class="box" x="{ox + 4}" y="{y - 13}" width="{w}" height="26"/>',
-             _text(ox + 4 + w / 2, y + 4, _clip(_box_text(o.ins), chars))]
+             _text(ox + 4 + w / 2, y + 4, clip(_box_text(o.ins), chars))]
         if any(s for _, s in operand_texts(o.ins)):
-            g.append(_text(ox + 4 + w / 2, y + 26, _clip(instr_text(o.ins), int((w - 4) / SMALL_CHAR)), "small"))
+            g.append(_text(ox + 4 + w / 2, y + 26, clip(instr_text(o.ins), int((w - 4) / SMALL_CHAR)), "small"))
     parts.append(f'<g class="el" data-i="{index}">' + "".join(g) + _title(sheet, index, instr_text(o.ins)) + "</g>")
     note = sheet.notes.get(index)
     x = _output_end(ox, o.kind, geo) + 8
     room = int((geo.page - 4 - x) / 6.7)  # 11 px italic
     if note and room >= MIN_NOTE:
-        parts.append(_text(x, y + 4, _clip(note, room), "note", "start"))
+        parts.append(_text(x, y + 4, clip(note, room), "note", "start"))
     return parts
 
 
@@ -272,7 +265,7 @@ def item_svg(sheet: Sheet, it: RungView | RowView, geo: Geometry) -> list[str]:
     """The drawing of one rung or row, top at y = 0, as SVG elements."""
     top = len(it.comment) * COMMENT_H
     text_room = int((geo.page - LM - 16) / CHAR)
-    parts = [_text(LM + 8, 12 + k * COMMENT_H, _clip(c, text_room), "comment", "start")
+    parts = [_text(LM + 8, 12 + k * COMMENT_H, clip(c, text_room), "comment", "start")
              for k, c in enumerate(it.comment)]
     # the rail runs on through the comment lines and the gap to the next rung
     body: list[str] = [_line(LM, -top, LM, item_height(it, geo) - top + GAP, "rail")]

@@ -16,6 +16,7 @@ from mlctool.ladder.document import (
     RowView,
     RungView,
     Sheet,
+    clip,
     comment_of,
     fold,
     instr_text,
@@ -110,13 +111,6 @@ def _cx(x: int) -> int:
     return LMT + x * TW  # column 0 starts on the rail, as the SVG's branch buses do
 
 
-def _clip(s: str, n: int) -> str:
-    if display_width(s) <= n:
-        return s
-    while s and display_width(s) > n - 1:
-        s = s[:-1]
-    return s + "…"
-
 
 def _under(sheet: Sheet, index: int, lay: Layout) -> list[str]:
     """The lines under a contact or coil: the symbol as written, then the device comment."""
@@ -124,7 +118,7 @@ def _under(sheet: Sheet, index: int, lay: Layout) -> list[str]:
     if not ins.operands or index < 0:
         return []
     sym = operand_texts(ins)[0][1]
-    out = [_clip(sym, TW - 1)] if sym else []
+    out = [clip(sym, TW - 1)] if sym else []
     if lay.comments:
         out += fold(comment_of(sheet, index), TW - 1, DEVICE_COMMENT_LINES)
     return out
@@ -159,7 +153,7 @@ def _cell(cv: Canvas, sheet: Sheet, pc: _Piece, c: Cell, lay: Layout) -> None:
     elif c.kind == "compare":
         (s1, _), (s2, _) = operand_texts(c.ins)[:2]
         rel = ("D" if c.ins.spec.width == 32 else "") + c.glyph
-        cv.center(x0, x1, y, _clip(f"[{s1}{rel}{s2}]", x1 - x0 - 1))
+        cv.center(x0, x1, y, clip(f"[{s1}{rel}{s2}]", x1 - x0 - 1))
     elif c.kind in ("inv", "nop"):
         cv.center(x0, x1, y, "╱" if c.kind == "inv" else "")
         cv.center(x0, x1, y - 1, c.kind.upper(), "symbol")
@@ -185,12 +179,12 @@ def _output(cv: Canvas, sheet: Sheet, ox: int, y: int, o: Output, lay: Layout) -
         for k, t in enumerate(_under(sheet, o.index, lay)):
             cv.put(ox, y + 1 + k, t, STYLES["dcomment" if k or not operand_texts(o.ins)[0][1] else "symbol"])
     else:
-        s = _clip(_out_text(o.ins), lay.width - ox)
+        s = clip(_out_text(o.ins), lay.width - ox)
         cv.put(ox, y, s, STYLES["box"])
     note = sheet.notes.get(o.index)
     room = lay.width - (ox + display_width(s) + 4)
     if note and room >= 6:
-        cv.put(ox + display_width(s) + 2, y, "; " + _clip(note, room), STYLES["note"])
+        cv.put(ox + display_width(s) + 2, y, "; " + clip(note, room), STYLES["note"])
 
 
 def _lines_per_row(sheet: Sheet, it: RungView, lay: Layout) -> int:
@@ -229,7 +223,7 @@ def item_text(sheet: Sheet, it: RungView | RowView, lay: Layout) -> Text:
             _draw_piece(cv, sheet, pc, lay)
     out = Text()
     for c in it.comment:
-        out.append(_clip(" " * (LMT + 2) + "; " + c, lay.width) + "\n", STYLES["comment"])
+        out.append(clip(" " * (LMT + 2) + "; " + c, lay.width) + "\n", STYLES["comment"])
     out.append_text(cv.text())
     return out
 
@@ -258,7 +252,7 @@ def sheets_text(sheets: list[Sheet], width: int = DEFAULT_WIDTH, comments: bool 
     lay = text_layout(sheets, width, comments)
     out = Text()
     for sh in sheets:
-        out.append(_clip(sh.path, lay.width) + "\n", "bold")
+        out.append(clip(sh.path, lay.width) + "\n", "bold")
         for it in sh.items:
             out.append_text(item_text(sh, it, lay))
     return out

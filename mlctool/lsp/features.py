@@ -13,6 +13,7 @@ from typing import NamedTuple
 
 from mlctool.codes import CODES
 from mlctool.diagnostics import Diagnostic
+from mlctool.limits import is_decimal
 from mlctool.lsp.project import LABEL, Analysis, Place
 from mlctool.syntax.operands import SYMBOL, OperandSyntaxError, parse_operand
 from mlctool.targetapi.model import InstrSpec, Target
@@ -399,7 +400,7 @@ def completions(a: Analysis, path: str, line: int, col: int, line_text: str) -> 
         return []
     words = code.split()
     first_word = not words or (len(words) == 1 and not code.endswith((" ", "\t")))
-    if words and words[0].isdigit():  # a leading step number
+    if words and is_decimal(words[0]):  # a leading step number
         first_word = len(words) == 1 and code.endswith((" ", "\t")) or (len(words) == 2 and not code.endswith((" ", "\t")))
     if first_word:
         out = []

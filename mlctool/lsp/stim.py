@@ -47,8 +47,8 @@ def diagnostics(path: str, text: str, target: Target) -> list[Diagnostic]:
     """What `mlc sim --stimulus FILE` says of the file before it runs: the stimulus parser's
     diagnostics, the device models' (unknown kind, bad parameter, a signal of no model), and a
     run past the bound of scans (at the default scan period unless the file sets one)."""
-    from mlctool.sim.run import DEFAULT_SCAN_US, RunTooLong, build_models, plan_scans
-    from mlctool.sim.stimulus import parse_stimulus_text
+    from mlctool.sim.run.run import DEFAULT_SCAN_US, RunTooLong, build_models, plan_scans
+    from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 
     st, diags = parse_stimulus_text(path, text, target)
     _, model_diags = build_models(st, target)
@@ -115,7 +115,7 @@ def hover(line_text: str, col: int, target: Target) -> tuple[str, int, int, str 
     keyword's form and meaning; a device's view, value range and the target's device kind.
     The caller adds where the program reads and writes the device."""
     from mlctool.sim.state import NameError_, parse_device_name
-    from mlctool.sim.stimulus import _range
+    from mlctool.sim.stimulus.stimulus import _range
 
     code = _code(line_text)
     for m in _TOKEN.finditer(code):
@@ -157,7 +157,7 @@ def hover(line_text: str, col: int, target: Target) -> tuple[str, int, int, str 
 
 def _code(text: str) -> str:
     """The line without its comment: `#` starts one except `#250` (a scan number) first on the
-    line or after `run` (mlctool/sim/stimulus.py)."""
-    from mlctool.sim.stimulus import _strip_comment
+    line or after `run` (mlctool/sim/stimulus/stimulus.py)."""
+    from mlctool.sim.stimulus.stimulus import _strip_comment
 
     return _strip_comment(text)

@@ -12,7 +12,7 @@ from mlctool.program import Image, Instr, rung_starts
 from mlctool.sim import semantics
 from mlctool.sim.operands import Ref, decode_operand
 from mlctool.sim.state import DeviceView
-from mlctool.targetapi.model import Target
+from mlctool.targetapi.model import OperandSpec, Target
 from mlctool.targetapi.registry import simulation_of
 
 
@@ -138,9 +138,19 @@ def _pulsed(run: Callable) -> Callable:
     return pulse
 
 
+def _allowed(o: OperandSpec, op, width: int) -> tuple[tuple[int, int], ...]:
+    """The numbers an operand's table entry narrows its kind to (ranges, devices16/32)."""
+    narrow = o.devices32 if width == 32 else o.devices16
+    spans = tuple(o.allowed(op.kind) or ())
+    if narrow:
+        spans = tuple((max(a, narrow[0]), min(b, narrow[1])) for a, b in spans or (narrow,)
+                      if max(a, narrow[0]) <= min(b, narrow[1]))
+    return spans
+
+
 def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) -> Program:
     """`flow`: the program-flow routines of scan.py (CJ, CALL, SRET, FEND, END, FOR, NEXT).
-    `probe`: a coverage recorder (mlctool/sim/coverage.py) whose wrappers every step runs through."""
+    `probe`: a coverage recorder (mlctool/sim/campaign/coverage.py) whose wrappers every step runs through."""
     steps: list[Step] = []
     starts = rung_starts(image.instrs)
     routines = actions(target)
@@ -156,7 +166,8 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
         ops = []
         for o_spec, op, text in zip(spec.operands, ins.operands, ins.texts, strict=False):
             as_bits = contact_like or (spec.op == "vrt" and o_spec.role == "S")
-            key = (id(op), spec.width, text, as_bits)
+            allowed = _allowed(o_spec, op, spec.width) if op.index else ()
+            key = (id(op), spec.width, text, as_bits, allowed)
             ref = refs.get(key)
             if ref is None:
                 dev = target.devices.get(op.device) if not op.is_const else None
@@ -164,6 +175,7 @@ def decode(image: Image, target: Target, flow: dict[str, Callable], probe=None) 
                     ref = Ref(op, 16, dev.hi, text)
                 else:
                     ref = decode_operand(op, spec.width, target, text, as_bits)
+                ref.allowed = allowed
                 refs[key] = ref
             ops.append(ref)
         step = Step(ins, k, tuple(ops), spec.width, ins.steps, ins.table,

@@ -15,7 +15,7 @@ from mlctool.targetapi.model import Target
 
 
 class Ref:
-    __slots__ = ("kind", "num", "width", "ix", "ixn", "hi", "text")
+    __slots__ = ("kind", "num", "width", "ix", "ixn", "hi", "text", "allowed")
 
     def __init__(self, op: Operand, width: int, hi: int, text: str):
         self.kind = op.device if not op.is_const else op.kind
@@ -24,6 +24,9 @@ class Ref:
         self.ix, self.ixn = op.index if op.index else (None, 0)
         self.hi = hi  # highest valid device number
         self.text = text
+        # the numbers the instruction's table allows this operand (JOGF D1: Y0-Y3), where
+        # narrower than the device: an index-modified operand is held to them at run time
+        self.allowed: tuple[tuple[int, int], ...] = ()
 
     def index_value(self, m: Machine) -> int:
         if self.ix is None:
@@ -33,12 +36,29 @@ class Ref:
         return s16(m.words[self.ix][self.ixn])
 
     def addr(self, m: Machine, extent: int = 1) -> int:
+        """The device number the operand addresses; an index-modified one must lie, with the
+        `extent` devices from it, inside the device (the checker saw only its base)."""
         a = self.num
         if self.ix is not None:
             a += self.index_value(m)
             if a < 0 or a + extent - 1 > self.hi:
                 raise SimFault(f"{self.text} with {self.ix}{self.ixn}={self.index_value(m)} addresses "
-                               f"{self.kind}{a}, outside {self.kind}0-{self.kind}{self.hi}")
+                               f"{self.kind}{a}" + (f"-{self.kind}{a + extent - 1}" if extent > 1 else "")
+                               + f", outside {self.kind}0-{self.kind}{self.hi}")
+            if self.allowed and not any(lo <= a <= hi for lo, hi in self.allowed):
+                spans = ", ".join(f"{self.kind}{lo}-{self.kind}{hi}" for lo, hi in self.allowed)
+                raise SimFault(f"{self.text} with {self.ix}{self.ixn}={self.index_value(m)} addresses "
+                               f"{self.kind}{a}; the instruction takes {spans} here")
+        return a
+
+    def block(self, m: Machine, extent: int) -> int:
+        """addr of a block whose length the instruction fixes (MUL D's words, DECO D's 2^n
+        bits, FCMP's three bits): all of it must exist, indexed or not, since its length may
+        come from a register (n = D1) the checker cannot read. (Instructions whose page says
+        a block past the end moves only its valid part, FMOV/BMOV, cut it themselves.)"""
+        a = self.addr(m, extent)
+        if a + extent - 1 > self.hi:
+            raise SimFault(f"{self.text}: {extent} devices from {self.kind}{a} run past {self.kind}{self.hi}")
         return a
 
     def wrap(self, v: int) -> int:
@@ -107,7 +127,7 @@ class WordRef(Ref):
 
     def set_words(self, m: Machine, words: list[int]) -> None:
         """Consecutive 16-bit words from the operand on (MUL/DIV destinations)."""
-        a = self.addr(m, len(words))
+        a = self.block(m, len(words))
         w = m.words[self.kind]
         for k, x in enumerate(words):
             w[a + k] = x & 0xFFFF
@@ -144,12 +164,12 @@ class CounterRef(Ref):
     def set_words(self, m: Machine, words: list[int]) -> None:
         a = self.addr(m)
         if m.is_c32(a):  # C64-C79 hold 32 bits each: pair the words up
-            a = self.addr(m, len(words) // 2)
+            a = self.block(m, len(words) // 2)
             for k in range(0, len(words), 2):
                 m.cval[a + k // 2] = s32(words[k] | (words[k + 1] << 16))
                 m.writer[("C", a + k // 2)] = m.pc
             return
-        a = self.addr(m, len(words))
+        a = self.block(m, len(words))
         for k, x in enumerate(words):
             m.cval[a + k] = x & 0xFFFF
             m.writer[("C", a + k)] = m.pc
@@ -181,6 +201,21 @@ class GroupRef(Ref):
             bits[a + i] = (v >> i) & 1
             m.writer[(self.kind, a + i)] = m.pc
 
+    def set_words(self, m: Machine, words: list[int]) -> None:
+        """A result of several registers (MUL/DIV D) into groups one after another, each
+        taking one register's value (a pair's in a 32-bit instruction), its low 4n bits:
+        K4M0 as MUL's D is M0-M15 (the product's low word) and M16-M31 (its high word), as
+        D would be D and D+1 (DECISION: the VS operand matrices are lost; a group stands for
+        a register, so several registers are several groups, as in the block instructions)."""
+        per = 2 if self.width == 32 else 1
+        values = [sum((words[k + h] & 0xFFFF) << (16 * h) for h in range(per)) for k in range(0, len(words), per)]
+        a = self.block(m, self.n * len(values))
+        bits = m.bits[self.kind]
+        for j, v in enumerate(values):
+            for i in range(self.n):
+                bits[a + j * self.n + i] = (v >> i) & 1
+                m.writer[(self.kind, a + j * self.n + i)] = m.pc
+
 
 class BitRef(Ref):
     """X Y M A, and T/C contacts; `k` selects a following bit (FCMP D, D+1, D+2)."""
@@ -188,10 +223,10 @@ class BitRef(Ref):
     __slots__ = ()
 
     def bit(self, m: Machine, k: int = 0) -> int:
-        return m.bits[self.kind][self.addr(m, k + 1) + k]
+        return m.bits[self.kind][(self.block(m, k + 1) if k else self.addr(m)) + k]
 
     def setbit(self, m: Machine, v: int, k: int = 0) -> None:
-        a = self.addr(m, k + 1) + k
+        a = (self.block(m, k + 1) if k else self.addr(m)) + k
         m.bits[self.kind][a] = 1 if v else 0
         m.writer[(self.kind, a)] = m.pc
 

@@ -394,19 +394,38 @@ def zrst(m: Machine, s) -> None:
 def _source_bits(m: Machine, ref, count: int) -> int:
     """`count` bits from a bit-device start, or the low bits of a word/constant."""
     if isinstance(ref, BitRef):
-        a = ref.addr(m, count)
+        a = ref.block(m, count)
         bits = m.bits[ref.kind]
         return sum(bits[a + i] << i for i in range(count))
     return ref.get(m) & ((1 << count) - 1)
 
 
+def count_in(m: Machine, s, k: int, value: int | None = None, limit: tuple[int, int] | None = None) -> int | None:
+    """Operand k's value (a count: n of DECO, BON, SFRD ...; `value` when the routine reads
+    it its own way) if it lies in the range the table gives the operand for this form
+    (`limit` where the page narrows it), else None: an operation error, the instruction not
+    executed. The checker holds a constant to the range (E206); a count in a register or an
+    index-modified constant is known at run time only."""
+    n = s.ops[k].get(m) if value is None else value
+    o = s.ins.spec.operands[k]
+    rng = limit or (o.range32 if s.width == 32 else o.range16)
+    if rng is None or rng[0] <= n <= rng[1]:
+        return n
+    alarm(m, OPERATION_ALARM, f"{s.ins.mnemonic}: {o.role} = {n} is outside {rng[0]}-{rng[1]}; not executed")
+    return None
+
+
 @_on
 def deco(m: Machine, s) -> None:
     """DECO S D n: bit (value of S's low n bits) of D's 2^n bits On, the others Off (API-26)."""
-    src, dst, nref = s.ops
-    n = nref.get(m)
+    src, dst, _ = s.ops
+    bits = isinstance(dst, BitRef)
+    n = count_in(m, s, 2, limit=None if bits else (1, 4))
+    if n is None:
+        return
     v = _source_bits(m, src, n)
-    if isinstance(dst, BitRef):
+    if bits:
+        dst.block(m, 1 << n)  # the whole block exists before any bit of it is written
         for i in range(1 << n):
             dst.setbit(m, i == v, i)
     else:
@@ -416,8 +435,10 @@ def deco(m: Machine, s) -> None:
 @_on
 def enco(m: Machine, s) -> None:
     """ENCO S D n: number of the highest On bit among S's low 2^n bits (API-27)."""
-    src, dst, nref = s.ops
-    n = nref.get(m)
+    src, dst, _ = s.ops
+    n = count_in(m, s, 2, limit=None if isinstance(src, BitRef) else (1, 4))
+    if n is None:
+        return
     v = _source_bits(m, src, 1 << n)
     if v == 0:
         alarm(m, OPERATION_ALARM, "ENCO: no source bit is On; not executed")
@@ -427,8 +448,10 @@ def enco(m: Machine, s) -> None:
 
 @_on
 def bon(m: Machine, s) -> None:
-    src, dst, nref = s.ops
-    dst.setbit(m, (src.get(m) >> nref.get(m)) & 1)
+    src, dst, _ = s.ops
+    n = count_in(m, s, 2)
+    if n is not None:
+        dst.setbit(m, (src.get(m) >> n) & 1)
 
 
 @_on
@@ -440,8 +463,10 @@ def alt(m: Machine, s) -> None:
 @_on
 def vrt(m: Machine, s) -> None:
     """VRT S n D: the n bits from S (S = bit 0) index the 64-entry table (API-57)."""
-    src, nref, dst = s.ops
-    dst.set(m, s.table[_source_bits(m, src, nref.get(m))])
+    src, _, dst = s.ops
+    n = count_in(m, s, 1)
+    if n is not None:
+        dst.set(m, s.table[_source_bits(m, src, n)])
 
 
 _F32_MIN = 2.0 ** -126  # the smallest normal single-precision magnitude (VS 2-13)

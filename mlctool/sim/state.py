@@ -10,6 +10,7 @@ from __future__ import annotations
 import re
 import struct
 from array import array
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from mlctool.limits import clip, long_number, too_long_message
@@ -107,7 +108,7 @@ class Machine:
         self.fors: list[list[int]] = []  # [FOR index, NEXT index, iterations left]
         self.alarms: list[tuple[int, int, str, str]] = []  # (time us, instr index, alarm, message)
         # run-time warnings (sim/semantics.py warn): (time us, instr index, code, message)
-        self.warnings: list[tuple[int, int, str, str]] = []
+        self.warnings: list[tuple[int, int | tuple[str, int], str, str]] = []
         self.servo_limit: dict[int, int] = {}  # WRTL: station -> torque limit
         self.servo_at_limit: dict[int, int] = {}  # RDTL input, driven by stimulus/models
         # power rail of the rung being evaluated: Off inside an MC block whose condition is
@@ -120,7 +121,7 @@ class Machine:
         self.stl_joining = False
         self.stl_leaving: set[int] = set()  # steps that transferred: reset at the end of the scan
         self.fx_state: dict[int, object] = {}  # step index -> memory of an FX routine (SORT, PID)
-        # input pulse trains of the stimulus (sim/pulses.py): (kind, number) -> trains; the
+        # input pulse trains of the stimulus (sim/hardware/pulses.py): (kind, number) -> trains; the
         # hardware's, so a power cycle keeps them
         self.pulse_trains: dict[tuple[str, int], list] = {}
         self.quadrature: dict[tuple, list] = {}  # A/B pairs (pulses.Quadrature), likewise kept
@@ -140,7 +141,9 @@ class Machine:
         # model-owned signals (sim/signals.py, `XC1.pos`): (kind "@XC1", signal index) -> value,
         # published by the models each step
         self.signals: dict[tuple[str, int], int] = {}
-        self.pin_window = None  # sim/pin_window.py PinWindow: pulse pins inside a window (kept over power)
+        # model kind "@NC1" -> what brings its signals up to date before one is read (ModelIO.on_read)
+        self.signal_refresh: dict[str, Callable[[], None]] = {}
+        self.pin_window = None  # sim/hardware/pin_window.py PinWindow: pulse pins inside a window (kept over power)
         self.image = None  # the linked program (Image): data kept beside the code (.table rows)
         # the relay that turns every external output Off while On (target.toml `outputs_off`,
         # VS M9034): the program keeps its Y image, what is read from outside (DeviceView.read:
@@ -168,7 +171,7 @@ class Machine:
     def use_arrays(self) -> bool:
         """Keep the word registers, timer values, counter values and timer bookkeeping in
         signed 64-bit arrays instead of lists (from now on, power cycles included): the native
-        engine (sim/native.py) reads and writes them as C memory. They index and compare as
+        engine (sim/engines/native.py) reads and writes them as C memory. They index and compare as
         the lists do (every value here is an int well inside 64 bits: raw 16-bit words, 32-bit
         counters, microseconds). True when a container was replaced (Machine.layout moved)."""
         changed = False
@@ -317,6 +320,9 @@ class DeviceView:
         is its terminal, Off while the outputs-off relay is On (Machine.outputs_off)."""
         k, n, v = self.kind, self.number, self.view
         if k.startswith(SIGNAL):
+            refresh = m.signal_refresh.get(k)
+            if refresh is not None:
+                refresh()
             return m.signals.get((k, n), 0)
         if self.special is not None:
             return self.special.read(m, self)

@@ -89,7 +89,7 @@ class OperandSyntaxError(ValueError):
     pass
 
 
-_INDEX_REGS = "VZ"  # index registers: never the device of a Kn bit group
+INDEX_REGISTERS = ("V", "Z")  # the index registers an operand can name (never the device of a Kn bit group)
 _INDEX = r"(?:(?P<ix>[VZ])(?P<ixn>[0-9]+))?"
 _GROUP = re.compile(r"K(?P<n>[0-9]+)(?P<dev>[A-Z])(?P<num>[0-9]+)" + _INDEX)
 _K = re.compile(r"K(?P<val>[+-]?[0-9]+)" + _INDEX)
@@ -224,7 +224,7 @@ def full_parse_operand(text: str, syntax: OperandSyntax = DEFAULT_SYNTAX) -> Ope
     if syntax.aliases and (op := _alias(t, syntax, text)) is not None:
         return op
     # K20V0 is the constant K20 modified by V0 (3.4's example), not a bit group of "V"
-    if (m := _GROUP.fullmatch(t)) and m["dev"] not in _INDEX_REGS:
+    if (m := _GROUP.fullmatch(t)) and m["dev"] not in INDEX_REGISTERS:
         number, radix = _number(m["num"], m["dev"], syntax, text)
         return Operand("Kn" + m["dev"], number=number, digits=int(m["n"]), index=_index(m), radix=radix)
     if m := _K.fullmatch(t):

@@ -44,15 +44,33 @@ class SourceText:
 _BOMS = {"utf-8": codecs.BOM_UTF8, "utf-16-le": codecs.BOM_UTF16_LE, "utf-16-be": codecs.BOM_UTF16_BE}
 
 
+EXAMPLES = "e.g. cp950, big5, gb18030, cp932, utf-8"
+_PROBE = "P1: LD X0 ; 註解\n"  # a source line: a text encoding reads back what it wrote
+
+
 def known_encoding(name: str) -> str | None:
-    """The codec's canonical name (`Big5` -> `big5`, `sjis` -> `shift_jis`), None if unknown.
-    UTF-16/32 named without a byte order mean little-endian (as Windows writes them), so a file
-    without a BOM is written back without one."""
+    """The codec's canonical name (`Big5` -> `big5`, `sjis` -> `shift_jis`), None if unknown
+    or not a text encoding (`encoding_refusal` says which). UTF-16/32 named without a byte
+    order mean little-endian (as Windows writes them), so a file without a BOM is written
+    back without one."""
     try:
         canonical = codecs.lookup(name).name
     except (LookupError, ValueError):
         return None
+    try:  # Python's bytes-to-bytes codecs (rot13, hex, base64, bz2, zip, uu) and `undefined` refuse
+        _PROBE.encode(canonical, "replace").decode(canonical)
+    except (LookupError, UnicodeError):
+        return None
     return {"utf-16": "utf-16-le", "utf-32": "utf-32-le"}.get(canonical, canonical)
+
+
+def encoding_refusal(name: str) -> str:
+    """Why sources cannot be read in `name` (known_encoding gave None)."""
+    try:
+        codecs.lookup(name)
+    except (LookupError, ValueError):
+        return f"unknown encoding {name!r} ({EXAMPLES})"
+    return f"{name!r} is not an encoding of text files ({EXAMPLES})"
 
 
 def decode(path: str, data: bytes, encoding: str | None = None) -> tuple[SourceText | None, list[Diagnostic]]:
@@ -94,6 +112,9 @@ def decode(path: str, data: bytes, encoding: str | None = None) -> tuple[SourceT
             found.append(diag(path, Span.at(line, col), GUESSED,
                               f"not UTF-8 (byte 0x{body[e.start]:02X}): read as {used}, a guess; "
                               f"say so with --encoding {used} or mlc.toml `encoding = \"{used}\"`"))
+        except UnicodeError as e:  # a codec that says no position (punycode, idna): where it failed is unknown
+            return None, [diag(path, Span.at(1), "E102", f"not valid {used} (the encoding named by --encoding or "
+                               f"mlc.toml): {e}")]
         if "\0" in text:
             return None, [diag(path, Span.at(1), "E101", "file contains a NUL character")]
     first = text.find("\r")
@@ -143,7 +164,7 @@ def source_encoding(config) -> tuple[str | None, list[Diagnostic]]:
     if canonical is not None:
         return canonical, []
     where, span = config.locate("encoding") if hasattr(config, "locate") else ("mlc.toml", Span.at(1))
-    return None, [diag(where, span, "E110", f"unknown encoding {name!r} (e.g. cp950, big5, gb18030, cp932, utf-8)")]
+    return None, [diag(where, span, "E110", encoding_refusal(name))]
 
 
 def display_width(text: str) -> int:

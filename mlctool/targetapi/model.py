@@ -74,6 +74,18 @@ class OperandSpec:
     word_range_of: str | None = None  # ... is a word device (DECO/ENCO n)
     ranges: tuple[tuple[str, tuple[tuple[int, int], ...]], ...] = ()  # per kind: allowed numbers
     index: bool = True  # False: this operand may not be index-modified (VS OUT C200 K.., 2-6-2)
+    # how many elements the operand covers when another operand says so (`span = "n"`):
+    # (role, rule), rule one of SPAN_RULES: n of them, 2^n (DECO D), n/2 rounded up (bytes
+    # two a word), n+1 (a table with its count word); an element is one bit of a bit device,
+    # one Kn group, or `words` registers. `span_kinds`: the device kinds it applies to ("bit":
+    # bit devices only, a word operand being one word whatever n: DECO/ENCO n <= 4)
+    span: tuple[str, str] | None = None
+    span_kinds: str = "any"  # any | bit
+
+    def span_count(self, n: int) -> int:
+        """The elements the operand covers when its count operand is n."""
+        rule = self.span[1] if self.span else "n"
+        return SPAN_RULES[rule](n)
 
     def allowed(self, kind: str) -> tuple[tuple[int, int], ...] | None:
         """Device-number ranges this operand allows for `kind` (None: the device's range)."""
@@ -265,7 +277,25 @@ def _operand(o: dict) -> OperandSpec:
         word_range_of=o.get("word_range_of"),
         ranges=tuple((k, tuple(tuple(r) for r in v)) for k, v in sorted(o.get("ranges", {}).items())),
         index=o.get("index", True),
+        span=_span(o.get("span")),
+        span_kinds=o.get("span_kinds", "any"),
     )
+
+
+SPAN_RULES = {"n": lambda n: n, "2^n": lambda n: 2 ** n, "n/2": lambda n: (n + 1) // 2, "n+1": lambda n: n + 1}
+
+
+def _span(text: str | None) -> tuple[str, str] | None:
+    """`span = "n"` (`"2^n"`, `"n/2"`, `"n+1"`, with any role for n): (role, rule)."""
+    if text is None:
+        return None
+    for rule in SPAN_RULES:
+        head, _, tail = rule.partition("n")
+        if text.startswith(head) and text.endswith(tail) and len(text) > len(head) + len(tail):
+            role = text[len(head):len(text) - len(tail)]
+            if role.replace("_", "").isalnum() and not role.isdigit():
+                return role, rule
+    raise ValueError(f"span {text!r}: not one of {', '.join(SPAN_RULES)} (n the role of another operand)")
 
 
 def _steps(e: dict, convention: dict | None) -> list[int]:

@@ -66,7 +66,7 @@ class Simulation:
       the virtual clock between scans: pulse axes), at m.now_us.
     views(target, program) -> device views a run always reports and traces (axis registers).
     pulse_pins(target) -> pins driven as pulse trains; `mlc sim --pulse-window` records
-      their level changes in Machine.pin_window (sim/pin_window.py).
+      their level changes in Machine.pin_window (sim/hardware/pin_window.py).
     load_table(spec) -> (table, problems): a register table `mlc sim --table` loads.
     interrupts(program, target) -> the interrupt controller of a program that has interrupt
       pointers (class "interrupt"); the run asks it before every scan

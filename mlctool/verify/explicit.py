@@ -18,10 +18,10 @@ import time
 
 from mlctool.program import Image
 from mlctool.sim.decode import program_devices
-from mlctool.sim.run import Simulation
+from mlctool.sim.run.run import Simulation
 from mlctool.sim.scan import Fault
 from mlctool.sim.state import DeviceView
-from mlctool.sim.stimulus import Stimulus
+from mlctool.sim.stimulus.stimulus import Stimulus
 from mlctool.targetapi.model import Target
 from mlctool.verify.props import Property, views_of
 from mlctool.verify.results import PROVEN, UNKNOWN, VIOLATED, WITNESSED, Stats, Trace, Verdict

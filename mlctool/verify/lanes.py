@@ -1,6 +1,6 @@
 """The explicit search of a bit-logic program, bit-sliced: a whole breadth-first layer (every
 frontier state with every input vector) runs as one call of the simulator's bit-sliced lane
-code (sim/batch.py LaneProgram: contacts, edges, blocks, the MPS stack, OUT/SET/RST/PLS/PLF on
+code (sim/campaign/batch.py LaneProgram: contacts, edges, blocks, the MPS stack, OUT/SET/RST/PLS/PLF on
 X/Y/M/A), each device one Python integer whose bit l is lane l. States are packed into 64-bit
 words (the devices' bits and the edge memory the code reads), deduplicated with numpy.
 
@@ -18,8 +18,8 @@ import time
 import numpy as np
 
 from mlctool.program import Image
-from mlctool.sim.batch import LaneProgram
-from mlctool.sim.lane_codegen import lanes_target
+from mlctool.sim.campaign.batch import LaneProgram
+from mlctool.sim.campaign.lane_codegen import lanes_target
 from mlctool.sim.scan import load_program
 from mlctool.targetapi.model import Target
 from mlctool.verify.props import And, Atom, Const, Not, Or, Property, atoms

@@ -14,9 +14,9 @@ from dataclasses import dataclass, field
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.limits import long_number, too_long_message
-from mlctool.sim.quantities import StimError, parse_time
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
-from mlctool.sim.stimulus import parse_value
+from mlctool.sim.stimulus.quantities import StimError, parse_time
+from mlctool.sim.stimulus.stimulus import parse_value
 from mlctool.syntax.source import read_source
 from mlctool.targetapi.model import Target
 

@@ -14,9 +14,9 @@ from dataclasses import dataclass, field
 
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image
-from mlctool.sim.junit import classname
-from mlctool.sim.run import Simulation, plan_scans
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.campaign.junit import classname
+from mlctool.sim.run.run import Simulation, plan_scans
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.targetapi.model import Target
 from mlctool.verify.builtin import check_props
 from mlctool.verify.props import load_props
@@ -194,7 +194,7 @@ def _artifacts(image: Image, target: Target, path: str, stem: str, v: Verdict, p
 
         lamps = ScanLamps(sim, sources)
     result = sim.run(plan_scans(st, st.scan_us, None, None))
-    from mlctool.sim.vcd import to_vcd
+    from mlctool.sim.run.vcd import to_vcd
 
     outcome.files[stim_path] = text
     outcome.files[vcd_path] = to_vcd(result, image, target)

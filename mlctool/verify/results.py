@@ -94,7 +94,7 @@ def _num(x) -> str:
 
 
 def _span(view: DeviceView) -> tuple[int, int]:
-    from mlctool.sim.stimulus import _range
+    from mlctool.sim.stimulus.stimulus import _range
 
     return _range(view)
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 from mlctool.diagnostics import Diagnostic, Span, diag
 from mlctool.program import Image
 from mlctool.sim.decode import program_devices
-from mlctool.sim.run import DEFAULT_SCAN_US
+from mlctool.sim.run.run import DEFAULT_SCAN_US
 from mlctool.sim.scan import load_program
 from mlctool.sim.signals import SIGNAL
 from mlctool.sim.state import DeviceView

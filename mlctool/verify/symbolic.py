@@ -1,7 +1,7 @@
 """The symbolic engine: bounded model checking and k-induction over the z3 SMT solver
 (z3-solver, the `verify` extra; docs/verify.md "Engines" says why z3 over python-sat).
 
-The scan is translated by the simulator's own bit-sliced lane code generator (sim/batch.py
+The scan is translated by the simulator's own bit-sliced lane code generator (sim/campaign/batch.py
 LaneProgram: contacts, edges, ANB/ORB, MPS/MRD/MPP, INV, OUT/SET/RST/PLS/PLF): the code it
 generates runs unchanged on z3 terms, whose `&`, `|` and `^ True` are conjunction,
 disjunction and negation. Added here: timer contacts and TMR with a constant preset on a
@@ -17,8 +17,8 @@ import time
 from dataclasses import dataclass
 
 from mlctool.program import Image
-from mlctool.sim.batch import LaneProgram
-from mlctool.sim.lane_codegen import lanes_target
+from mlctool.sim.campaign.batch import LaneProgram
+from mlctool.sim.campaign.lane_codegen import lanes_target
 from mlctool.sim.operands import BitRef, ConstRef
 from mlctool.sim.scan import load_program
 from mlctool.sim.state import DeviceView

@@ -62,6 +62,11 @@ CASES = {
     "unknown device kind": lambda o: _operand(o, 1, 0, kind="Q"),
     "index register at 2^33": lambda o: _operand(o, 3, 1, index=("V", 2**33)),
     "unknown index register": lambda o: _operand(o, 3, 1, index=("Q", 0)),
+    # issue 30.7: devices of the target, but no index registers (D0 ran as the index)
+    "D0 as the index register": lambda o: _operand(o, 3, 1, index=("D", 0)),
+    "X0 as the index register": lambda o: _operand(o, 3, 1, index=("X", 0)),
+    "T0 as the index register": lambda o: _operand(o, 3, 1, index=("T", 0)),
+    "an empty index register": lambda o: _operand(o, 3, 1, index=("", 0)),
     "32-bit operand past the end": lambda o: _operand(o, 4, 1, number=NC5.devices["D"].hi),
     "constant outside the K range": lambda o: _operand(o, 3, 0, value=10**9),
     "float decimals 2^40": lambda o: _operand(o, 3, 0, kind="F", value=1.5, decimals=2**40),

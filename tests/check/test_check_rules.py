@@ -412,7 +412,9 @@ def test_directives(text, expect):
     ("LD X0\nOUT Y0\n.define A X0 X1 X2\nEND\n", [("E105", 3, 1)]),
     ("LD X0\nOUT Y0\nEND\n", []),
     ("LD X0 ; comment\nOUT Y0 // comment\nEND\n", []),
-    ("000013,LD,X0\n000014,OUT,Y0\n000015,END\n", [("W107", 1, 1), ("W107", 2, 1), ("W107", 3, 1)]),
+    # the first number against the address, each later one by its distance (issue 29)
+    ("000013,LD,X0\n000014,OUT,Y0\n000015,END\n", [("W107", 1, 1)]),
+    ("0 LD X0\n1 OUT Y0\n3 LD X1\n4 OUT Y1\n5 END\n", [("W107", 3, 1)]),
     ("0 LD X0\n1 OUT Y0\n2 END\n", []),
     ("0 LD X0\n1 OUT Y0\n3 END\n", [("W107", 3, 1)]),
     ("LD X0\nOUT Y0\nFROB X1\nEND\n", [("E201", 3, 1)]),
@@ -575,3 +577,32 @@ def test_unknown_instruction_hint_on_vs():
     assert unknown_instruction_hint(vs, "ZRTS") == ("; did you mean ZRST?", ())
     # VS has P forms: MOVPP is a typo, not a missing dialect feature
     assert unknown_instruction_hint(vs, "MOVPP")[0] == "; did you mean MOVP?"
+
+
+# ------------------------------------------------------------------ nesting, per target (issue 30.17)
+
+def _nested_calls(levels: int) -> str:
+    body = "".join(f"P{p}\nLD X0\nCALL P{p + 1}\nSRET\n" for p in range(1, levels))
+    return f"LD X0\nCALL P1\nFEND\n{body}P{levels}\nLD X0\nINC D0\nSRET\nEND\n"
+
+
+def test_a_sixth_call_level_is_the_targets_rule():
+    """NC5 4.1 API-01: "包括本身最多可五層 (若進入第六層則該副程式不執行)": the 6th call is not run
+    and the scan goes on, W613; VS 6-2 CALL: a rule of the program, E307 citing error 6702.
+    Before, nc5 got VS's E307 and its citation."""
+    text = _nested_calls(6)
+    line = text.split("\n").index("CALL P6") + 1
+    for name, code, cited in (("nc5", "W613", "4.1 API-01"), ("vs", "E307", "6-2 CALL, error 6702")):
+        diags = check_texts([decode("t.il", text.encode())[0]], load_target(name)).diagnostics
+        (d,) = [d for d in diags if d.code in ("E307", "W613")]
+        assert (d.code, d.span.line) == (code, line) and cited in d.message, (name, d)
+    five = check_texts([decode("t.il", _nested_calls(5).encode())[0]], T).diagnostics
+    assert not [d for d in five if d.code in ("E307", "W613")]
+
+
+def test_a_sixth_for_level_cites_the_targets_own_section():
+    text = "LD X0\n" + "FOR K1\n" * 6 + "NEXT\n" * 6 + "END\n"
+    for name, cited in (("nc5", "(4.1 API-07)"), ("vs", "(6-2 FOR, error 6704)")):
+        diags = check_texts([decode("t.il", text.encode())[0]], load_target(name)).diagnostics
+        (d,) = [d for d in diags if d.code == "E307"]
+        assert d.message.endswith(cited), (name, d.message)

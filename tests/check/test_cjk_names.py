@@ -15,8 +15,8 @@ from conftest import run_mlc
 from mlctool.check import check_texts
 from mlctool.fmt import format_source
 from mlctool.imports import import_text
-from mlctool.sim.run import Simulation, plan_scans
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.run.run import Simulation, plan_scans
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.syntax.operands import CJK_RANGES, name_width
 from mlctool.syntax.parser import grammar_text, parse
 from mlctool.syntax.source import decode, display_width
@@ -238,9 +238,9 @@ def test_imports_keep_chinese_labels():
     text, _ = decode_export("g.csv", data)
     il, fmt, diags = import_text("g.csv", text, VS)
     assert (fmt, diags) == ("gxworks2", [])
-    assert il == "LD X0\nCJ 跳過 ; 跳到標籤\nOUT Y0\n跳過:\nEND\n"
+    assert il == ".dialect fx\nLD X0\nCJ 跳過 ; 跳到標籤\nOUT Y0\n跳過:\nEND\n"
     wpl, fmt, diags = import_text("w.csv", "000000,LD,X0\n000001,CJ,緊急\n000004,OUT,Y0\n000005,緊急:\n000006,END\n", VS)
-    assert (fmt, diags) == ("wplsoft", []) and wpl == "LD X0\nCJ 緊急\nOUT Y0\n緊急:\nEND\n"
+    assert (fmt, diags) == ("wplsoft", []) and wpl == ".dialect dvp\nLD X0\nCJ 緊急\nOUT Y0\n緊急:\nEND\n"
     assert codes(il) == [] and codes(wpl) == []
     # NC5 has no named labels: the name is an unknown instruction, which the import reports (E907)
     out, _, diags = import_text("w.csv", "000000,LD,X0\n000001,SKIP\n", NC5)

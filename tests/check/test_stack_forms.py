@@ -16,8 +16,8 @@ from mlctool.ladder.network import Rung, build_items, items_to_il
 from mlctool.ladder.svg import sheets_svg
 from mlctool.ladder.term import sheets_text
 from mlctool.program import Image
-from mlctool.sim.batch import LaneProgram
-from mlctool.sim.engine import ENGINES, scanner
+from mlctool.sim.campaign.batch import LaneProgram
+from mlctool.sim.engines.engine import ENGINES, scanner
 from mlctool.sim.scan import load_program
 from mlctool.sim.state import Machine, parse_device_name
 from mlctool.syntax.source import SourceText
@@ -166,7 +166,7 @@ def test_stack_form_checks_draws_and_simulates(form, target_name):
 
 @pytest.mark.parametrize("form", sorted(FORMS))
 def test_stack_form_runs_the_same_on_bit_lanes(form):
-    """`mlc sim` batches run bit-sliced lanes (sim/batch.py): 256 lanes = every input."""
+    """`mlc sim` batches run bit-sliced lanes (sim/campaign/batch.py): 256 lanes = every input."""
     text, logic = FORMS[form]
     target = TARGETS["nc5"]
     lp = LaneProgram(load_program(Image("nc5", _checked(text, target)), target))

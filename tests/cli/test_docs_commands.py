@@ -15,7 +15,8 @@ Example file names are mapped to bundled files: each document runs in a fresh co
 workspace (WORKSPACE_FILES), in which the names the docs use are copies of bundled samples:
 `src/main.il` and `src/lib.il` are samples/project's conveyor and pick-and-place library,
 `prog.il`/`s.stim` the NC5 conveyor sample (docs/vs.md: the VS traffic light), `export.csv`
-a GX Works2 export from tests/data, `prog.pos` an FBs positioning sample; `mlc.toml` makes it
+a GX Works2 export from tests/data, `prog.pos` an FBs positioning sample, `project.pdw` / `rungs.il` a WinProladder project of
+tests/pdwkit.py and its IL; `mlc.toml` makes it
 a project (sources src/main.il, src/lib.il; scenarios tests/*.stim), `samples/` is a copy of
 the bundled samples, and the project is built beforehand (build/program.mlx, .map, .lst and
 objs/*.mlo), so a line that reads an output of another example runs on its own.
@@ -54,9 +55,11 @@ WORKSPACE_FILES = {
     "MAIN.csv": "tests/corpus/gxworks2_zh_cn.csv",
     "COMMENT.csv": "tests/corpus/COMMENT.csv",
     "prog.pos": "samples/fbs/run.pos",
+    "project.pdw": "tests/data/winproladder/project.pdw",
+    "rungs.il": "tests/data/winproladder/rungs.il",
 }
 VS_PROGRAM = {"prog.il": "samples/vs/traffic_light.il"}
-OVERRIDES = {"docs/vs.md": VS_PROGRAM, "mlc targets --help": VS_PROGRAM}
+OVERRIDES = {"docs/vs.md": VS_PROGRAM, "mlc targets --help": VS_PROGRAM, "mlc export --help": VS_PROGRAM}
 
 PROJECT_TOML = """\
 sources = ["src/main.il", "src/lib.il"]
@@ -72,7 +75,7 @@ PLACEHOLDERS = {
     "OUT.svg": "out.svg", "OUT.html": "out.html", "DIR": "rebuilt", "CODE": "W401",
     "PATH": "/dev/null", ("--map", "F"): "build/other.map", ("--listing", "F"): "build/other.lst",
 }
-PARSE_ONLY = {("device", "serve"), ("lsp",), ("debug",)}  # serve until stopped; debug reads commands or DAP frames from stdin
+PARSE_ONLY = {("device", "serve"), ("lsp",), ("debug",), ("run",), ("mcp",)}  # serve until stopped; debug reads commands or DAP frames from stdin
 
 COMMAND = re.compile(r"^(?:\$ |- |run: )?(mlc (?:[a-z-]|--?[a-z]).*)$")
 

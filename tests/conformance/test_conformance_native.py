@@ -10,9 +10,9 @@ from test_conformance_isu_fx2n import CASES as ISU_FX2N
 from test_conformance_ladder_drive import CASES as LADDER_DRIVE
 
 import vskit
-from mlctool.sim import native
-from mlctool.sim.run import Simulation
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.engines import native
+from mlctool.sim.run.run import Simulation
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from vskit import VS
 
 pytestmark = pytest.mark.skipif(native.unavailable() is not None, reason=f"native engine: {native.unavailable()}")

@@ -17,8 +17,8 @@ from mlctool.debug.console import Console
 from mlctool.debug.load import load_session
 from mlctool.debug.session import BOUNDARY, POLL_STEPS, DebugError, Interrupted, machine_state
 from mlctool.debug.stimfile import stimulus_text
-from mlctool.sim.run import Simulation, build_models
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.run.run import Simulation, build_models
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.targets import load_target
 from tests.conftest import MLC_COMMAND, SAMPLES
 

@@ -23,7 +23,15 @@ from websockets.exceptions import ConnectionClosed, InvalidStatus
 from websockets.sync.client import connect
 
 from mlctool.debug.load import load_session
-from mlctool.debug.web import COMMANDS, MAX_MESSAGE, MAX_QUEUE, Monitor, WebServer
+from mlctool.debug.web import (
+    COMMANDS,
+    MAX_MESSAGE,
+    MAX_QUEUE,
+    MAX_TABLE,
+    MAX_VALUE,
+    Monitor,
+    WebServer,
+)
 from mlctool.targets import load_target
 from tests.conftest import MLC_COMMAND
 
@@ -169,6 +177,112 @@ def test_force_scan_release_and_junk(server):
     assert out["text"] == "D0 = 1\nY0 = 1"
     assert tab.request("console", line='log 6 "count {D0}"')["ok"]  # a logpoint: its line in the reply
     assert tab.request("scan")["text"] == "count 1\nscan done: scan 2 (t=20ms), before the scan"
+    tab.close()
+    other.close()
+
+
+# the device table: a symbol, an NC5 signal (M21000 cycle start) the program drives
+TABLE_PROGRAM = """.define START X0
+.define CYCLE M21000
+LD START
+OUT CYCLE
+LD X1
+ADD D5 K1 D5
+END
+"""
+
+
+@pytest.fixture
+def table_server(tmp_path):
+    path = tmp_path / "t.il"
+    path.write_text(TABLE_PROGRAM)
+    srv = WebServer(Monitor(load_session([str(path)], None, load_target("nc5"))), 0)
+    srv.start()
+    yield srv
+    srv.shutdown()
+
+
+def test_the_device_table(table_server):
+    tab, other = Tab(table_server), Tab(table_server)
+    assert tab.state["table"] == []
+    assert tab.request("table-add", device="CYCLE")["text"] == "added M21000"  # by its symbol
+    assert tab.request("table-add", device="D5")["ok"]
+    assert tab.request("table-add", device="x0")["text"] == "added X0"  # as the console spells it
+    rows = tab.state["table"]
+    assert rows == [
+        {"device": "M21000", "symbol": "CYCLE", "signal": "M21000 - 程式啟動 cycle start, MLC->NC, channel 1, 5.3.2",
+         "value": "0"},
+        {"device": "D5", "symbol": "", "signal": "", "value": "0"},
+        {"device": "X0", "symbol": "START", "signal": "", "value": "0"}]
+    assert other.request("state")["ok"] and other.state["table"] == rows  # one table per session: every tab sees it
+    other.close()
+
+    # an edit of a row that is not forced: set once (`write`); the program may change it again
+    r = tab.request("write", device="D5", value="K41")
+    assert r["text"] == "wrote D5=41" and tab.state["table"][1]["value"] == "41" and tab.state["forced"] == {}
+    tab.request("write", device="X1", value=1)
+    tab.request("scan")
+    assert tab.state["table"][1]["value"] == "42"  # ADD ran on the value written
+    tab.request("write", device="START", value="1")
+    tab.request("scan")
+    assert tab.state["table"][0]["value"] == "1"  # OUT CYCLE followed X0
+    # the program overwrites a one-shot write of its coil at the next scan, not a force
+    tab.request("write", device="M21000", value=0)
+    assert tab.state["table"][0]["value"] == "0"
+    tab.request("scan")
+    assert tab.state["table"][0]["value"] == "1"
+    assert tab.request("force", device="M21000", value="0")["ok"] and tab.state["forced"] == {"M21000": "0"}
+    tab.request("scan")
+    assert tab.state["table"][0]["value"] == "0" and tab.state["forced"] == {"M21000": "0"}
+    assert tab.request("console", line="save")["type"] == "error"  # (the console's refusals hold)
+    tab.request("release", device="M21000")
+    tab.request("scan")
+    assert tab.state["table"][0]["value"] == "1"
+
+    # refused, each with a sentence, the table unchanged
+    assert tab.request("table-add", device="D5")["message"] == "D5 is in the table already"
+    assert tab.request("table-remove", device="D6")["message"] == "D6 is not in the table"
+    assert "'Q9': no device Q" in tab.request("table-add", device="Q9")["message"]
+    assert "needs `device`" in tab.request("table-add", device=["D0"])["message"]
+    assert "needs `device`" in tab.request("table-add")["message"]
+    assert "too long" in tab.request("table-add", device="D" * 101)["message"]
+    assert "needs `value`" in tab.request("write", device="D5")["message"]
+    assert "needs `value`" in tab.request("write", device="D5", value=True)["message"]
+    assert "needs `value`" in tab.request("write", device="D5", value={"K": 1})["message"]
+    assert f"at most {MAX_VALUE} characters" in tab.request("write", device="D5", value="9" * 5000)["message"]
+    assert "takes -32768..32767" in tab.request("write", device="D5", value="K99999")["message"]
+    assert "not an integer" in tab.request("write", device="D5", value=1.5)["message"]
+    assert "numbers have at most 20" in tab.raw('{"cmd": "write", "device": "D5", "value": ' + "9" * 21 + "}")["message"]
+    assert "numbers have at most 20" in tab.raw('{"cmd": "table-add", "device": "D5", "x": ' + "9" * 99 + "}")["message"]
+    assert [r["device"] for r in tab.state["table"]] == ["M21000", "D5", "X0"]
+    assert tab.request("table-remove", device="START")["text"] == "removed X0"  # by symbol too
+    for n in range(MAX_TABLE - 2):
+        assert tab.request("table-add", device=f"D{100 + n}")["ok"]
+    assert f"at most {MAX_TABLE} devices" in tab.request("table-add", device="D999")["message"]
+    assert len(tab.state["table"]) == MAX_TABLE
+    tab.close()
+
+
+def test_a_table_edit_during_a_replay_is_refused_until_paused(table_server):
+    """The session's rule: no action while it replays to another point (reverse-continue
+    runs in batches that let this request in); after the Pause the edit is taken."""
+    tab, other = Tab(table_server), Tab(table_server)
+    tab.request("table-add", device="D5")
+    tab.request("write", device="X1", value=1)
+    tab.request("console", line="scan 5000")
+    tab.request("console", line="break 6")  # the search goes instruction by instruction: ~0.3 s
+    tab.next_id += 1
+    tab.ws.send(json.dumps({"id": tab.next_id, "cmd": "console", "line": "reverse-continue"}))
+    deadline = time.monotonic() + 10
+    refused = None
+    while refused is None and time.monotonic() < deadline:
+        r = other.request("write", device="D5", value="7")
+        if r["type"] == "error":
+            refused = r
+    assert refused is not None and "Pause it first" in refused["message"], refused
+    other.request("pause")
+    assert tab.reply(tab.next_id)["text"].startswith("interrupted: reverse-continue did not finish; still at scan 5000")
+    assert other.request("write", device="D5", value="7")["ok"] and other.state["table"][0]["value"] == "7"
     tab.close()
     other.close()
 
@@ -403,6 +517,8 @@ def test_a_tab_that_never_reads_stalls_no_other_and_is_let_go(program):
             time.sleep(0.01)
         assert [m["type"] for m in fine.messages] == ["output", "state"] * rounds  # all of them, in order
         assert [m["text"] for m in fine.messages[::2]] == [str(n) for n in range(rounds)]
+        while stuck.sent < 1 and time.monotonic() < deadline:  # its sender thread is in its first send
+            time.sleep(0.01)
         assert not stuck.released.is_set() and stuck in monitor.clients
         for _ in range(MAX_QUEUE):  # its queue fills: cut off
             monitor.send(stuck, {"type": "output", "text": "x"})

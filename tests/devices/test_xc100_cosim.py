@@ -14,9 +14,9 @@ from conftest import MLC_COMMAND
 from mlctool.asm import program_from_paths
 from mlctool.check import check_texts
 from mlctool.devices.xc100.registers import read_words
-from mlctool.sim import seriallink
-from mlctool.sim.run import Simulation, build_models, plan_scans
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.hardware import seriallink
+from mlctool.sim.run.run import Simulation, build_models, plan_scans
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.syntax.source import decode
 from mlctool.targetapi import load_target
 

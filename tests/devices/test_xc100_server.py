@@ -161,10 +161,13 @@ def test_serve_cli_stops_cleanly_on_ctrl_c():
     (["--tcp", "127.0.0.1:5020", "--serial", "/dev/null"], "E801"),
     (["--tcp", "127.0.0.1:5020", "--duration", "soon"], "E801"),
     (["--serial", "/nonexistent/tty", "--duration", "2s"], "E802"),
+    (["--tcp", ""], "E801"),  # was "cannot open serial None" (issue 30.18)
+    (["--serial", ""], "E801"),
 ])
 def test_serve_bad_options_are_diagnostics(mlc, args, code):
     r = mlc("device", "serve", "xc100", *args)
     assert r.code == 2 and code in r.err and "Traceback" not in r.err
+    assert "None" not in r.err
 
 
 def test_cosimulation_sample_passes(mlc, tmp_path):
@@ -404,3 +407,18 @@ def test_status_view_shows_the_line_and_a_refused_setting():
     assert "19200 8-N-1 ASCII" in text and "acts after the next power-up" in text
     assert "refused" in text and "8 data bits only in RTU mode" in text
     assert "station 2" in text
+
+
+def test_status_view_never_shows_minus_zero():
+    """A position a hair below zero is 0.00 mm, not -0.00 mm (issue 30.18)."""
+    from rich.console import Console
+
+    from mlctool.devices.xc100.status import render
+
+    dev = c.new_xc100()
+    dev.act = -0.4  # pulses
+    dev.vel = -0.3
+    console = Console(width=200, record=True, file=io.StringIO())
+    console.print(render({1: dev}, "XC100 test"))
+    text = console.export_text()
+    assert "-0.00" not in text and "0.00 mm  (" in text and "0.00 mm/s" in text

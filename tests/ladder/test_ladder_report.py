@@ -12,8 +12,8 @@ from mlctool.debug.load import load_session
 from mlctool.debug.web import Monitor
 from mlctool.ladder.report import ScanLamps, _ticks, default_waves
 from mlctool.program import Image
-from mlctool.sim.run import Simulation
-from mlctool.sim.stimulus import load_stimulus, parse_stimulus_text
+from mlctool.sim.run.run import Simulation
+from mlctool.sim.stimulus.stimulus import load_stimulus, parse_stimulus_text
 from mlctool.syntax.source import SourceText
 from mlctool.targetapi import load_target
 from tests.ladder.test_ladder_network import NC5

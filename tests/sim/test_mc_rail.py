@@ -11,11 +11,11 @@ import random
 
 import pytest
 
-from mlctool.sim.batch import LaneProgram
-from mlctool.sim.engine import Scanner
+from mlctool.sim.campaign.batch import LaneProgram
+from mlctool.sim.campaign.word_lanes import WordLaneProgram
+from mlctool.sim.engines.engine import Scanner
 from mlctool.sim.scan import load_program
 from mlctool.sim.state import Machine
-from mlctool.sim.word_lanes import WordLaneProgram
 from vskit import VS, image_of
 
 ENGINES = ("interp", "compiled")

@@ -82,6 +82,36 @@ def test_a_wrong_named_encoding_is_e102_and_an_unknown_name_exit_2(tmp_path):
     assert r.code == 2 and "E110" in r.err and "mlc.toml:2:" in r.err
 
 
+NOT_TEXT = ("rot13", "hex", "base64", "bz2", "zip", "uu_codec", "undefined")
+# every command that reads sources, with what it needs (mlc debug: a console, ended by EOF)
+SOURCE_COMMANDS = (["check", "p.il"], ["fmt", "p.il"], ["build", "p.il", "-o", "p.mlx"], ["ladder", "p.il"],
+                   ["sim", "p.il", "--stimulus", "p.stim"], ["import", "--target", "nc5", "p.il"], ["test"],
+                   ["debug", "p.il", "--stimulus", "p.stim"])
+
+
+@pytest.mark.parametrize("codec", NOT_TEXT)
+def test_a_codec_that_is_not_a_text_encoding_is_refused_by_every_command(tmp_path, codec):
+    """Issue 30.6: Python's bytes-to-bytes codecs (and `undefined`) are codecs, not encodings
+    of text: --encoding is a usage error, mlc.toml `encoding` E110 at its line; never exit 3."""
+    (tmp_path / "p.il").write_text("LD X0\nOUT Y0\nEND\n")
+    (tmp_path / "p.stim").write_text("0ms X0=1\n")
+    for args in SOURCE_COMMANDS[:-2]:
+        r = run_mlc(args[0], "--encoding", codec, *args[1:], cwd=tmp_path)
+        assert r.code == 2 and "--encoding" in r.err and "not an encoding of text files" in r.err, (args, r.err)
+    (tmp_path / "mlc.toml").write_text(f'target = "nc5"\nsources = ["p.il"]\ntests = ["p.stim"]\nencoding = "{codec}"\n')
+    for args in SOURCE_COMMANDS:
+        r = run_mlc(*args, cwd=tmp_path)
+        assert r.code == 2 and "mlc.toml:4:1: error[E110]" in r.err and "not an encoding of text files" in r.err, \
+            (args, r.err)
+
+
+def test_a_codec_that_cannot_say_where_it_failed_is_e102(tmp_path):
+    """punycode reads text but gives no position for bytes it cannot take: E102, not exit 3."""
+    (tmp_path / "p.il").write_text("LD X0\nEND\n")
+    r = run_mlc("check", "--encoding", "punycode", "p.il", cwd=tmp_path)
+    assert r.code == 2 and "E102" in r.err and "not valid punycode" in r.err, r.err
+
+
 def test_utf8_files_never_import_the_detector(tmp_path):
     """The fast path: a UTF-8 file is read without charset_normalizer (~0.1 s of import)."""
     (tmp_path / "u.il").write_text("LD X0 ; 啟動\nOUT Y0\nEND\n", "utf-8")
@@ -109,7 +139,8 @@ def test_read_input_reads_what_the_file_holds_up_to_the_limit(tmp_path, monkeypa
     for limit in (1, 50, 100, 101, 1000):
         assert fileio.read_input(str(path), limit) == bytes(range(100))[:limit]
     real = os.fstat
-    monkeypatch.setattr(fileio.os, "fstat", lambda fd: SimpleNamespace(st_size=10, st_mode=real(fd).st_mode))
+    monkeypatch.setattr(fileio.os, "fstat", lambda fd: SimpleNamespace(
+        st_size=10, st_mode=real(fd).st_mode, st_dev=real(fd).st_dev, st_ino=real(fd).st_ino))
     for limit in (5, 11, 12, 60, 101, 1000):
         assert fileio.read_input(str(path), limit) == bytes(range(100))[:limit]
     monkeypatch.undo()

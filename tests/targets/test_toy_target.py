@@ -99,3 +99,38 @@ def test_a_failing_expectation_fails_the_run(toy):
     r = run("sim", "prog.mlx", "--stimulus", "wrong.stim", "--json")
     assert r.returncode == 1, r.stdout + r.stderr
     assert [f["device"] for f in json.loads(r.stdout)["expectations"]["failures"]] == ["D1"]
+
+
+def test_the_code_cache_follows_the_targets_tables(tmp_path):
+    """The on-disk cache keys on everything the generated code comes from, a third-party
+    target's tables included (issue 30.15: with MOV changed to double its value, the cached
+    code of the old MOV ran: D0=21, where MLC_CACHE=off gave 42)."""
+    import shutil
+
+    package = tmp_path / "toy"
+    shutil.copytree(HERE / "toy", package, ignore=shutil.ignore_patterns("__pycache__"))
+    site = tmp_path / "site" / "toy_target-0.1.dist-info"
+    site.mkdir(parents=True)
+    (site / "METADATA").write_text("Metadata-Version: 2.1\nName: toy-target\nVersion: 0.1\n")
+    (site / "entry_points.txt").write_text("[mlctool.targets]\ntoy = toy_target:TARGET\n")
+    path = [str(site.parent), str(package), str(ROOT), os.environ.get("PYTHONPATH", "")]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in path if p), MLC_CACHE="on",
+               MLC_CACHE_DIR=str(tmp_path / "cache"))
+    (tmp_path / "prog.il").write_text("LD X0\nMOV K21 D0\nEND\n")
+    (tmp_path / "prog.stim").write_text("scan 10ms\n0ms X0=1\n10ms expect D0=21\n")
+    (tmp_path / "doubled.stim").write_text("scan 10ms\n0ms X0=1\n10ms expect D0=42\n")
+
+    def run(*args: str) -> subprocess.CompletedProcess:
+        return subprocess.run([*MLC_COMMAND, *args], capture_output=True, text=True, env=env, cwd=tmp_path,
+                              timeout=120)
+
+    assert run("build", "--target", "toy", "prog.il", "-o", "prog.mlx").returncode == 0
+    r = run("sim", "prog.mlx", "--stimulus", "prog.stim")
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert list((tmp_path / "cache").glob("sim-code-*")), "the compiled code was not cached"
+    tables = package / "toy_target" / "tables" / "instructions.toml"
+    text = tables.read_text()
+    mov = text.index('names = ["MOV", ""]')
+    tables.write_text(text[:mov] + text[mov:].replace('op = "mov"', 'op = "twice"', 1))
+    r = run("sim", "prog.mlx", "--stimulus", "doubled.stim")
+    assert r.returncode == 0, r.stdout + r.stderr

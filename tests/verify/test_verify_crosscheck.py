@@ -17,8 +17,8 @@ import random
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mlctool.sim.run import Simulation, plan_scans
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.run.run import Simulation, plan_scans
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.targetapi import load_target
 from mlctool.verify.explicit import Budget, search
 from mlctool.verify.props import parse_props_text

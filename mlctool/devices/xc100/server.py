@@ -20,6 +20,7 @@ from __future__ import annotations
 import asyncio
 
 from mlctool.devices.framing import FRAMINGS, RECEIVERS, Frame
+from mlctool.devices.serial_port import SerialLine
 from mlctool.devices.xc100 import controller as c
 from mlctool.devices.xc100.modbus import handle_pdu
 
@@ -95,7 +96,6 @@ class Server:
             await self._server.wait_closed()
             self._server = None
         if self._port is not None:
-            asyncio.get_running_loop().remove_reader(self._port.fileno())
             self._port.close()
             self._port = None
 
@@ -144,31 +144,11 @@ class Server:
             writer.close()
 
     def _open_serial(self) -> None:
-        import serial  # pyserial
+        def on_frame(f: Frame) -> None:
+            if (reply := self.answer(f)) is not None:
+                self._port.reply(f, reply)
 
-        try:
-            port = serial.Serial(self.serial, self.baudrate, bytesize=8, parity="N", stopbits=1,
-                                 timeout=0, write_timeout=WRITE_TIMEOUT_S)
-        except (serial.SerialException, ValueError) as e:
-            raise OSError(str(e)) from None
-        receiver = RECEIVERS[self.framing]()
-        loop = asyncio.get_running_loop()
-
-        def readable() -> None:
-            try:
-                data = port.read(READ_CHUNK)
-            except (serial.SerialException, OSError):
-                return
-            if data:
-                for f in receiver.feed(data, loop.time()):
-                    if (reply := self.answer(f)) is not None:
-                        try:
-                            port.write(receiver.encode(f, reply))
-                        except (serial.SerialException, OSError):
-                            pass  # nobody reads the line: the reply is lost, as on a bus
-
-        loop.add_reader(port.fileno(), readable)
-        self._port = port
+        self._port = SerialLine(self.serial, self.baudrate, self.framing, on_frame, WRITE_TIMEOUT_S)
 
 
 def make_server(devices: dict[int, c.Xc100], framing: str, tcp: tuple[str, int] | None = None,

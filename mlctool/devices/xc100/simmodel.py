@@ -13,7 +13,7 @@ XC1, XC2 ... in stimulus order; sim/signals.py) for expectations, --watch, JSON 
 `mirror=Dn`, the older form, writes Dn:d = position in 0.01 mm, Dn+2 ActionStatus, Dn+3
 AlarmStatus, Dn+4 ErrorStatus, Dn+5 StepNo into PLC memory every scan.
 `link=CPn station=N [baud=] [protocol=rtu|ascii] [reply=TIME] [timeout=TIME]` puts it on the
-PLC's RS-485 port for the VS MBUS instruction (sim/seriallink.py, docs/xc100.md).
+PLC's RS-485 port for the VS MBUS instruction (sim/hardware/seriallink.py, docs/xc100.md).
 """
 
 from __future__ import annotations
@@ -27,8 +27,8 @@ from mlctool.devices.xc100 import controller as c
 from mlctool.devices.xc100.modbus import handle_pdu
 from mlctool.devices.xc100.registers import line_settings_refused
 from mlctool.devices.xc100.tables import tables
-from mlctool.limits import is_decimal
-from mlctool.sim.seriallink import PORT_NAMES, LineSettings
+from mlctool.limits import integer, is_decimal, real
+from mlctool.sim.hardware.seriallink import PORT_NAMES, LineSettings
 from mlctool.sim.signals import KINDS, MODEL_NAME
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
 from mlctool.sim.state import parse_signal_name as parse_signal
@@ -48,8 +48,9 @@ def parse_point(text: str, ppmm: float) -> c.Point:
     p = c.Point(mode=MODE_CODES[mode])
     if len(parts) > 1:  # the point-table screen's ranges (4.1), not the registers' (8.2)
         try:
+            real(parts[1])  # ASCII digits (Decimal takes "٣" as 3: mlctool/limits.py)
             mm = Decimal(parts[1])
-        except InvalidOperation:
+        except (ValueError, InvalidOperation):
             raise ValueError(f"POS {parts[1]!r} is not a number of mm") from None
         f = tables().field("position")
         if not mm.is_finite() or mm.as_tuple().exponent < -2 or not f.ui_allows(int(mm * 100)):
@@ -60,7 +61,7 @@ def parse_point(text: str, ppmm: float) -> c.Point:
     for name, raw in zip(names, parts[2:]):
         f = tables().field(name)
         try:
-            v = int(raw)
+            v = integer(raw)
         except ValueError:
             raise ValueError(f"{name} {raw!r} is not an integer") from None
         if not f.ui_allows(v):
@@ -128,7 +129,7 @@ class XC100Model(DeviceModel):
     def _number(self, key: str, default: str | None, lo: float, hi: float) -> float:
         text = self._param(key, default)
         try:
-            v = float(text)
+            v = real(text)
         except ValueError:
             raise ParamError(key, f"{key} must be a number of mm, not {text!r}") from None
         if not lo <= v <= hi:
@@ -140,7 +141,7 @@ class XC100Model(DeviceModel):
         if p is None:
             raise ParamError(key, f"{key}: no XC100 parameter at {key[1:].upper()}H (manual ch. 5)")
         try:
-            v = int(text, 0)
+            v = integer(text, 0)
         except ValueError:
             raise ParamError(key, f"{key}: {text!r} is not an integer") from None
         if not p.lo <= v <= p.hi:
@@ -284,7 +285,7 @@ def line_settings(dev: c.Xc100) -> LineSettings:
 
 def _is_hex(text: str) -> bool:
     try:
-        int(text, 16)
+        integer(text if text[:1] not in "+-" else "-", 16)  # no sign in a register name
     except ValueError:
         return False
     return True

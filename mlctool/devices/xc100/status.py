@@ -28,6 +28,11 @@ def render(devices: dict[int, c.Xc100], title: str) -> Group:
     return Group(*parts)
 
 
+def _mm(value: float) -> str:
+    """A length to 0.01 mm; a value that rounds to zero is 0.00, not -0.00."""
+    return f"{round(value, 2) + 0.0:9.2f}"
+
+
 def _render_one(dev: c.Xc100) -> list:
     mm = c.pulses_per_mm(dev)
     t = tables()
@@ -37,8 +42,8 @@ def _render_one(dev: c.Xc100) -> list:
     m = dev.motion
     doing = "idle" if m is None else f"{m.kind}" + (f" P{m.point}" if m.point >= 0 else "")
     rows = [
-        ("position", f"{dev.act / mm:9.2f} mm  ({round(dev.act)} pulses, command {round(dev.cmd)})"),
-        ("speed", f"{dev.vel / mm:9.2f} mm/s"),
+        ("position", f"{_mm(dev.act / mm)} mm  ({round(dev.act)} pulses, command {round(dev.cmd)})"),
+        ("speed", f"{_mm(dev.vel / mm)} mm/s"),
         ("state", f"{STATES.get(1 if m else dev.action)} ({doing}), step {dev.step_no}"),
         ("servo", ("ON" if dev.servo else "OFF") + ("   homed" if dev.homed else "   not homed")),
         ("alarm", f"{dev.alarm} {t.alarms[dev.alarm][0]} (ERR LED {c.led_blinks(dev)} blinks)"

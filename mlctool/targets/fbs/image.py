@@ -13,7 +13,7 @@ import json
 import re
 from dataclasses import dataclass
 
-from mlctool.limits import clip, long_number, too_long_message
+from mlctool.limits import clip, is_decimal, long_number, too_long_message
 from mlctool.targets.fbs.model import tables
 
 FORMAT = "mlctool-fbs-table"
@@ -102,9 +102,9 @@ def read_image(text: str) -> tuple[list[int], str]:
         raise ImageError("empty register image")
     words, first = [], rows[0][0].strip()
     for k, r in enumerate(rows, start=2):
-        if len(r) < 2 or not re.fullmatch(r"[0-9]+", r[1].strip()):
+        if len(r) < 2 or not is_decimal(r[1].strip()):
             raise ImageError(f"CSV row {k}: expected register,value[,hex]")
-        words.append(int(r[1]))
+        words.append(int(r[1].strip()))
     return _words_checked(words, "CSV"), first
 
 

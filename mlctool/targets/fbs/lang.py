@@ -11,7 +11,6 @@ each rule is documented in docs/fbs-positioning.md.
 from __future__ import annotations
 
 import re
-import unicodedata
 from dataclasses import dataclass, field
 
 from mlctool.diagnostics import Diagnostic, Span, diag
@@ -38,14 +37,19 @@ _REG = re.compile(r"([A-Za-z])([0-9]+)")
 
 
 def normalize(line: str) -> str:
-    """Full-width and variant characters -> ASCII, one character for one (columns stay)."""
+    """Full-width characters (a Chinese IME's ，－３００) and the manual's minus signs ->
+    ASCII, one character for one (columns stay). DECISION (issue 30.16, one rule for numbers:
+    mlctool/limits.py): only the full-width forms of ASCII (U+FF01-U+FF5E, the ideographic
+    space), which are ASCII typed another way; other compatibility forms that NFKC would make
+    digits ("²" -> "2", "①" -> "1") stay what they are, and are no number."""
     out = []
     for c in line:
         if c in _MINUS:
             out.append(_MINUS[c])
-            continue
-        n = unicodedata.normalize("NFKC", c) if ord(c) > 127 else c
-        out.append(n if len(n) == 1 else c)
+        elif "\uFF01" <= c <= "\uFF5E":
+            out.append(chr(ord(c) - 0xFEE0))
+        else:
+            out.append(" " if c == "\u3000" else c)
     return "".join(out).replace("\t", " ")
 
 

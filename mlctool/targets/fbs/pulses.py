@@ -13,7 +13,7 @@ axis' output mode:
 
 from __future__ import annotations
 
-from mlctool.sim.pin_window import PinWindow
+from mlctool.sim.hardware.pin_window import PinWindow
 
 Levels = dict  # Y number -> level last written in the window
 

@@ -73,6 +73,13 @@ def count(m: Machine, ref) -> int:
     return ref.get(m)
 
 
+def table_count(m: Machine, s, k: int) -> int | None:
+    """Operand k's count (`count`) if it lies in the table's range for it, else None after an
+    operation error (5-1: "運算元...超出範圍" is an operation error, the instruction is not
+    executed): a register or an index-modified constant may hold anything."""
+    return base.count_in(m, s, k, count(m, s.ops[k]))
+
+
 # ------------------------------------------------------------------ blocks
 
 def _size(ref, width: int) -> int:

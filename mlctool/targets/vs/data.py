@@ -208,6 +208,7 @@ def _block_compare(rel):
         if n < 1:
             op_error(m, s, f"n = {n} is out of range")
             return
+        dst.block(m, n)  # the n result bits exist (else a fault) before the blocks are read
         a, b = read_block(m, s1, n, s.width), read_block(m, s2, n, s.width)
         results = [1 if rel(x, y) else 0 for x, y in zip(a, b, strict=True)]
         write_block(m, dst, results, 1)

@@ -57,7 +57,7 @@ def ebin(m: Machine, s) -> None:
     src = s.ops[0]
     raw = src.get(m)  # the pair as one 32-bit value: low word mantissa, high word exponent
     mant, exp = s16(raw), s16(raw >> 16)
-    x = mant * 10.0 ** exp
+    x = float(Decimal(mant).scaleb(exp))  # (10.0 ** 32767 overflows; this is inf, then the error)
     if abs(x) > F32_MAX:
         op_error(m, s, f"{mant} x 10^{exp} is beyond the float range")
         return

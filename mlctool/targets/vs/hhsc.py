@@ -18,9 +18,9 @@ A count that reaches the set value requests IHHC1/IHHC2 at its time (_set_value_
 from __future__ import annotations
 
 from mlctool.check.interrupts import source_pointer
+from mlctool.sim.hardware.pulses import count as count_edges
+from mlctool.sim.hardware.pulses import quadrature_count, time_of_count
 from mlctool.sim.operands import WordRef
-from mlctool.sim.pulses import count as count_edges
-from mlctool.sim.pulses import quadrature_count, time_of_count
 from mlctool.sim.state import Machine, s32
 
 

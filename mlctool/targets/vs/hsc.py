@@ -1,5 +1,5 @@
 """Software high-speed counters C235-C255 and their compare instructions (manual 2-7, 6-7
-FNC 53 DHSCS, 54 DHSCR, 55 DHSZ, 56 SPD) on the stimulus's pulse trains (sim/pulses.py).
+FNC 53 DHSCS, 54 DHSCR, 55 DHSZ, 56 SPD) on the stimulus's pulse trains (sim/hardware/pulses.py).
 
 Which counters count which input is data: target.toml `[high_speed_counters]` (`inputs`:
 counter -> input; `counters`: the whole range, so one without an input assignment is a
@@ -20,11 +20,11 @@ the counts of the interval. Writing a counter (DMOV) compares nothing (2-7, 6-7)
 
 from __future__ import annotations
 
+from mlctool.sim.hardware.pulses import count as count_edges
+from mlctool.sim.hardware.pulses import quadrature_count, time_of_count
 from mlctool.sim.operands import CounterRef
-from mlctool.sim.pulses import count as count_edges
-from mlctool.sim.pulses import quadrature_count, time_of_count
 from mlctool.sim.state import Machine, SimFault, s32
-from mlctool.targets.vs.common import op_error, special
+from mlctool.targets.vs.common import op_error, special, write_block
 from mlctool.targets.vs.hhsc import catch_up_hardware, dhhcmv
 from mlctool.targets.vs.routines import counter
 
@@ -290,14 +290,10 @@ def spd(m: Machine, s) -> None:
         dst.set(m, count_edges(m, kind, number, start, start + span))
         start += span
     memo[s.index] = start
-    size = 2 if s.width == 32 else 1
-    words = m.words[dst.kind]
-    a = dst.addr(m)
-    for k, value in enumerate((count_edges(m, kind, number, start, m.now_us),
-                               (start + span - m.now_us) // 1000), 1):
-        for h in range(size):
-            words[a + k * size + h] = (value >> (16 * h)) & 0xFFFF
-        m.writer[(dst.kind, a + k * size)] = m.pc
+    # D+1 the count so far, D+2 the ms left: the block of three written as one (a counter
+    # or index register as D too; past the device's end a fault)
+    write_block(m, dst, [dst.get(m), count_edges(m, kind, number, start, m.now_us),
+                         (start + span - m.now_us) // 1000], s.width)
 
 
 def counter_coil(m: Machine, s) -> None:

@@ -33,7 +33,7 @@ import math
 from fractions import Fraction
 
 from mlctool.check.interrupts import Pointer, disable_relay, pointer_numbered
-from mlctool.sim.pulses import edges
+from mlctool.sim.hardware.pulses import edges
 from mlctool.sim.scan import END_SCAN, Fault
 from mlctool.sim.state import Machine, SimFault
 from mlctool.targets.vs.hsc import catch_up

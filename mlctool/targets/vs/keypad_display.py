@@ -205,11 +205,11 @@ def pr(m: Machine, s) -> None:
 
 
 def _pr_text(m: Machine, src, long: bool) -> list[int]:
-    words = m.words[src.kind]
+    words = m.cval if src.kind == "C" else m.words[src.kind]  # (counters' values live in cval)
     a = src.addr(m)
     chars = []
     for k in range(8 if long else 4):
-        w = words[a + k] if a + k < len(words) else 0
+        w = words[a + k] & 0xFFFF if a + k < len(words) else 0
         chars += [w & 0xFF, w >> 8]
     if long and 0 in chars:
         chars = chars[:chars.index(0)]

@@ -11,7 +11,7 @@ import math
 
 from mlctool.sim import semantics as base
 from mlctool.sim.decode import STL_JOINED
-from mlctool.sim.operands import WordRef
+from mlctool.sim.operands import ConstRef, WordRef
 from mlctool.sim.state import Machine, SimFault, bits_f32, f32_bits, put_words, s16, s32, to_f32
 from mlctool.targets.vs.common import (  # set_flags: M9020 zero / M9021 borrow / M9022 carry
     count,
@@ -235,7 +235,9 @@ swap.__doc__ = "SWAP S: the bytes of each word exchanged (FNC 147)."
 
 def _pair(m: Machine, ref) -> tuple[list, int]:
     """The two words of a float operand, whatever the instruction's width (FLT D, INT S)."""
-    return _words(m, ref, 2)
+    if not isinstance(ref, WordRef):
+        raise SimFault(f"{ref.text}: a float is a pair of word registers")
+    return m.words[ref.kind], ref.block(m, 2)
 
 
 @base._on
@@ -250,8 +252,12 @@ def flt(m: Machine, s) -> None:
 @base._on
 def int_(m: Machine, s) -> None:
     """INT S D: binary float (a pair) -> integer, fraction dropped (FNC 129)."""
-    words, a = _pair(m, s.ops[0])
-    x = to_f32(bits_f32(words[a] | (words[a + 1] << 16)))
+    src = s.ops[0]
+    if isinstance(src, ConstRef):  # K/H/E converted to a float (5-1)
+        x = to_f32(src.getf(m))
+    else:
+        words, a = _pair(m, src)
+        x = to_f32(bits_f32(words[a] | (words[a + 1] << 16)))
     lo, hi = (-(1 << 31), (1 << 31) - 1) if s.width == 32 else (-32768, 32767)
     if not math.isfinite(x) or not lo <= math.trunc(x) <= hi:
         set_flags(m, carry=True)

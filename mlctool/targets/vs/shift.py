@@ -4,7 +4,15 @@ from __future__ import annotations
 
 from mlctool.sim import semantics as base
 from mlctool.sim.state import Machine
-from mlctool.targets.vs.common import count, flag, op_error, read_block, set_flags, write_block
+from mlctool.targets.vs.common import (
+    count,
+    flag,
+    op_error,
+    read_block,
+    set_flags,
+    table_count,
+    write_block,
+)
 
 
 def _rotate_carry(left: bool):
@@ -49,8 +57,10 @@ def _block_shift(right: bool, width: int):
 def sfwr(m: Machine, s) -> None:
     """SFWR S D n: pointer D + 1, then S into D[pointer]. A full file (pointer >= n-1) takes
     nothing and turns the carry M9022 On (FNC 38). DECISION: a write that fits turns it Off."""
-    src, dst, nr = s.ops
-    n = count(m, nr)
+    src, dst, _ = s.ops
+    n = table_count(m, s, 2)
+    if n is None:
+        return
     ptr = read_block(m, dst, 1, 16)[0]
     if ptr >= n - 1:
         set_flags(m, carry=True)
@@ -69,8 +79,10 @@ def sfrd(m: Machine, s) -> None:
     """SFRD S D n: D = S[1]; S[2..n-1] move down one; pointer S - 1 (FIFO, FNC 39). An empty
     file (pointer 0) reads nothing and turns the zero flag M9020 On. DECISION: a read turns
     it On when it empties the file, Off otherwise; S[n-1] keeps its value."""
-    src, dst, nr = s.ops
-    n = count(m, nr)
+    src, dst, _ = s.ops
+    n = table_count(m, s, 2)
+    if n is None:
+        return
     block = read_block(m, src, n, 16)
     ptr = block[0]
     if ptr <= 0:

@@ -229,7 +229,7 @@ def ramp(m: Machine, s) -> None:
     if memo["flagged"]:
         set_relay(m, "done", False)
         memo["flagged"] = False
-    d = dst.addr(m)
+    d = dst.block(m, 2)  # D and the count D+1 (also while Off)
     words = m.words[dst.kind]
     if not m.acc:
         words[d + 1] = 0

@@ -4,6 +4,7 @@ empty table warns W330 (naming the table and the error code) instead of only set
 
 from __future__ import annotations
 
+import io
 import json
 import shutil
 from pathlib import Path
@@ -51,6 +52,26 @@ def test_mlc_sim_without_file_runs_the_project_with_its_tables(mlc, project):
     assert "expectations: 6 passed, 0 failed" in r.out
 
 
+def test_mlc_debug_loads_the_projects_tables(mlc, project, monkeypatch):
+    """`mlc debug` in the project runs HSPSO on its mlc.toml tables (it loaded none: W330, every
+    expectation of the homing failed); without them the session says W330 once."""
+    script = "continue\nprint R4088:d M1996\nquit\n"
+    monkeypatch.setattr("sys.stdin", io.StringIO(script))
+    r = mlc("debug", "--stimulus", "tests/home_and_run.stim", cwd=project)
+    assert r.code == 0, r.err
+    assert "W330" not in r.out + r.err and "expect failed" not in r.out
+    assert "the stimulus ends here: scan 850" in r.out and "M1996 = 1" in r.out  # the run table ended
+    (project / "mlc.toml").write_text(TOML.replace('tables = ["R5000=tables/home.pos", "R5100=tables/run.pos"]',
+                                                   'tables = ["R5100=tables/run.pos"]'))
+    monkeypatch.setattr("sys.stdin", io.StringIO(script))
+    r = mlc("debug", "--stimulus", "tests/home_and_run.stim", "--table", "R5000=tables/home.pos", cwd=project)
+    assert r.code == 0 and "W330" not in r.out and "M1996 = 1" in r.out, r.out + r.err  # --table too
+    monkeypatch.setattr("sys.stdin", io.StringIO(script))
+    r = mlc("debug", "--stimulus", "tests/home_and_run.stim", cwd=project)
+    assert r.out.count("W330") == 1 and "HSPSO K0 R5000 R2100 started on an empty table at R5000" in r.out
+    assert "expect failed" in r.out and "M1996 = 0" in r.out
+
+
 def test_hspso_on_an_empty_table_warns_w330_with_the_table_and_code(mlc, project):
     (project / "mlc.toml").write_text(TOML.replace('tables = ["R5000=tables/home.pos", ', 'tables = ['))
     r = mlc("test", "--json", cwd=project)
@@ -91,3 +112,21 @@ def test_a_table_the_target_cannot_load_is_e121_at_its_line(mlc, project, toml, 
     r = mlc("sim", "--stimulus", "tests/home_and_run.stim", cwd=project)
     assert r.code == 2 and "E121" in r.err and message in r.err
     assert "mlc.toml:3:1:" in r.err
+
+
+def test_mlc_test_coverage_in_workers_keeps_the_projects_pulse_modes(mlc, project):
+    """`mlc test --coverage -j 2`: each worker loaded the target again by its name, so the
+    project's mlc.toml `pulse_modes` (and `model`) were lost there: P/R axes ran as U/D."""
+    (project / "mlc.toml").write_text(TOML + 'pulse_modes = ["P/R"]\n')
+    stim = project / "tests" / "home_and_run.stim"
+    # P/R homing backwards: pulses on Y0, Y1 (the direction) Off; U/D would pulse Y1
+    pr = stim.read_text().replace("expect M1992=0 Y0=0 Y1=1", "expect M1992=0 Y0=1 Y1=0")
+    assert pr != stim.read_text()
+    stim.write_text(pr)
+    (project / "tests" / "again.stim").write_text(pr)
+    one = mlc("test", "--coverage", "-j", "1", "--json", cwd=project)
+    coverage = (project / "coverage.json").read_text()
+    two = mlc("test", "--coverage", "-j", "2", "--json", cwd=project)
+    assert one.code == 0 and two.code == 0, two.out + two.err
+    assert json.loads(one.out)["scenarios"] == json.loads(two.out)["scenarios"]
+    assert (project / "coverage.json").read_text() == coverage

@@ -13,9 +13,9 @@ from test_fbs_cli import mlc
 from test_fbs_sim import AXIS, FBS, SAMPLES
 
 from mlctool.asm import program_from_paths
-from mlctool.sim.run import Simulation
-from mlctool.sim.stimulus import parse_stimulus_text
-from mlctool.sim.vcd import to_vcd
+from mlctool.sim.run.run import Simulation
+from mlctool.sim.run.vcd import to_vcd
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.targets.fbs.files import table_preload
 
 

@@ -10,9 +10,9 @@ from pathlib import Path
 from test_fbs_cli import mlc
 
 from mlctool.asm import program_from_paths
-from mlctool.sim.run import Simulation, plan_scans
+from mlctool.sim.run.run import Simulation, plan_scans
 from mlctool.sim.state import parse_device_name
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.targetapi import load_target
 from mlctool.targets.fbs.files import table_preload
 

@@ -13,7 +13,7 @@ import pytest
 from nc5kit import NC5, nc_written
 
 from conftest import ROOT, SIM_ENGINES, run_mlc
-from mlctool.sim.stimulus import load_stimulus
+from mlctool.sim.stimulus.stimulus import load_stimulus
 
 MILL = ROOT / "samples" / "nc5-mill"
 BROKEN = MILL / "broken"

@@ -98,3 +98,44 @@ def test_addresses_put_the_channel_where_5_1_says():
     assert a.number(a.JOG_PLUS, 2, axis=a.AXIS_ORDER.index("Z")) == 22386  # 6.4: Z +2
     assert a.number(a.PARTS_DONE, 3) == 49300 and a.name(a.PARTS_DONE) == "D49x00"
     assert a.name(a.MST_FINISH) == "M2x016" and a.name(a.T_CODE) == "D3x052"
+
+
+def test_cycle_start_without_a_part_program_warns_w345_at_the_model_line(mlc, tmp_path):
+    """A model nc5 line without program=: jogging, homing, modes need none (no warning); cycle
+    start in AUTO runs an empty program, W345 at the model line, once, in --json's warnings."""
+    import json
+
+    quiet = sim(mlc, tmp_path, "scan 1ms\nmodel nc5\n0ms D21000=4\n20ms expect NC1.mode=4\nrun 50ms\n", None)
+    assert quiet.code == 0 and "W345" not in quiet.err, quiet.err
+    stim = ("scan 1ms\n# the virtual NC\nmodel nc5 axes=X\n10ms M21000=1\n20ms M21000=0\n30ms M21000=1\n"
+            "40ms expect NC1.state=6\nrun 50ms\n")  # 6: program end (published.STATES)
+    r = sim(mlc, tmp_path, stim, None)
+    assert r.code == 0, r.err
+    assert r.err.count("W345") == 1 and "s.stim:3:1: warning[W345]" in r.err, r.err
+    assert "at 11 ms (scan 11): NC1: cycle start with no part program" in r.err  # read before the next scan
+    warned = json.loads(sim(mlc, tmp_path, stim, None, "--json").out)["warnings"]
+    assert [(w["code"], w["line"]) for w in warned] == [("W345", 3)]
+    r = sim(mlc, tmp_path, stim.replace("model nc5 axes=X", "model nc5 axes=X program=part.nc"))
+    assert r.code == 0 and "W345" not in r.err  # a part program (M30): no warning
+
+
+def _project(tmp_path):
+    (tmp_path / "mlc.toml").write_text('target = "nc5"\nsources = ["p.il"]\ntests = ["t/*.stim"]\n')
+    (tmp_path / "p.il").write_text(PROGRAM)
+    (tmp_path / "t").mkdir()
+    (tmp_path / "t" / "a.stim").write_text("model nc5 program=part.nc\n0ms M21000=1\n100ms expect M31023=1\n")
+    (tmp_path / "t" / "part.nc").write_text("M30\n")
+
+
+def test_the_part_program_is_an_input_of_mlc_test_and_of_a_batch(mlc, tmp_path):
+    """run.model_inputs: mlc test and a batch (`--stimulus 'GLOB'`) refuse an output that is a
+    scenario's part program, as mlc sim does, and leave it whole."""
+    _project(tmp_path)
+    r = mlc("test", "--junit", "t/part.nc", cwd=tmp_path)
+    assert r.code == 2 and "E606" in r.err and "t/part.nc" in r.err, r.err
+    assert (tmp_path / "t" / "part.nc").read_text() == "M30\n"
+    r = mlc("sim", "p.il", "--stimulus", "t/*.stim", "--junit", "t/part.nc", cwd=tmp_path)
+    assert r.code == 2 and "E606" in r.err, r.err
+    assert (tmp_path / "t" / "part.nc").read_text() == "M30\n"
+    r = mlc("test", "--junit", "out.xml", cwd=tmp_path)
+    assert r.code == 0 and (tmp_path / "out.xml").is_file(), r.err

@@ -44,6 +44,8 @@ def test_feed_hold_keeps_the_position_and_cycle_start_resumes():
     run(START, "model nc5 program=part.nc\n0ms X2=1\n20ms X2=0\n300ms X3=1\n320ms X3=0\n"
                "310ms expect M31017=1 M31016=1 NC1.state=2 NC1.X.pos=3000\n"
                "800ms expect NC1.X.pos=3000 M31017=1\n800ms X2=1\n"  # held: nothing moves
+               # the held time is not travelled: 7 mm to go at 10 um/ms from 800 ms
+               "1000ms expect NC1.X.pos=5000\n1490ms expect NC1.X.pos=9900\n"
                "1500ms expect NC1.X.pos=10000 M31017=0 M31023=1\n", LINE)
 
 
@@ -100,8 +102,8 @@ def test_emergency_stop_stops_everything():
 def test_a_mode_change_ends_running_and_pauses():
     """6.2 (e): switching the mode while the program runs drops M3x016."""
     run(START, "model nc5 program=part.nc\n0ms X2=1\n20ms X2=0\n300ms D21000=4\n"
-               "320ms expect M31016=0 M31017=1 NC1.state=2\n320ms D21000=0\n400ms X2=1\n"
-               "1200ms expect NC1.X.pos=10000\n", LINE)
+               "320ms expect M31016=0 M31017=1 NC1.state=2 NC1.X.pos=3000\n320ms D21000=0\n400ms X2=1\n"
+               "600ms expect NC1.X.pos=5000\n1200ms expect NC1.X.pos=10000\n", LINE)  # (the held time not travelled)
 
 
 def test_a_servo_off_axis_holds_the_block():

@@ -16,6 +16,9 @@ VS = load_target("vs")
 PLAIN = (DATA / "program.il").read_text("utf-8")
 EXPORTS = {"gxworks2.csv": "gxworks2", "gxdeveloper.csv": "gxdeveloper", "wplsoft.csv": "wplsoft",
            "program.il": "il"}
+# the dialect of origin each import writes first (issue 29: W217 reads it); plain IL has none
+DIALECT = {"gxworks2": ".dialect fx\n", "gxdeveloper": ".dialect fx\n", "wplsoft": ".dialect dvp\n",
+           "delta": ".dialect dvp\n", "il": ""}
 
 
 def mlc(*args, cwd=None):
@@ -36,17 +39,21 @@ def test_the_export_files_have_their_formats_shapes():
 def test_each_export_reads_to_the_plain_program(name):
     text, fmt, diags = import_file(str(DATA / name), VS)
     assert (fmt, diags) == (EXPORTS[name], [])
-    assert text == PLAIN
+    assert text == DIALECT[EXPORTS[name]] + PLAIN
 
 
 def test_same_assembled_bytes(tmp_path):
-    """Every import, built, is byte for byte the plain IL's object."""
+    """Every import, built, is byte for byte the plain IL's object (its `.dialect` line aside,
+    which the object keeps as it keeps every directive)."""
     built = {}
     for name in sorted(EXPORTS):
         folder = tmp_path / name.replace(".", "_")
         folder.mkdir()
         r = mlc("import", "--target", "vs", str(DATA / name), "-o", "prog.il", cwd=folder)
         assert r.code == 0, r.err
+        il = (folder / "prog.il").read_text("utf-8")
+        assert il.startswith(DIALECT[EXPORTS[name]])
+        (folder / "prog.il").write_text(il.removeprefix(DIALECT[EXPORTS[name]]), "utf-8")
         r = mlc("build", "--target", "vs", "prog.il", "-o", "prog.mlx", cwd=folder)
         assert r.code == 0, r.err
         built[name] = (folder / "prog.mlx").read_bytes()
@@ -56,7 +63,7 @@ def test_same_assembled_bytes(tmp_path):
 def test_the_32_bit_comparison_spellings():
     # in an export from a tool that writes DLD>=, the importer writes the target's LDD>=
     text, _, _ = import_text("w.csv", "000000,DLD>=,D0,K1\n000009,OUT,Y0\n000010,END\n", VS)
-    assert text.splitlines()[0] == "LDD>= D0 K1"
+    assert text.splitlines()[:2] == [".dialect dvp", "LDD>= D0 K1"]
     # written by hand in IL, DLD>= is the wrong spelling, with a hint
     r = mlc("check", "--target", "vs", str(DATA / "bad_spelling.il"))
     assert r.code == 1 and "E201" in r.err and "LDD>=" in r.err
@@ -103,7 +110,7 @@ def test_import_without_target_takes_the_exports_dialect(tmp_path):
     for name in ("gxworks2.csv", "gxdeveloper.csv", "wplsoft.csv"):
         r = mlc("import", str(DATA / name), "-o", "prog.il", cwd=tmp_path)
         assert r.code == 0, r.err
-        assert (tmp_path / "prog.il").read_text("utf-8") == PLAIN
+        assert (tmp_path / "prog.il").read_text("utf-8") == DIALECT[EXPORTS[name]] + PLAIN
         assert "(target vs, the dialect of a" in r.err and "`mlc check --target vs prog.il`" in r.err
         assert mlc("check", "--target", "vs", "prog.il", cwd=tmp_path).code == 0
     # the command line still decides
@@ -132,7 +139,7 @@ def test_a_bare_name_is_a_label_only_when_jumped_to():
     assert out is None and [(d.code, d.span.line) for d in diags] == [("E907", 2)]
     assert diags[0].message == "row 2: unknown instruction 'NOPLF' for target vs; did you mean PLF?"
     out, _, diags = import_text("w.csv", text.replace("000001,NOPLF\n", ""), VS)
-    assert diags == [] and out == "LD X0\nCJ HERE\nHERE:\nLD X1\nDONE:\nEND\n"
+    assert diags == [] and out == ".dialect dvp\nLD X0\nCJ HERE\nHERE:\nLD X1\nDONE:\nEND\n"
 
 
 def test_unknown_instructions_with_operands_are_import_errors():
@@ -166,7 +173,7 @@ def test_buffer_memory_mc_relay_and_pointer_operands():
     assert [d.code for d in diags] == ["N910"], [d.message for d in diags]
     lines = out.splitlines()
     assert "MOV U1G3 D0" in lines and "DHSCS K100 C235 IHC0" in lines
-    assert lines[3].startswith("MC N0 ; the export's MC N0 M100")
+    assert lines[4].startswith("MC N0 ; the export's MC N0 M100")
 
 
 def test_a_pointer_without_a_vs_counterpart_is_an_error_saying_how():
@@ -197,11 +204,11 @@ def test_headerless_and_delta_csv_and_delta_timers():
     rows = '"0","","LD","X000","","",""\n"1","","OUT","T0","","",""\n"","","","K10","","",""\n"4","","END","","","",""\n'
     assert detect(rows) == "gxdeveloper"
     out, _, diags = import_text("h.csv", rows, VS)
-    assert out == "LD X0\nOUT T0 K10\nEND\n" and diags == []
+    assert out == ".dialect fx\nLD X0\nOUT T0 K10\nEND\n" and diags == []
     delta = "Step,Instruction,Operand1,Operand2,Operand3\n0,LD,M1000,,\n1,TMR,T0,K10,\n5,CNT,C0,K3,\n9,END,,,\n"
     assert detect(delta) == "delta"
     out, _, diags = import_text("d.csv", delta, VS)
-    assert out == "LD M9000\nOUT T0 K10\nOUT C0 K3\nEND\n" and [d.code for d in diags] == ["N910"]
+    assert out == ".dialect dvp\nLD M9000\nOUT T0 K10\nOUT C0 K3\nEND\n" and [d.code for d in diags] == ["N910", "N911"]
 
 
 @pytest.mark.parametrize("header", [
@@ -214,4 +221,4 @@ def test_chinese_and_japanese_headers(header):
         '"1"\t""\t"OUT"\t"Y000"\t""\t""\t""\n"2"\t""\t"END"\t""\t""\t""\t""\n'
     assert detect(text) == "gxworks2"
     out, _, diags = import_text("z.csv", text, VS)
-    assert out == "LD X0 ; start\nOUT Y0\nEND\n" and diags == []
+    assert out == ".dialect fx\nLD X0 ; start\nOUT Y0\nEND\n" and diags == []

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mlctool.sim.engine import scanner
+from mlctool.sim.engines.engine import scanner
 from mlctool.sim.scan import load_program
 from mlctool.sim.state import Machine
 from vskit import VS, image_of

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 from test_vs_sim import codes
 
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from vskit import VS, run
 
 

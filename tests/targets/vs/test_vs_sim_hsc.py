@@ -3,7 +3,7 @@ the pages' examples, counted analytically (docs/vs.md "High-speed counters")."""
 
 from __future__ import annotations
 
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from vskit import VS, run
 
 
@@ -75,3 +75,15 @@ def test_pulse_train_drives_the_input_level():
     # 50 % duty: at 40 Hz the input is On for 12.5 ms of each 25 ms; scans see it at their start
     run("LD X3\nOUT Y3\n", "0ms X3 pulses 40Hz until 50ms\n0ms expect Y3=1\n10ms expect Y3=1\n"
         "20ms expect Y3=0\n30ms expect Y3=1\n50ms expect Y3=0\n")
+
+
+def test_the_edge_at_the_enabling_scan_is_not_counted_whatever_the_start():
+    """Issue 29: 1 kHz on X2 from 0 ms gave C237 = 249, from 5 ms 250. DECISION (docs/vs.md):
+    counting starts with the coil's first execution, after the scan's input refresh, so the
+    edge at that scan's instant is before it. The rule is one: a counter enabled at 20 ms by
+    X10 misses the 20 ms edge of a train already running, and counts a train from 25 ms whole."""
+    prog = "LD M9000\nOUT C237 K100000\nLD X10\nOUT C235 K100000\n"
+    run(prog, "0ms X2 pulses 1kHz until 250ms\n300ms expect C237:d=249\n")
+    run(prog, "5ms X2 pulses 1kHz until 255ms\n300ms expect C237:d=250\n")
+    run(prog, "0ms X0 pulses 1kHz until 250ms\n20ms X10=1\n300ms expect C235:d=229\n")
+    run(prog, "20ms X10=1\n25ms X0 pulses 1kHz until 275ms\n300ms expect C235:d=250\n")

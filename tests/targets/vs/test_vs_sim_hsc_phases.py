@@ -4,7 +4,7 @@
 
 from __future__ import annotations
 
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from vskit import VS, run
 
 

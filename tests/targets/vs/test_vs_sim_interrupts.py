@@ -4,7 +4,7 @@ memory (6-9 FNC 78/79 FROM/TO): checker rules and the simulator, from the manual
 from __future__ import annotations
 
 from mlctool.check import check_texts
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.syntax.source import SourceText
 from vskit import VS, image_of, run, simulate
 
@@ -182,8 +182,8 @@ def test_ref_y_in_a_routine_puts_the_output_out_at_the_request_time():
     # the routine sets Y0 and puts it out by REF Y0 K8 (Y0-Y7) at 15 ms; Y10 it sets without
     # REF goes out after the next scan (20 ms); the main program clears Y0 at every scan, so
     # the trace (and the VCD) show Y0 On from 15 ms to the scan at 20 ms and Y10 from 20 ms
-    from mlctool.sim.run import Simulation
-    from mlctool.sim.vcd import to_vcd
+    from mlctool.sim.run.run import Simulation
+    from mlctool.sim.run.vcd import to_vcd
 
     image = image_of("LD M9000\nRST Y0\nFEND\nIX0P:\nLD M9000\nSET Y0\nSET Y10\nLD M9000\nREF Y0 K8\n"
                      "IRET\nEND\n")

@@ -7,8 +7,8 @@ from __future__ import annotations
 import pytest
 
 from mlctool.check import check_texts
-from mlctool.sim.run import Simulation, build_models, plan_scans
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.run.run import Simulation, build_models, plan_scans
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.syntax.source import decode
 from vskit import VS, image_of
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from mlctool.sim.stimulus import parse_stimulus_text
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from vskit import VS, image_of, run, simulate
 
 # the page's diagrams: RS D0 K5 D100 K10 K1 on X20; the program moves a message away and
@@ -79,8 +79,8 @@ def test_send_frames_with_the_start_and_end_characters():
     image = image_of(il)
     sim_run = simulate(image, stim)
     assert not sim_run.failed, sim_run.failed
-    from mlctool.sim import seriallink
-    from mlctool.sim.run import Simulation
+    from mlctool.sim.hardware import seriallink
+    from mlctool.sim.run.run import Simulation
     st, _ = parse_stimulus_text("t.stim", stim, VS)
     sim = Simulation(image, VS, st, [], 10_000, [], False)
     sim.run(3)

@@ -11,9 +11,9 @@ from pathlib import Path
 
 import pytest
 
-from mlctool.sim.run import Simulation
-from mlctool.sim.stimulus import parse_stimulus_text
-from mlctool.sim.unmodelled import unmodelled_writes
+from mlctool.sim.run.run import Simulation
+from mlctool.sim.run.unmodelled import unmodelled_writes
+from mlctool.sim.stimulus.stimulus import parse_stimulus_text
 from mlctool.targetapi.specials import unmodelled_specials
 from vskit import VS, check_codes, image_of, run
 

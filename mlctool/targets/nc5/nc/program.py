@@ -27,7 +27,7 @@ MAX_MM = Decimal("99999.999")
 MAX_S = 2147483647  # D2x024's range (6.10); S shares it
 MAX_CODE = 9999  # M and T numbers (4 digits, the registers' decimal display)
 SUPPORTED_G = {0, 1, 4, 17, 21, 54, 55, 56, 57, 58, 59, 90, 91, 94}
-NOT_HANDSHAKEN_M = {0, 1, 2, 30}  # 5.2.1 M3x064: M00 M01 M02 M30 (M98 M99) raise no M flag
+NOT_HANDSHAKEN_M = {0, 1, 2, 30, 98, 99}  # 5.2.1 D3x048: M00 M01 M02 M30 M98 M99 raise no M flag
 SUBPROGRAM_M = {96, 97, 98, 99}
 _WORD = re.compile(r"([A-Za-z])([+-]?(?:\d+\.?\d*|\.\d+))?")
 
@@ -57,14 +57,15 @@ class _Bad(Exception):
         self.col, self.width, self.code, self.message = col, width, code, message
 
 
-def parse(path: str, text: str, axes: str) -> tuple[PartProgram, list[Diagnostic]]:
-    """The blocks of `text`, or the diagnostics of every wrong line (file, line, column)."""
+def parse(path: str, text: str, axes: str, macro: bool = False) -> tuple[PartProgram, list[Diagnostic]]:
+    """The blocks of `text`, or the diagnostics of every wrong line (file, line, column). A
+    macro (5.3.8) may end with M99 (its return)."""
     blocks, diags = [], []
     feed_given = False
     motion = 0  # G00 at the start (DECISION: the model starts in G00)
     for no, raw in enumerate(text.splitlines(), 1):
         try:
-            block = _block(no, raw, axes)
+            block = _block(no, raw, axes, macro)
         except _Bad as e:
             diags.append(diag(path, Span.at(no, e.col, e.width), e.code, e.message))
             continue
@@ -81,7 +82,7 @@ def parse(path: str, text: str, axes: str) -> tuple[PartProgram, list[Diagnostic
     return PartProgram(path, blocks), diags
 
 
-def _block(no: int, raw: str, axes: str) -> Block | None:
+def _block(no: int, raw: str, axes: str, macro: bool = False) -> Block | None:
     code = _strip_comments(raw)
     stripped = code.strip()
     if not stripped or stripped == "%":
@@ -126,7 +127,7 @@ def _block(no: int, raw: str, axes: str) -> Block | None:
         if letter == "P":
             dwell_ms = _bounded(number, col, width, "P", 10**6)  # ms
         else:
-            _word(block, letter, number, col, width, axes)
+            _word(block, letter, number, col, width, axes, macro)
     _g_codes(block, gs)
     if block.dwell_us is not None:  # G04: P in ms, else X in s (X read as mm: 0.001 units)
         x = block.axes.pop("X", None)
@@ -163,7 +164,7 @@ def _strip_comments(raw: str) -> str:
     return "".join(out)
 
 
-def _word(block: Block, letter: str, number: str, col: int, width: int, axes: str) -> None:
+def _word(block: Block, letter: str, number: str, col: int, width: int, axes: str, macro: bool = False) -> None:
     if letter == "N":
         _integer(number, col, width, "N")
     elif letter == "F":
@@ -177,9 +178,9 @@ def _word(block: Block, letter: str, number: str, col: int, width: int, axes: st
         block.t = _bounded(number, col, width, "T", MAX_CODE)  # DECISION (notes #18): the last T counts
     elif letter == "M":
         m = _bounded(number, col, width, "M", MAX_CODE)
-        if m in SUBPROGRAM_M:
+        if m in SUBPROGRAM_M and not (macro and m == 99):
             raise _Bad(col, width, "E262", f"M{m}: subprograms and interrupts (M96-M99) are not in "
-                                           "the model's subset")
+                                           "the model's subset (a macro may end with M99)")
         block.m = m
     elif letter in AXIS_ORDER:
         if letter not in axes:

@@ -3,5 +3,5 @@
 interpolation (LIR/LIA).
 
 Belongs here: the positioning instructions' routines. Does not belong here: the axis motion
-itself (the engine's, mlctool/sim/motion.py), pulse outputs PLSY/PWM/PLSR (pulse_out.py).
+itself (the engine's, mlctool/sim/hardware/motion.py), pulse outputs PLSY/PWM/PLSR (pulse_out.py).
 """

@@ -11,7 +11,7 @@ ZRN searches for the DOG from wherever it starts (8-1-2 "自動尋點功能", ca
 
 from __future__ import annotations
 
-from mlctool.sim import motion, pulses
+from mlctool.sim.hardware import motion, pulses
 from mlctool.sim.state import Machine, SimFault
 from mlctool.targets.vs.common import op_error
 from mlctool.targets.vs.positioning.moves import (

@@ -5,7 +5,8 @@ from __future__ import annotations
 import math
 from types import SimpleNamespace
 
-from mlctool.sim import motion
+from mlctool.sim import semantics as base
+from mlctool.sim.hardware import motion
 from mlctool.sim.state import Machine
 from mlctool.targets.vs.common import op_error, read_block, state, write_block
 from mlctool.targets.vs.positioning.moves import _advance, _at_limit, _now, _pair, _start
@@ -26,10 +27,10 @@ class _Pin:
         m.bits[self.kind][self.number] = 1 if v else 0
 
 
-def _lin_axes(m: Machine, s) -> list:
+def _lin_axes(s, d: int) -> list:
     """D = 0: Y0/Y1 with the direction pins Y4/Y5; D = 1: Y2/Y3 with Y6/Y7 (the page's
     table), each as a stand-in step for the one-axis helpers (same owner index)."""
-    first = 2 * s.ops[1].get(m)
+    first = 2 * d
     return [SimpleNamespace(ops=[_Pin("Y", first + k), _Pin("Y", first + k + 4)], index=s.index,
                             ins=s.ins, axis=first + k) for k in (0, 1)]
 
@@ -38,9 +39,12 @@ def _lin_begin(m: Machine, s, memos: list, absolute: bool) -> bool:
     """The vector speeds split by each axis's share of the path (written to S+5 ... S+8);
     both axes ramp in the same time, so they arrive together. The page: the axis parameters
     and the override do not apply; both travels 0: not executed."""
+    d = base.count_in(m, s, 1)  # an index-modified D may name no pair of axes: an operation error
+    if d is None:
+        return False
     width = s.ops[0].width
     block = read_block(m, s.ops[0], 9, width)
-    axes = _lin_axes(m, s)
+    axes = _lin_axes(s, d)
     travel = [block[3 + k] - (_pair(m, a.axis, "position") if absolute else 0)
               for k, a in enumerate(axes)]
     bias = min(max(block[0], 0), 20_000)
@@ -90,10 +94,11 @@ def _linear(m: Machine, s, absolute: bool) -> None:
     if not memos:
         if not m.acc:
             return
-        memos.extend(({}, {}))
-        if not _lin_begin(m, s, memos, absolute):
+        started: list[dict] = [{}, {}]  # kept only once the move has started (as moves._drive)
+        if not _lin_begin(m, s, started, absolute):
             memos[:] = [{"refused": True}]
             return
+        memos.extend(started)
     if memos[0].get("refused"):
         if not m.acc:
             memos.clear()

@@ -2,7 +2,7 @@
 305/306 DV2R/A, 307 DVIT, 308 DV2I, 309/310 DVSR/A, 311 PLSV; on the same moves: 312 DTBL in
 targets/vs/positioning/table.py, 313 DABS in targets/vs/positioning/absolute.py, 314 MPG in targets/vs/positioning/mpg.py, 315/316 LIR/A in
 targets/vs/positioning/lines.py), on virtual time: each instruction plans one speed
-profile (mlctool/sim/motion.py, solved analytically) from the axis parameters and replans it when the page lets a value
+profile (mlctool/sim/hardware/motion.py, solved analytically) from the axis parameters and replans it when the page lets a value
 change; every execution reads the profile at the scan's time and writes the axis registers,
 the flags and the Y pin's level (On in the first half of each pulse period, as PLSY).
 
@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 
-from mlctool.sim import motion
+from mlctool.sim.hardware import motion
 from mlctool.sim.state import Machine
 from mlctool.targets.vs.common import op_error, read_block, state
 from mlctool.targets.vs.pulse_out import (
@@ -257,9 +257,14 @@ def _drive(m: Machine, s, begin, replan=None) -> None:
     if not memo:
         if not m.acc:
             return
-        if not begin(m, s, memo, axis):
+        # the start fills a memo of its own, kept only once it has started: a start that
+        # faults half-way (an operand out of range) leaves no half-made move behind
+        started: dict = {}
+        if not begin(m, s, started, axis):
+            memo.update(started)
             memo.setdefault("refused", True)
             return
+        memo.update(started)
     if memo.get("refused"):
         if not m.acc:
             memo.clear()

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from mlctool.sim import motion, pulses
+from mlctool.sim.hardware import motion, pulses
 from mlctool.sim.state import Machine, s16
 from mlctool.targets.vs.common import op_error, state
 from mlctool.targets.vs.positioning.moves import (
@@ -87,9 +87,12 @@ def mpg(m: Machine, s) -> None:
     if not memo:
         if not m.acc:
             return
-        if not _mpg_begin(m, s, memo, y.addr(m)):
+        started: dict = {}  # kept only once the output has started (as moves._drive)
+        if not _mpg_begin(m, s, started, y.addr(m)):
+            memo.update(started)
             memo["refused"] = True
             return
+        memo.update(started)
     if memo.get("refused"):
         if not m.acc:
             memo.clear()

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from mlctool.sim import motion
+from mlctool.sim.hardware import motion
 from mlctool.sim.state import Machine, s16
 from mlctool.targets.vs.common import op_error, set_relay, state
 from mlctool.targets.vs.positioning.moves import (
@@ -207,10 +207,11 @@ def dtbl(m: Machine, s) -> None:
     if not memo:
         if not m.acc:
             return
-        if not _table_begin(m, s, memo, axis):
-            memo.clear()
+        started: dict = {}  # kept only once the table has started (as moves._drive)
+        if not _table_begin(m, s, started, axis):
             memo["refused"] = True  # not executed until the condition goes Off and On again
             return
+        memo.update(started)
     if memo.get("refused"):
         if not m.acc:
             memo.clear()

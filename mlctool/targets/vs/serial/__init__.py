@@ -3,5 +3,5 @@ and CPUL with peer stations (peers.py: their memory, named CP1#2.D10).
 
 Belongs here: the instructions' routines and their port state. Does not belong here: the
 line itself (bytes on a virtual clock) and the Modbus frames, which the XC100 model and `mlc
-device serve` share: mlctool/sim/seriallink.py.
+device serve` share: mlctool/sim/hardware/seriallink.py.
 """

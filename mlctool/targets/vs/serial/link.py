@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from mlctool.sim import seriallink
+from mlctool.sim.hardware import seriallink
 from mlctool.sim.state import Machine, SimFault
 from mlctool.targets.vs.serial import peers
 from mlctool.targets.vs.serial.mbus import _enabled, _set_relay, tables

@@ -9,7 +9,7 @@ status, high byte: station) until the program clears S2, and turns the port's er
 (M9103 + 10(n-1)) On. Status codes (6-13): 0 normal, 2 length error, 4 device error,
 7 command error, 0AH time-out (no answer), 0BH communication error.
 
-Timing: the exchange is done on the virtual clock of sim/seriallink.py. A request goes out
+Timing: the exchange is done on the virtual clock of sim/hardware/seriallink.py. A request goes out
 at the MBUS execution; its answer is taken (read data written, next row sent) by the MBUS
 execution of the first scan that starts after the answer is complete, so a row takes at
 least one scan, as the OS processes communication between scans (7-3-7).
@@ -27,7 +27,7 @@ import struct
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from mlctool.sim import seriallink
+from mlctool.sim.hardware import seriallink
 from mlctool.sim.state import Machine, SimFault
 
 if TYPE_CHECKING:

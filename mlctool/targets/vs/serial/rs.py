@@ -1,5 +1,5 @@
 """RS S m D n n1 (6-10 FNC 80): non-protocol serial send and receive on port CPn1, on the
-virtual clock of sim/seriallink.py.
+virtual clock of sim/hardware/seriallink.py.
 
 Per port (target.toml [serial_ports], + stride per port): send request M9100, receive done
 M9101, receive time-out M9102, send remaining D9102 ("送信剩餘資料數"), received count D9101.
@@ -29,7 +29,7 @@ RST M9101 is seen by the next execution, which clears M9102 and the count and wa
 
 from __future__ import annotations
 
-from mlctool.sim import seriallink
+from mlctool.sim.hardware import seriallink
 from mlctool.sim.state import Machine, SimFault
 from mlctool.targets.vs.common import op_error, relay
 
