@@ -34,6 +34,7 @@ from mlctool.cli.common import (
     get_config,
     get_target,
     quiet_option,
+    require_project,
     show,
     target_option,
     write_outputs,
@@ -301,9 +302,7 @@ def objdump_cmd(target_name, as_json, as_il, il_dir, config_path, file):
     """
     if file is None:
         config = get_config(config_path)
-        if config.root is None:
-            raise click.UsageError("no FILE given and no mlc.toml here or above: name the object "
-                                   "or program to show, or run inside a project (docs/project.md)")
+        require_project(config, "object or program to show")
         file = project_build(config).output
         if not os.path.exists(file):
             raise _usage(f"{file} does not exist: build the project first (mlc build)")

@@ -18,6 +18,7 @@ from mlctool.cli.common import (
     expand_sources,
     get_config,
     get_target,
+    require_project,
     target_option,
 )
 from mlctool.config import rules_dropped
@@ -55,9 +56,8 @@ def check_cmd(target_name, config_path, fmt, werror, ignore, no_lint, select, sh
     Exit 0: no errors; 1: errors (or warnings with --werror); 2: usage or unreadable input.
     """
     config = get_config(config_path)
-    if not files and config.root is None:
-        raise click.UsageError("no FILE given and no mlc.toml here or above: name files or folders "
-                               "to check, or run inside a project (docs/project.md)")
+    if not files:
+        require_project(config, "files or folders to check")
     files = expand_sources(files)
     focus: list[str] = []
     if config.root is not None:  # (outside a project the linter does not load the assembler)

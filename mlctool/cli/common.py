@@ -224,12 +224,19 @@ def write_outputs(plan: Outputs, files, streamed=()) -> None:
     said_written([*streamed, *(path for path, _ in items)])
 
 
+def require_project(config: Config, what: str) -> None:
+    """A command given no FILE works on the project: outside one, a usage error naming `what`
+    it needs instead."""
+    if config.root is None:
+        raise click.UsageError(f"no FILE given and no mlc.toml here or above: name the {what}, or run "
+                               "inside a project (docs/project.md)")
+
+
 def command_scope(files, config: Config, what: str):
     """What a command works on by the one rule of docs/project.md (mlctool/asm/project.py
     project_scope); no FILE outside a project is a usage error naming `what` it needs."""
-    if not files and config.root is None:
-        raise click.UsageError(f"no FILE given and no mlc.toml here or above: name the {what}, or run "
-                               "inside a project (docs/project.md)")
+    if not files:
+        require_project(config, what)
     from mlctool.asm.project import (
         project_scope,  # (not for `mlc check` of a file outside a project)
     )
