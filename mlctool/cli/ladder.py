@@ -22,7 +22,7 @@ from mlctool.cli.common import (
     write_outputs,
 )
 from mlctool.diagnostics import unreadable
-from mlctool.fileio import Outputs, same_file
+from mlctool.fileio import Outputs
 from mlctool.ladder import sheets_from_files
 from mlctool.report import summary_line
 
@@ -69,7 +69,7 @@ def ladder_cmd(target_name, config_path, out_path, term, title, width, comments,
         click.echo(summary_line(len(errors), 0) + "; nothing drawn", err=True)
         sys.exit(2 if unreadable(errors) else 1)
     if scope.focus:
-        sheets = [s for s in sheets if any(same_file(s.path, f) for f in scope.focus)]
+        sheets = [s for s in sheets if s.path in scope.focus]  # (the project's spelling of each, as loaded)
     if kind == "SVG":
         from mlctool.ladder.svg import sheets_svg
 
