@@ -358,11 +358,6 @@ def read_input(path: str, limit: int) -> bytes:
         os.close(fd)
 
 
-def write_atomic(path: str, data: bytes | str) -> None:
-    """Write all of `data` to `path` or nothing; an existing file is replaced only on success."""
-    Outputs().write({path: data})
-
-
 def rewrite(path: str, data: bytes) -> None:
     """New content for an existing file that stays the same file (`mlc fmt`): a symbolic link
     is written through (the link stays a link, its target gets the text), the permission bits

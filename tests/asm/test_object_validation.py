@@ -106,6 +106,6 @@ def test_a_failed_write_leaves_no_temporary_file(tmp_path):
     from mlctool import fileio
 
     with pytest.raises(fileio.MlcError) as e:
-        fileio.write_atomic(str(tmp_path / "a\x00b.il"), "LD X0\n")
+        fileio.Outputs().write({str(tmp_path / "a\x00b.il"): "LD X0\n"})
     assert e.value.diagnostic.code == "E605"
     assert list(tmp_path.iterdir()) == []
