@@ -757,7 +757,6 @@ class _Resolver:
             for k, o in enumerate(spec.operands):
                 if o.span is not None and k < len(ops):
                     ok = self.check_span(spec, o, ops, args[k], k) and ok
-        if len(ops) == len(args):
             for k, code, msg in constraint_problems(self.t, spec, ops, [a.text for a in args]):
                 self.report(args[k], code, msg)
                 ok = ok and not code.startswith("E")
@@ -905,18 +904,13 @@ def unknown_instruction_hint(t: Target, name: str) -> tuple[str, tuple[str, ...]
 
 
 def _unknown_instruction_hint(t: Target, name: str) -> tuple[str, tuple[str, ...]]:
+    # another family's mnemonic (TMR on VS): the family's note, then the target's form written
+    # out; else the right spelling, the missing pulse form, or that form alone
     family = _family_hint(t, name)
-    if family:  # the family's mnemonic, then the target's form of it written out
-        return "", family + _form_hint(t, name)
-    spelled = _spelling_hint(t, name)
-    if spelled:
-        return "", spelled
-    pulse = _pulse_hint(t, name)
-    if pulse:
-        return "", pulse
-    form = _form_hint(t, name)
-    if form:
-        return "", form
+    notes = () if family else _spelling_hint(t, name) or _pulse_hint(t, name)
+    notes = notes or family + _form_hint(t, name)
+    if notes:
+        return "", notes
     from mlctool.suggest import did_you_mean
 
     return did_you_mean(name, [*t.instructions, *t.variants, *t.unavailable], cutoff=0.65), ()
