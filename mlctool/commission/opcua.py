@@ -122,8 +122,7 @@ class OpcUaServer:
     def _writable(self, view: DeviceView) -> bool:
         if view.kind.startswith("@") or view.view == "group":
             return False
-        kind = "T" if view.kind == "T" else view.kind
-        return all(self.perms.writable(kind, view.number + i) for i in range(2 if view.view in ("d", "f") else 1))
+        return all(self.perms.writable(view.kind, view.number + i) for i in range(2 if view.view in ("d", "f") else 1))
 
     @staticmethod
     def _value(view: DeviceView, value):
@@ -159,7 +158,6 @@ class OpcUaServer:
             dv = ua.DataValue(ua.Variant(self._value(view, value), self._types[view]))
             self._ours[node_id] = dv
             await server.write_attribute_value(node_id, dv)
-            self.stats.published += 1
 
     def _setter(self, node, attr, value: ua.DataValue) -> None:
         """Every write of a writable node's value: ours (the scan's values) are stored; a
@@ -177,6 +175,5 @@ class OpcUaServer:
 class _Stats:
     def __init__(self) -> None:
         self.requests = 0  # client writes
-        self.published = 0  # values written to nodes from scans
         self.busy = 0
         self.accepted = self.refused = self.dropped = 0
