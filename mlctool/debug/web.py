@@ -426,11 +426,7 @@ class Monitor:
                 self.s.poll = None
 
     def cmd_force(self, msg):
-        with self.lock:
-            view = self._device(msg)
-            v = self._value(msg, view)
-            self.s.force(view, v)
-            return f"forced {view.name}={_fmt(v)}", True
+        return self._set(msg, self.s.force, "forced")
 
     def cmd_release(self, msg):
         with self.lock:
@@ -438,23 +434,24 @@ class Monitor:
             self.s.release(view)
             return f"released {view.name}", True
 
-    def _value(self, msg: dict, view: DeviceView) -> int | float:
-        """`value`: a number, or a string as the console takes it (1, K10, H0F, -1.5)."""
-        value = msg.get("value")
-        if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-            raise RequestError(f"`{msg['cmd']}` needs `value` (a number or a string such as \"K10\")")
-        if isinstance(value, str) and len(value) > MAX_VALUE:
-            raise RequestError(f"`value`: at most {MAX_VALUE} characters")
-        return self.s.value_for(view, str(value))
-
     def cmd_write(self, msg):
         """The device table's edit of a device that is not forced: a one-shot set, as the
         console's `write` (the program may change it again; docs/debug.md "Device table")."""
+        return self._set(msg, self.s.write, "wrote")
+
+    def _set(self, msg: dict, action: Callable[[DeviceView, int | float], None], done: str):
+        """`device` set to `value` by `action` (the session's force or write). `value`: a
+        number, or a string as the console takes it (1, K10, H0F, -1.5)."""
         with self.lock:
             view = self._device(msg)
-            v = self._value(msg, view)
-            self.s.write(view, v)
-            return f"wrote {view.name}={_fmt(v)}", True
+            value = msg.get("value")
+            if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+                raise RequestError(f"`{msg['cmd']}` needs `value` (a number or a string such as \"K10\")")
+            if isinstance(value, str) and len(value) > MAX_VALUE:
+                raise RequestError(f"`value`: at most {MAX_VALUE} characters")
+            v = self.s.value_for(view, str(value))
+            action(view, v)
+            return f"{done} {view.name}={_fmt(v)}", True
 
     def cmd_table_add(self, msg):
         with self.lock:
