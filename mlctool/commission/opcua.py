@@ -21,6 +21,7 @@ import threading
 from asyncua import Server, ua
 
 from mlctool.commission.modbus_map import Permissions
+from mlctool.commission.net import ServerStats
 from mlctool.commission.realtime import LiveRun
 from mlctool.sim.decode import program_devices
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
@@ -56,7 +57,7 @@ class OpcUaServer:
                 pass  # a symbol for a constant or an operand that is no device
         self.nodes = sorted(views, key=DeviceView.sort_key)
         self.symbols = {v: names.get(v.name) for v in self.nodes}
-        self.stats = _Stats()
+        self.stats = ServerStats()  # requests: client writes; no connection figures (asyncua's)
         self._server: Server | None = None
         self._ids: dict[DeviceView, ua.NodeId] = {}
         self._types: dict[DeviceView, ua.VariantType] = {}
@@ -170,10 +171,3 @@ class OpcUaServer:
         self.stats.requests += 1
         if not self.live.exchange.submit(self, lambda m: view.write(m, written), lambda _r, _e: None):
             self.stats.busy += 1
-
-
-class _Stats:
-    def __init__(self) -> None:
-        self.requests = 0  # client writes
-        self.busy = 0
-        self.accepted = self.refused = self.dropped = 0
