@@ -68,7 +68,6 @@ KEEPALIVE_S = 20  # a tab that answers no ping, or takes no message, for this lo
 MAX_QUEUE = 256  # messages waiting for one tab; past it the tab is disconnected (it stopped reading)
 # console lines the page may send: not `save` (it writes files) nor `quit`
 CONSOLE_REFUSED = ("save", "quit")
-CONSOLE_MOVES = ("step", "scan", "next", "run", "continue", "back", "reverse-continue", "goto")
 MAX_TABLE = 64  # rows of the device table (one table per session, every tab sees it)
 MAX_VALUE = 100  # characters of a value typed into the table (K10, H0F, -1.5e3 ...)
 COMMANDS = ("state", "step", "scan", "back", "back-scan", "goto", "run", "pause", "force", "release",
@@ -506,7 +505,7 @@ class Monitor:
         out = self._local.collect
         if len(out) == 1 and out[0].startswith("error: "):
             raise RequestError(out[0][len("error: "):])
-        if word in CONSOLE_MOVES and self.console.last_stop is not None:
+        if self.console.last_stop is not None:  # a move said where it stopped
             self.stop_text = self.console.last_stop.text
         return "", True
 
