@@ -91,7 +91,3 @@ def make_server() -> MCPServer:
         return sessions.stop(session)
 
     return server
-
-
-def serve_stdio() -> None:
-    make_server().run("stdio")

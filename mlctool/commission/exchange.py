@@ -35,24 +35,17 @@ class Exchange:
         self._cv = threading.Condition(threading.Lock())
         self._jobs: deque = deque()
         self._pending: Counter = Counter()
-        self.served = 0
-        self.refused = 0
-        self.failed = 0  # jobs that raised (a bug): answered with the error, counted
 
     def submit(self, client: object, job: Callable[[Machine], object],
                done: Callable[[object, BaseException | None], None]) -> bool:
         """Queue `job` for the scan thread; False (nothing queued) when full."""
         with self._cv:
             if len(self._jobs) >= self.capacity or self._pending[client] >= self.per_client:
-                self.refused += 1
                 return False
             self._jobs.append((client, job, done))
             self._pending[client] += 1
             self._cv.notify()
         return True
-
-    def pending(self) -> int:
-        return len(self._jobs)
 
     def serve_until(self, m: Machine, deadline: float, stop: threading.Event | None = None) -> None:
         """Run queued jobs on `m` until `deadline` (the clock's time); wait for jobs while
@@ -75,8 +68,6 @@ class Exchange:
                 result, error = job(m), None
             except Exception as e:  # a bug in a job: its client gets an error, the scan goes on
                 result, error = None, e
-                self.failed += 1
-            self.served += 1
             done(result, error)
 
     def wake(self) -> None:

@@ -21,20 +21,16 @@ import struct
 from dataclasses import dataclass
 
 from mlctool.commission.modbus_map import Map, Permissions
+from mlctool.devices.framing import ILLEGAL_ADDRESS, ILLEGAL_FUNCTION, ILLEGAL_VALUE, exception_pdu
 from mlctool.sim.state import Machine, s32
 
 READ_COILS, READ_INPUTS, READ_HOLDING, READ_INPUT_REGS = 0x01, 0x02, 0x03, 0x04
 WRITE_COIL, WRITE_REGISTER, WRITE_COILS, WRITE_REGISTERS = 0x05, 0x06, 0x0F, 0x10
-ILLEGAL_FUNCTION, ILLEGAL_ADDRESS, ILLEGAL_VALUE, BUSY = 0x01, 0x02, 0x03, 0x06
 # quantities per request (Modbus application protocol 1.1b, 6.1-6.12)
 MAX_READ_BITS, MAX_READ_WORDS, MAX_WRITE_BITS, MAX_WRITE_WORDS = 2000, 125, 1968, 123
 
 _READS = {READ_COILS: ("coils", MAX_READ_BITS), READ_INPUTS: ("discrete_inputs", MAX_READ_BITS),
           READ_HOLDING: ("holding", MAX_READ_WORDS), READ_INPUT_REGS: ("input_registers", MAX_READ_WORDS)}
-
-
-def exception(fc: int, code: int) -> bytes:
-    return bytes([(fc | 0x80) & 0xFF, code])
 
 
 @dataclass(slots=True)
@@ -96,49 +92,49 @@ def _write_word(m: Machine, device: str, n: int, half: int, v: int) -> None:
 def parse(pdu: bytes, mapping: Map, perms: Permissions) -> Request | bytes:
     """A Request, or the reply to send at once (an exception PDU)."""
     if not pdu:
-        return exception(0, ILLEGAL_FUNCTION)
+        return exception_pdu(0, ILLEGAL_FUNCTION)
     fc = pdu[0]
     if fc in _READS:
         table, limit = _READS[fc]
         if len(pdu) != 5:
-            return exception(fc, ILLEGAL_VALUE)
+            return exception_pdu(fc, ILLEGAL_VALUE)
         addr, count = struct.unpack(">HH", pdu[1:5])
         if not 1 <= count <= limit:
-            return exception(fc, ILLEGAL_VALUE)
+            return exception_pdu(fc, ILLEGAL_VALUE)
         cells = mapping.resolve(table, addr, count)
-        return exception(fc, ILLEGAL_ADDRESS) if cells is None else Request(fc, addr, cells)
+        return exception_pdu(fc, ILLEGAL_ADDRESS) if cells is None else Request(fc, addr, cells)
     if fc in (WRITE_COIL, WRITE_REGISTER):
         if len(pdu) != 5:
-            return exception(fc, ILLEGAL_VALUE)
+            return exception_pdu(fc, ILLEGAL_VALUE)
         addr, value = struct.unpack(">HH", pdu[1:5])
         if fc == WRITE_COIL:
             if value not in (0x0000, 0xFF00):
-                return exception(fc, ILLEGAL_VALUE)
+                return exception_pdu(fc, ILLEGAL_VALUE)
             values = [1 if value else 0]
         else:
             values = [value]
         return _write(fc, addr, values, "coils" if fc == WRITE_COIL else "holding", mapping, perms, pdu)
     if fc in (WRITE_COILS, WRITE_REGISTERS):
         if len(pdu) < 6:
-            return exception(fc, ILLEGAL_VALUE)
+            return exception_pdu(fc, ILLEGAL_VALUE)
         addr, count, size = struct.unpack(">HHB", pdu[1:6])
         data = pdu[6:]
         bits = fc == WRITE_COILS
         limit = MAX_WRITE_BITS if bits else MAX_WRITE_WORDS
         need = (count + 7) // 8 if bits else 2 * count
         if not 1 <= count <= limit or size != need or len(data) != size:
-            return exception(fc, ILLEGAL_VALUE)
+            return exception_pdu(fc, ILLEGAL_VALUE)
         if bits:
             values = [(data[i >> 3] >> (i & 7)) & 1 for i in range(count)]
         else:
             values = list(struct.unpack(f">{count}H", data))
         return _write(fc, addr, values, "coils" if bits else "holding", mapping, perms, pdu[:5])
-    return exception(fc, ILLEGAL_FUNCTION)
+    return exception_pdu(fc, ILLEGAL_FUNCTION)
 
 
 def _write(fc: int, addr: int, values: list[int], table: str, mapping: Map, perms: Permissions,
            echo: bytes) -> Request | bytes:
     cells = mapping.resolve(table, addr, len(values))
     if cells is None or not all(perms.writable(d, n) for d, n, _ in cells):
-        return exception(fc, ILLEGAL_ADDRESS)
+        return exception_pdu(fc, ILLEGAL_ADDRESS)
     return Request(fc, addr, cells, values, echo)

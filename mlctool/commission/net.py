@@ -25,8 +25,15 @@ from dataclasses import dataclass, field
 
 from mlctool.commission.exchange import Exchange
 from mlctool.commission.modbus_map import Map, Permissions
-from mlctool.commission.modbus_slave import BUSY, exception, parse
-from mlctool.devices.framing import RECEIVERS, Frame
+from mlctool.commission.modbus_slave import parse
+from mlctool.devices.framing import (
+    BUSY,
+    GATEWAY_NO_RESPONSE,
+    RECEIVERS,
+    SERVER_FAILURE,
+    Frame,
+    exception_pdu,
+)
 from mlctool.devices.serial_port import SerialLine
 
 LOOPBACK = ("127.0.0.1", "localhost")
@@ -35,8 +42,6 @@ FRAME_TIMEOUT_S = 5.0
 IDLE_TIMEOUT_S = 300.0
 WRITE_TIMEOUT_S = 5.0
 REPLY_TIMEOUT_S = 2.0  # the scan loop did not run the job in time: exception 06 (busy)
-SERVER_FAILURE = 0x04
-GATEWAY_NO_RESPONSE = 0x0B
 DEFAULT_MAX_CLIENTS = 256
 NET_NICENESS = 10
 SCHEMES = {"modbus-tcp": "tcp", "rtu+tcp": "rtu", "ascii+tcp": "ascii", "rtu": "rtu", "ascii": "ascii",
@@ -158,7 +163,7 @@ class ModbusServer:
         broadcast = unit == 0 and not tcp
         if not (unit == station or broadcast or (tcp and unit in (0, 0xFF))):
             if tcp and pdu:  # a Modbus TCP client waits for every reply: nobody is there
-                return exception(pdu[0], GATEWAY_NO_RESPONSE)
+                return exception_pdu(pdu[0], GATEWAY_NO_RESPONSE)
             return None
         self.stats.requests += 1
         request = parse(pdu, self.slave.mapping, self.slave.perms)
@@ -174,14 +179,14 @@ class ModbusServer:
 
         if not self.exchange.submit(client, request.execute, done):
             self.stats.busy += 1
-            return None if broadcast else exception(request.fc, BUSY)
+            return None if broadcast else exception_pdu(request.fc, BUSY)
         try:
             result = await asyncio.wait_for(reply, REPLY_TIMEOUT_S)
         except TimeoutError:
             self.stats.busy += 1
-            return None if broadcast else exception(request.fc, BUSY)
+            return None if broadcast else exception_pdu(request.fc, BUSY)
         if isinstance(result, BaseException):
-            return None if broadcast else exception(request.fc, SERVER_FAILURE)
+            return None if broadcast else exception_pdu(request.fc, SERVER_FAILURE)
         return None if broadcast else result
 
     async def _client(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:

@@ -21,6 +21,7 @@ import threading
 from asyncua import Server, ua
 
 from mlctool.commission.modbus_map import Permissions
+from mlctool.commission.net import ServerStats
 from mlctool.commission.realtime import LiveRun
 from mlctool.sim.decode import program_devices
 from mlctool.sim.state import DeviceView, NameError_, parse_device_name
@@ -56,7 +57,7 @@ class OpcUaServer:
                 pass  # a symbol for a constant or an operand that is no device
         self.nodes = sorted(views, key=DeviceView.sort_key)
         self.symbols = {v: names.get(v.name) for v in self.nodes}
-        self.stats = _Stats()
+        self.stats = ServerStats()  # requests: client writes; no connection figures (asyncua's)
         self._server: Server | None = None
         self._ids: dict[DeviceView, ua.NodeId] = {}
         self._types: dict[DeviceView, ua.VariantType] = {}
@@ -122,8 +123,7 @@ class OpcUaServer:
     def _writable(self, view: DeviceView) -> bool:
         if view.kind.startswith("@") or view.view == "group":
             return False
-        kind = "T" if view.kind == "T" else view.kind
-        return all(self.perms.writable(kind, view.number + i) for i in range(2 if view.view in ("d", "f") else 1))
+        return all(self.perms.writable(view.kind, view.number + i) for i in range(2 if view.view in ("d", "f") else 1))
 
     @staticmethod
     def _value(view: DeviceView, value):
@@ -159,7 +159,6 @@ class OpcUaServer:
             dv = ua.DataValue(ua.Variant(self._value(view, value), self._types[view]))
             self._ours[node_id] = dv
             await server.write_attribute_value(node_id, dv)
-            self.stats.published += 1
 
     def _setter(self, node, attr, value: ua.DataValue) -> None:
         """Every write of a writable node's value: ours (the scan's values) are stored; a
@@ -172,11 +171,3 @@ class OpcUaServer:
         self.stats.requests += 1
         if not self.live.exchange.submit(self, lambda m: view.write(m, written), lambda _r, _e: None):
             self.stats.busy += 1
-
-
-class _Stats:
-    def __init__(self) -> None:
-        self.requests = 0  # client writes
-        self.published = 0  # values written to nodes from scans
-        self.busy = 0
-        self.accepted = self.refused = self.dropped = 0

@@ -68,7 +68,6 @@ KEEPALIVE_S = 20  # a tab that answers no ping, or takes no message, for this lo
 MAX_QUEUE = 256  # messages waiting for one tab; past it the tab is disconnected (it stopped reading)
 # console lines the page may send: not `save` (it writes files) nor `quit`
 CONSOLE_REFUSED = ("save", "quit")
-CONSOLE_MOVES = ("step", "scan", "next", "run", "continue", "back", "reverse-continue", "goto")
 MAX_TABLE = 64  # rows of the device table (one table per session, every tab sees it)
 MAX_VALUE = 100  # characters of a value typed into the table (K10, H0F, -1.5e3 ...)
 COMMANDS = ("state", "step", "scan", "back", "back-scan", "goto", "run", "pause", "force", "release",
@@ -426,11 +425,7 @@ class Monitor:
                 self.s.poll = None
 
     def cmd_force(self, msg):
-        with self.lock:
-            view = self._device(msg)
-            v = self._value(msg, view)
-            self.s.force(view, v)
-            return f"forced {view.name}={_fmt(v)}", True
+        return self._set(msg, self.s.force, "forced")
 
     def cmd_release(self, msg):
         with self.lock:
@@ -438,23 +433,24 @@ class Monitor:
             self.s.release(view)
             return f"released {view.name}", True
 
-    def _value(self, msg: dict, view: DeviceView) -> int | float:
-        """`value`: a number, or a string as the console takes it (1, K10, H0F, -1.5)."""
-        value = msg.get("value")
-        if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-            raise RequestError(f"`{msg['cmd']}` needs `value` (a number or a string such as \"K10\")")
-        if isinstance(value, str) and len(value) > MAX_VALUE:
-            raise RequestError(f"`value`: at most {MAX_VALUE} characters")
-        return self.s.value_for(view, str(value))
-
     def cmd_write(self, msg):
         """The device table's edit of a device that is not forced: a one-shot set, as the
         console's `write` (the program may change it again; docs/debug.md "Device table")."""
+        return self._set(msg, self.s.write, "wrote")
+
+    def _set(self, msg: dict, action: Callable[[DeviceView, int | float], None], done: str):
+        """`device` set to `value` by `action` (the session's force or write). `value`: a
+        number, or a string as the console takes it (1, K10, H0F, -1.5)."""
         with self.lock:
             view = self._device(msg)
-            v = self._value(msg, view)
-            self.s.write(view, v)
-            return f"wrote {view.name}={_fmt(v)}", True
+            value = msg.get("value")
+            if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+                raise RequestError(f"`{msg['cmd']}` needs `value` (a number or a string such as \"K10\")")
+            if isinstance(value, str) and len(value) > MAX_VALUE:
+                raise RequestError(f"`value`: at most {MAX_VALUE} characters")
+            v = self.s.value_for(view, str(value))
+            action(view, v)
+            return f"{done} {view.name}={_fmt(v)}", True
 
     def cmd_table_add(self, msg):
         with self.lock:
@@ -509,7 +505,7 @@ class Monitor:
         out = self._local.collect
         if len(out) == 1 and out[0].startswith("error: "):
             raise RequestError(out[0][len("error: "):])
-        if word in CONSOLE_MOVES and self.console.last_stop is not None:
+        if self.console.last_stop is not None:  # a move said where it stopped
             self.stop_text = self.console.last_stop.text
         return "", True
 

@@ -6,7 +6,8 @@ the time of each chunk).
 Users: `mlc device serve` (devices/xc100/server.py: byte streams from TCP or a serial port),
 the simulated RS-485 line of `mlc sim` (sim/hardware/seriallink.py: whole frames with times, the PLC
 master's requests and the device models' answers). Modbus application protocol 1.1b; the
-XC100 manual 004 8.1 (frames), 8.4 (request lengths).
+XC100 manual 004 8.1 (frames), 8.4 (request lengths). Also here, as every Modbus server
+here answers with them: the exception codes and the exception reply PDU (protocol 1.1b, 7).
 
 Stream receiver rules:
 - RTU: a frame's length follows from its function code and its CRC must match; after a
@@ -26,12 +27,19 @@ RTU_GAP_S = 0.02
 MAX_PENDING = 1024  # bytes of an unfinished frame a receiver keeps (an RTU frame is <= 256)
 ASCII_MAX_LINE = 513  # ':' + 2 x 255 hex + LRC (8.1)
 FRAMINGS = ("ascii", "rtu", "tcp")
+ILLEGAL_FUNCTION, ILLEGAL_ADDRESS, ILLEGAL_VALUE, SERVER_FAILURE, BUSY = 0x01, 0x02, 0x03, 0x04, 0x06
+GATEWAY_NO_RESPONSE = 0x0B  # Modbus TCP: the unit behind the gateway did not answer
 
 
 class Frame(NamedTuple):
     unit: int
     pdu: bytes
     tid: int = 0  # Modbus TCP transaction id, echoed in the reply
+
+
+def exception_pdu(fc: int, code: int) -> bytes:
+    """The exception reply to function `fc`: the function code with its high bit set, the code."""
+    return bytes([fc | 0x80, code])
 
 
 def crc16(data: bytes) -> int:

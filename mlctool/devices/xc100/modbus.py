@@ -13,15 +13,12 @@ from __future__ import annotations
 
 import struct
 
+from mlctool.devices.framing import ILLEGAL_ADDRESS, ILLEGAL_FUNCTION, ILLEGAL_VALUE, exception_pdu
 from mlctool.devices.xc100 import controller as c
 from mlctool.devices.xc100 import registers as r
 
 READ, WRITE_ONE, WRITE_MANY = 0x03, 0x06, 0x10
 MAX_LOG = 8
-
-
-def exception_pdu(fc: int, code: int) -> bytes:
-    return bytes([fc | 0x80, code])
 
 
 def handle_pdu(dev: c.Xc100, station: int, unit: int, pdu: bytes) -> bytes | None:
@@ -40,21 +37,21 @@ def handle_pdu(dev: c.Xc100, station: int, unit: int, pdu: bytes) -> bytes | Non
 def _answer(dev: c.Xc100, pdu: bytes) -> bytes:
     fc = pdu[0]
     if fc not in (READ, WRITE_ONE, WRITE_MANY):
-        return exception_pdu(fc, r.ILLEGAL_FUNCTION)
+        return exception_pdu(fc, ILLEGAL_FUNCTION)
     body = pdu[1:]
     if len(body) < 4:
-        return exception_pdu(fc, r.ILLEGAL_VALUE)
+        return exception_pdu(fc, ILLEGAL_VALUE)
     addr, second = struct.unpack(">HH", body[:4])
     if fc == READ:
         if len(body) != 4:
-            return exception_pdu(fc, r.ILLEGAL_VALUE)
+            return exception_pdu(fc, ILLEGAL_VALUE)
         words = r.read_words(dev, addr, second)
         if isinstance(words, int):
             return exception_pdu(fc, words)
         return bytes([fc, 2 * len(words)]) + b"".join(struct.pack(">H", w) for w in words)
     if fc == WRITE_ONE:  # the second field is the value (8.4 example: 201EH <- 0003H)
         if len(body) != 4:
-            return exception_pdu(fc, r.ILLEGAL_VALUE)
+            return exception_pdu(fc, ILLEGAL_VALUE)
         code = r.write_words(dev, addr, [second])
         return exception_pdu(fc, code) if code else pdu
     count = second
@@ -63,8 +60,8 @@ def _answer(dev: c.Xc100, pdu: bytes) -> bytes:
     if len(body) < 5 or declared != 2 * count or len(data) != declared:
         # 8.3 03: the data does not match the declared quantity; an address error still wins
         if _addresses_bad(addr, count):
-            return exception_pdu(fc, r.ILLEGAL_ADDRESS)
-        return exception_pdu(fc, r.ILLEGAL_VALUE)
+            return exception_pdu(fc, ILLEGAL_ADDRESS)
+        return exception_pdu(fc, ILLEGAL_VALUE)
     words = list(struct.unpack(f">{count}H", data))
     code = r.write_words(dev, addr, words)
     return exception_pdu(fc, code) if code else bytes([fc]) + struct.pack(">HH", addr, count)

@@ -12,10 +12,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cache
 
+from mlctool.devices.framing import ILLEGAL_ADDRESS, ILLEGAL_VALUE  # 8.3: the protocol's codes
 from mlctool.devices.xc100 import controller as c
 from mlctool.devices.xc100.tables import tables
 
-ILLEGAL_FUNCTION, ILLEGAL_ADDRESS, ILLEGAL_VALUE = 1, 2, 3
 MAX_WORDS = 60  # FC03/FC10 quantity: 8.5 prints up to 3CH; the RTU tables disagree [A]
 UNLOCK_KEY = b"Lv01TyVg"  # 8.2 開放寫入指令: FC10 of these 8 bytes to 999BH
 CONTROLLER_NAME = "XC100"

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import asyncio
 
-from mlctool.devices.framing import FRAMINGS, RECEIVERS, Frame
+from mlctool.devices.framing import FRAMINGS, GATEWAY_NO_RESPONSE, RECEIVERS, Frame, exception_pdu
 from mlctool.devices.serial_port import SerialLine
 from mlctool.devices.xc100 import controller as c
 from mlctool.devices.xc100.modbus import handle_pdu
@@ -30,7 +30,6 @@ TICK_S = 0.01
 MAX_CONNECTIONS = 256  # beyond this the least recently active connection is closed
 WRITE_TIMEOUT_S = 5.0  # a client that reads no replies for this long is disconnected
 READ_CHUNK = 4096
-GATEWAY_NO_RESPONSE = 0x0B  # Modbus TCP: the unit behind the gateway did not answer
 UNIT_ANY = 0xFF  # Modbus TCP: "the MODBUS Unit Identifier is useless. The value 0xFF has to be
 # used" for a server addressed by IP (Modbus Messaging on TCP/IP Implementation Guide 4.4.2)
 
@@ -106,7 +105,7 @@ class Server:
         reply = self.line.answer(unit, frame.pdu)
         if reply is None and self.framing == "tcp" and frame.unit and frame.unit not in self.line.devices:
             # Modbus TCP clients wait for every reply: as a gateway, say nobody is there
-            reply = bytes([frame.pdu[0] | 0x80, GATEWAY_NO_RESPONSE])
+            reply = exception_pdu(frame.pdu[0], GATEWAY_NO_RESPONSE)
         return reply
 
     async def _client(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
