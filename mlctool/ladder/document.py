@@ -189,6 +189,12 @@ def instr_text(ins: Instr) -> str:
     return " ".join((ins.mnemonic, *ins.texts))
 
 
+def box_text(ins: Instr) -> str:
+    """The text of an instruction box: its devices, e.g. `MOV K8 D0` (the symbols are
+    drawn under it)."""
+    return " ".join((ins.mnemonic, *(d for d, _ in operand_texts(ins))))
+
+
 def search_text(sheet: Sheet, it: RungView | RowView) -> str:
     """Everything a reader may search a rung by: devices, symbols, mnemonics, comments."""
     if isinstance(it, RowView):
