@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 from mlctool.ladder.layout import Grid, layout_rung
 from mlctool.ladder.network import Item, Row, Rung, build_items
-from mlctool.program import Instr
+from mlctool.program import Image, Instr
 from mlctool.syntax.source import display_width
 from mlctool.targetapi.model import Target
 from mlctool.targetapi.signals import device_signal, signals_of
@@ -107,6 +107,13 @@ def build_sheet(path: str, instrs: list[Instr], lines: dict[str, list[str]], tar
         prev = (last.file, last.line)
         views.append(RungView(it, layout_rung(it), above) if isinstance(it, Rung) else RowView(it, above))
     return Sheet(path, views, notes, instrs, names, device_comments(instrs, lines))
+
+
+def image_sheet(image: Image, lines: dict[str, list[str]], target: Target) -> Sheet:
+    """The ladder of a linked program (the simulation report's, the live monitor's): one
+    sheet named by the files of its modules."""
+    names = [p for p, _, _ in image.modules] or sorted({i.file for i in image.instrs if i.file})
+    return build_sheet(" + ".join(names), list(image.instrs), lines, target)
 
 
 def device_comments(instrs: list[Instr], lines: dict[str, list[str]]) -> dict[str, str]:
