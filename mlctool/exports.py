@@ -25,7 +25,7 @@ from __future__ import annotations
 import re
 
 from mlctool.diagnostics import Diagnostic, Span, diag
-from mlctool.program import Instr
+from mlctool.program import Instr, Module
 from mlctool.syntax.operands import OperandSyntaxError, format_operand, parse_operand
 from mlctool.targetapi.model import Target
 
@@ -55,17 +55,11 @@ def family_rows(path: str, text: str, target: Target, default_dialect: str
     """IL text -> its rows in the spelling of its `.dialect` (else `default_dialect`): each
     instruction at the address the target's step convention computes, with the family's
     mnemonic and operands; comment lines as line statements. None with the checker's errors."""
-    from mlctool.check import check_texts
-    from mlctool.syntax.source import SourceText
     from mlctool.targetapi.specials import families
 
-    src = SourceText(path, text if text.endswith("\n") else text + "\n")
-    result = check_texts([src], target)
-    errors = [d for d in result.diagnostics if d.severity == "error"]
-    if errors:
+    module, lines, errors = _checked(path, text, target)
+    if module is None:
         return None, "", errors
-    module = next(m for m in result.modules if m.path == path)
-    lines = src.text.split("\n")
     dialect = next((m[1].lower() for line in lines if (m := _DIALECT.match(line))), default_dialect)
     family = families(target.name).get(dialect)
     if family is None:
@@ -101,6 +95,19 @@ def family_rows(path: str, text: str, target: Target, default_dialect: str
             note = _MC_NOTE.sub("", note).strip()
         rows.append((ins.addr, "", mnemonic, words, note))
     return rows, dialect, []
+
+
+def _checked(path: str, text: str, target: Target) -> tuple[Module | None, list[str], list[Diagnostic]]:
+    """The IL checked: its module and lines, or None with the checker's errors."""
+    from mlctool.check import check_texts
+    from mlctool.syntax.source import SourceText
+
+    src = SourceText(path, text if text.endswith("\n") else text + "\n")
+    result = check_texts([src], target)
+    errors = [d for d in result.diagnostics if d.severity == "error"]
+    if errors:
+        return None, [], errors
+    return next(m for m in result.modules if m.path == path), src.text.split("\n"), []
 
 
 def _next_addr(instrs: list[Instr], line: int, end: int) -> int:
@@ -177,16 +184,11 @@ def export_winproladder(path: str, text: str, target: Target, template: bytes
     backwards. END must be the last instruction and gives no word (the project keeps the
     program's length). None with the checker's errors, E930 for an instruction with no word,
     E931 for a template the writer cannot use."""
-    from mlctool.check import check_texts
-    from mlctool.syntax.source import SourceText
     from mlctool.winproladder import FatekError, encode, write_pdw
 
-    src = SourceText(path, text if text.endswith("\n") else text + "\n")
-    result = check_texts([src], target)
-    errors = [d for d in result.diagnostics if d.severity == "error"]
-    if errors:
+    module, _, errors = _checked(path, text, target)
+    if module is None:
         return None, errors
-    module = next(m for m in result.modules if m.path == path)
     words: list[int] = []
     problems = []
     instrs = sorted(module.instrs, key=lambda i: i.addr)

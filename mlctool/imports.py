@@ -779,8 +779,7 @@ def import_project(path: str, data: bytes, target: Target, comments: dict[str, s
     for code, message, notes in prog.warnings:
         if code == "W912" and comments is not None:
             continue  # the comments came from --comments
-        w.diags.append(diag(path, Span.at(1), code, message, *notes))
-        w.kinds.append(code)
+        w.warn(1, code, code, message, *notes)
     counts = {}
     for k, ins in enumerate(prog.instructions, 1):
         w.instruction(ins.mnemonic, list(ins.operands), k)

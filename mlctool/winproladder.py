@@ -156,9 +156,10 @@ def _model(data: bytes) -> tuple[str, list[tuple[str, str]]]:
                      f"{MODEL_SEEN} only: read as one")]
 
 
-def image(data: bytes) -> tuple[bytes, bytes]:
-    """A .pdw's program memory image (40,960 bytes) and the erased record it is decoded with
-    (the last: a program reaching it cannot be decoded, E924). Raises FatekError."""
+def image(data: bytes) -> tuple[bytes, int]:
+    """A .pdw's program memory image (40,960 bytes) and the key each record is XOR-ed with
+    (as an integer of RECORD bytes, little-endian), which the last record, erased memory,
+    gives (a program reaching it cannot be decoded, E924). Raises FatekError."""
     if len(data) < IMAGE_AT + IMAGE:
         raise FatekError("E923", f"offset 0x{len(data):X}: the file ends there; a project holds its program memory "
                          f"at 0x{IMAGE_AT:X}-0x{IMAGE_AT + IMAGE - 1:X}", _NOT_FATEK)
@@ -168,7 +169,7 @@ def image(data: bytes) -> tuple[bytes, bytes]:
     for k in range(RECORDS):
         record = data[IMAGE_AT + k * RECORD:IMAGE_AT + (k + 1) * RECORD]
         out += (int.from_bytes(record, "little") ^ key).to_bytes(RECORD, "little")
-    return bytes(out), erased
+    return bytes(out), key
 
 
 def _u16(buf: bytes, at: int) -> int:
@@ -362,7 +363,7 @@ def write_pdw(template: bytes, words: list[int]) -> bytes:
         raise FatekError("E931", f"the template: offset 0: not a WinProladder project (it starts "
                          f"{template[:8].hex(' ') or 'empty'})", _TEMPLATE_NOTE)
     try:
-        img, erased = image(template)
+        img, key = image(template)
         old = program_words(img)
     except FatekError as e:
         raise FatekError("E931", f"the template: {e.message}", _TEMPLATE_NOTE) from None
@@ -382,8 +383,7 @@ def write_pdw(template: bytes, words: list[int]) -> bytes:
         new[at:at + 2] = value.to_bytes(2, "little")
     new[LENGTH_BYTE_AT] = (0x23 + 4 * n) & 0xFF
     out = bytearray(template)
-    record = int.from_bytes(bytes(new[:RECORD]), "little") ^ int.from_bytes(erased, "little") \
-        ^ int.from_bytes(b"\xff" * RECORD, "little")
+    record = int.from_bytes(bytes(new[:RECORD]), "little") ^ key
     out[IMAGE_AT:IMAGE_AT + RECORD] = record.to_bytes(RECORD, "little")
     return bytes(out)
 

@@ -33,7 +33,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from mlctool.imports import export_cpu  # noqa: E402  (the CPU row as the importer reads it)
+from mlctool.imports import export_cpu, read_export  # noqa: E402  (the CPU row as the importer reads it)
 
 SUFFIXES = (".csv", ".txt", ".il", ".gxw", ".wpg", ".dvp", ".isp", ".pdw", ".ldr")
 STAGES = ("import", "check", "build", "ladder", "sim")
@@ -57,15 +57,8 @@ def said(code: int, out: str) -> str:
 
 
 def cpu_of(path: Path) -> str:
-    data = path.read_bytes()[:4096]
-    for encoding in ("utf-16", "utf-8", "cp932", "gbk") if data[:2] in (b"\xff\xfe", b"\xfe\xff") else \
-            ("utf-8", "cp932", "gbk"):
-        try:
-            text = data.decode(encoding)
-        except UnicodeDecodeError:
-            continue
-        return export_cpu(text) or "-"
-    return "-"
+    text, _ = read_export(str(path))
+    return (export_cpu(text) if text is not None else None) or "-"
 
 
 def run_one(path: Path, target: str, scans: int) -> dict[str, str]:

@@ -19,8 +19,8 @@ from mlctool.cli.common import (
     target_option,
     write_outputs,
 )
-from mlctool.diagnostics import unreadable
-from mlctool.fileio import Outputs
+from mlctool.diagnostics import Span, diag, unreadable
+from mlctool.fileio import Outputs, read_input
 from mlctool.imports import (
     DIALECT_TARGET,
     FORMATS,
@@ -101,17 +101,11 @@ def import_cmd(target_name, config_path, fmt, output, comments_file, program, fi
 def _import_project(file, target_name, config, output, comments_file, program, plan):
     """A GX Works2 project: exit 2 for a file it cannot read (E915-E922), 1 for instructions
     the target cannot place, as the CSV's rows."""
-    from mlctool.diagnostics import Span, diag
-    from mlctool.fileio import read_input
     from mlctool.gxw import MAX_FILE
 
     dialect = DIALECT_TARGET["gxw"] if not target_name else None
     target = get_target(target_name or dialect, config)
-    try:
-        data = read_input(file, MAX_FILE + 1)
-    except OSError as e:
-        show([diag(file, Span.at(1), "E100", f"cannot read: {e.strerror or e}")], {})
-        sys.exit(2)
+    data = _read(file, MAX_FILE + 1)
     comments = _comments(comments_file, target, config)
     text, _, diags = import_project(file, data, target, comments, program)
     show(diags, {})
@@ -123,8 +117,6 @@ def _import_project(file, target_name, config, output, comments_file, program, p
 def _import_winproladder(file, target_name, config, output, comments_file, program, plan):
     """A FATEK WinProladder .pdw / .ldr: exit 2 for a file it cannot read or forms the target
     cannot place (E923-E929), as the issue asks of vendor project files."""
-    from mlctool.diagnostics import Span, diag
-    from mlctool.fileio import read_input
     from mlctool.imports import WINPROLADDER_TARGET
     from mlctool.winproladder import MAX_FILE
 
@@ -133,16 +125,21 @@ def _import_winproladder(file, target_name, config, output, comments_file, progr
                                "takes neither")
     dialect = WINPROLADDER_TARGET if not target_name else None
     target = get_target(target_name or dialect, config)
-    try:
-        data = read_input(file, MAX_FILE + 1)
-    except OSError as e:
-        show([diag(file, Span.at(1), "E100", f"cannot read: {e.strerror or e}")], {})
-        sys.exit(2)
-    text, fmt, diags = import_winproladder(file, data, target)
+    text, fmt, diags = import_winproladder(file, _read(file, MAX_FILE + 1), target)
     show(diags, {})
     if text is None:
         sys.exit(2 if unreadable(diags) or any("E923" <= d.code <= "E929" for d in diags) else 1)
     _write(file, text, fmt, target, dialect, output, plan)
+
+
+def _read(file: str, limit: int) -> bytes:
+    """A project file's bytes (at most `limit`: the reader refuses a larger one); exits 2
+    (E100) when it cannot be read."""
+    try:
+        return read_input(file, limit)
+    except OSError as e:
+        show([diag(file, Span.at(1), "E100", f"cannot read: {e.strerror or e}")], {})
+        sys.exit(2)
 
 
 def _comments(comments_file, target, config) -> dict[str, str] | None:
@@ -171,8 +168,6 @@ def _write(file, text, found_fmt, target, dialect, output, plan):
 
 def _head(path: str) -> bytes:
     """The first bytes of the file (b"" if it cannot be read: read_export reports why)."""
-    from mlctool.fileio import read_input
-
     try:
         return read_input(path, 16)
     except OSError:

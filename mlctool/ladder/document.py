@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 from mlctool.ladder.layout import Grid, layout_rung
 from mlctool.ladder.network import Item, Row, Rung, build_items
-from mlctool.program import Instr
+from mlctool.program import Image, Instr
 from mlctool.syntax.source import display_width
 from mlctool.targetapi.model import Target
 from mlctool.targetapi.signals import device_signal, signals_of
@@ -109,6 +109,13 @@ def build_sheet(path: str, instrs: list[Instr], lines: dict[str, list[str]], tar
     return Sheet(path, views, notes, instrs, names, device_comments(instrs, lines))
 
 
+def image_sheet(image: Image, lines: dict[str, list[str]], target: Target) -> Sheet:
+    """The ladder of a linked program (the simulation report's, the live monitor's): one
+    sheet named by the files of its modules."""
+    names = [p for p, _, _ in image.modules] or sorted({i.file for i in image.instrs if i.file})
+    return build_sheet(" + ".join(names), list(image.instrs), lines, target)
+
+
 def device_comments(instrs: list[Instr], lines: dict[str, list[str]]) -> dict[str, str]:
     """A `.define NAME DEV ; comment` line's comment, by NAME and by DEV: the device comment
     vendor tools show under a contact (the first definition of a device wins)."""
@@ -187,6 +194,12 @@ def fold(text: str, width: int, lines: int) -> list[str]:
 def instr_text(ins: Instr) -> str:
     """The instruction as written, e.g. `MOV K8 V0` (symbols kept)."""
     return " ".join((ins.mnemonic, *ins.texts))
+
+
+def box_text(ins: Instr) -> str:
+    """The text of an instruction box: its devices, e.g. `MOV K8 D0` (the symbols are
+    drawn under it)."""
+    return " ".join((ins.mnemonic, *(d for d, _ in operand_texts(ins))))
 
 
 def search_text(sheet: Sheet, it: RungView | RowView) -> str:

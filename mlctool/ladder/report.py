@@ -12,7 +12,7 @@ import json
 import math
 from dataclasses import dataclass
 
-from mlctool.ladder.document import RungView, Sheet, build_sheet
+from mlctool.ladder.document import RungView, Sheet, image_sheet
 from mlctool.ladder.html import _e, page, sheets_body
 from mlctool.ladder.lighting import lamps, lit
 from mlctool.ladder.svg import anchor
@@ -30,9 +30,7 @@ class ScanLamps:
     the Simulation's `scan_end` hook."""
 
     def __init__(self, sim: Simulation, lines: dict[str, list[str]]):
-        image = sim.image
-        names = [p for p, _, _ in image.modules] or sorted({i.file for i in image.instrs if i.file})
-        self.sheet: Sheet = build_sheet(" + ".join(names), list(image.instrs), lines, sim.target)
+        self.sheet: Sheet = image_sheet(sim.image, lines, sim.target)
         self.lamps = lamps(self.sheet)
         self.steps = sim.prog.steps
         self.on: list[list[int]] = []

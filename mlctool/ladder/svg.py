@@ -15,6 +15,7 @@ from mlctool.ladder.document import (
     RowView,
     RungView,
     Sheet,
+    box_text,
     clip,
     comment_of,
     fold,
@@ -87,10 +88,6 @@ def _esc(s: str) -> str:
     return escape(s, {'"': "&quot;"})
 
 
-def _box_text(ins) -> str:
-    return " ".join((ins.mnemonic, *(d for d, _ in operand_texts(ins))))
-
-
 def geometry(sheets: list[Sheet], comments: bool = False, page: int = PAGE_W) -> Geometry:
     """The drawing's geometry: boxes as wide as the widest output's text (within
     MIN_OUT_W..MAX_OUT_W), as many contact columns as fit the page beside them."""
@@ -98,7 +95,7 @@ def geometry(sheets: list[Sheet], comments: bool = False, page: int = PAGE_W) ->
     for sh in sheets:
         for it in sh.items:
             for o in (it.grid.outputs if isinstance(it, RungView) else [it.row]):
-                out_chars = max(out_chars, display_width(_box_text(o.ins)), display_width(instr_text(o.ins)))
+                out_chars = max(out_chars, display_width(box_text(o.ins)), display_width(instr_text(o.ins)))
     out_w = min(MAX_OUT_W, max(MIN_OUT_W, _px(out_chars) + 16))
     cols = max(MIN_COLS, (page - LM - 12 - out_w) // CW)
     geo = Geometry(cols, out_w, RH + (DEVICE_COMMENT_LINES * SMALL_LINE + 4 if comments else 0), comments, page)
@@ -239,7 +236,7 @@ def _output(sheet: Sheet, geo: Geometry, ox: int, o: Output, y: int) -> list[str
         w = geo.out_w - 8
         chars = int((w - 8) / CHAR)
         g = [f'<rect class="box" x="{ox + 4}" y="{y - 13}" width="{w}" height="26"/>',
-             _text(ox + 4 + w / 2, y + 4, clip(_box_text(o.ins), chars))]
+             _text(ox + 4 + w / 2, y + 4, clip(box_text(o.ins), chars))]
         if any(s for _, s in operand_texts(o.ins)):
             g.append(_text(ox + 4 + w / 2, y + 26, clip(instr_text(o.ins), int((w - 4) / SMALL_CHAR)), "small"))
     parts.append(f'<g class="el" data-i="{index}">' + "".join(g) + _title(sheet, index, instr_text(o.ins)) + "</g>")

@@ -16,6 +16,7 @@ from mlctool.ladder.document import (
     RowView,
     RungView,
     Sheet,
+    box_text,
     clip,
     comment_of,
     fold,
@@ -50,7 +51,7 @@ class Layout:
 
 
 def _out_text(ins) -> str:
-    return "[" + " ".join((ins.mnemonic, *(d for d, _ in operand_texts(ins)))) + "]"
+    return "[" + box_text(ins) + "]"
 
 
 def text_layout(sheets: list[Sheet], width: int = DEFAULT_WIDTH, comments: bool = False) -> Layout:
