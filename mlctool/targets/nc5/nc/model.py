@@ -273,11 +273,8 @@ class NcModel(DeviceModel):
 
     def _addresses(self) -> None:
         """The device numbers of this channel, once (addresses.number)."""
-        ch = self.channel
-        for key in dir(A):
-            entry = getattr(A, key)
-            if key.isupper() and isinstance(entry, tuple) and len(entry) == 3:
-                setattr(self, "a_" + key.lower(), A.number(entry, ch))
+        for key, entry in A.entries().items():
+            setattr(self, "a_" + key.lower(), A.number(entry, self.channel))
 
     def _power_on(self) -> None:
         self.last_t: int | None = None
