@@ -838,10 +838,14 @@ class NcModel(DeviceModel):
         and limited to 150) up to feed_max; dry run (M2x005) takes D2x006 as the F (DECISION
         notes #9: in mm/min, 5.2.2's example "F50"); G00 at rapid x D2x004 (0-100 %)."""
         if rapid:
-            return self.num["rapid"] * 1000 * min(max(_s16(dw[self.a_rapid_override]), 0), 100) // 100
+            return self._rapid_speed(dw)
         feed = dw[self.a_jog_speed] * 1000 if mb[self.a_dry_run] else self.feed
         speed = feed * min(dw[self.a_feed_override], 150) // 100
         return min(speed, self.num["feed_max"] * 1000)
+
+    def _rapid_speed(self, dw) -> int:
+        """G00 and RAPID mode: rapid x D2x004 (0-100 %), 0.001 mm/min."""
+        return self.num["rapid"] * 1000 * min(max(_s16(dw[self.a_rapid_override]), 0), 100) // 100
 
     def _handshake(self, mb, dw, block: Block) -> bool:
         """5.3.10 / 6.8: the block's M, S and T codes raise their flags together with their
@@ -938,8 +942,7 @@ class NcModel(DeviceModel):
                     ax.homing, ax.inc_target = False, None
                 continue
             if mode in (JOG, RAPID) and plus != minus:
-                speed = self._jog_speed(dw) if mode == JOG else \
-                    self.num["rapid"] * 1000 * min(max(_s16(dw[self.a_rapid_override]), 0), 100) // 100
+                speed = self._jog_speed(dw) if mode == JOG else self._rapid_speed(dw)
                 sign = 1 if plus else -1
                 if self._move_by(mb, ax, sign * self._distance(ax, speed, dt)):
                     ax.vel = sign * speed
