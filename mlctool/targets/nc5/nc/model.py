@@ -377,10 +377,7 @@ class NcModel(DeviceModel):
         self._power_on()
 
     def devices(self) -> list[DeviceView]:
-        names = ["mode", "state", "block", "alarm", "feed"]
-        names += [f"{a.letter}.{s}" for a in self.axes for s in ("pos", "speed")]
-        names += ["spindle.rpm", "spindle.cmd", "spindle.angle", "spindle.gear"]
-        return [parse_signal_name(f"{self.name}.{s}") for s in names] + \
+        return [parse_signal_name(f"{self.name}.{s}") for s in self.signal_names] + \
             ([self.mpg] if self.mpg is not None else [])
 
     def _input_ranges(self) -> None:
@@ -1198,9 +1195,9 @@ class NcModel(DeviceModel):
             words += [n, n + 1]
         words += [A.SYSTEM_TIME + k for k in range(3)]
         self.word_addresses = words
-        self.signal_names = ["mode", "state", "block", "alarm", "feed", "spindle.rpm", "spindle.cmd",
-                             "spindle.angle", "spindle.gear"]
+        self.signal_names = ["mode", "state", "block", "alarm", "feed"]  # in the order _publish gives them
         self.signal_names += [f"{a.letter}.{s}" for a in self.axes for s in ("pos", "speed")]
+        self.signal_names += ["spindle.rpm", "spindle.cmd", "spindle.angle", "spindle.gear"]
 
     def _outputs(self, mb, dw, dt: int, before: list[int], moving_ok: list[bool]) -> None:
         """Every NC -> MLC relay and register, written where its value changed (the MLC does
@@ -1278,10 +1275,10 @@ class NcModel(DeviceModel):
 
     def _publish(self) -> None:
         values = [self.mode, self.state, self.block_line, self.alarm,
-                  self.path_speed if self.state in (RUNNING, MST_WAIT) else 0, round(self.spindle_rpm),
-                  self.spindle_target, self.angle_udeg // 10_000, self.gear]
+                  self.path_speed if self.state in (RUNNING, MST_WAIT) else 0]
         for ax in self.axes:
             values += [ax.pos if ax.held is None else ax.held, ax.speed]
+        values += [round(self.spindle_rpm), self.spindle_target, self.angle_udeg // 10_000, self.gear]
         if values != self.published:
             self.publisher(values, self.published)
             self.published = values
