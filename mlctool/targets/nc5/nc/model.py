@@ -409,10 +409,8 @@ class NcModel(DeviceModel):
         if snap == self.snap:
             if t_us < self.wake:
                 self.skipped_to = t_us
-                if self.spindle_rpm:  # D3x028 (0.01 deg < 36000: the high word stays 0)
-                    v = (self.angle_udeg + int(self.spindle_rpm) * 6 * (t_us - self.last_t)) % 360_000_000 // 10_000
-                    if v != self.out_words[ANGLE_WORD]:
-                        dw[self.a_spindle_angle] = self.out_words[ANGLE_WORD] = v
+                if self.spindle_rpm:
+                    self._write_angle(dw, t_us)
                 return
             if self.tick_only:  # only a counted second passes: D49c04 / D49c06
                 self._catch_up(t_us)
@@ -502,23 +500,26 @@ class NcModel(DeviceModel):
             self._publish()
 
     def _write_angle(self, dw, t: int) -> None:
-        """D3x028 at t while the spindle turns at a steady speed (a skipped step)."""
+        """D3x028 at t while the spindle turns at a steady speed (a skipped step; 0.01 deg <
+        36000: the high word D3x029 stays 0)."""
         v = (self.angle_udeg + int(self.spindle_rpm) * 6 * (t - self.last_t)) % 360_000_000 // 10_000
-        words, i = self.out_words, ANGLE_WORD
-        if words and words[i] != v:
-            dw[self.a_spindle_angle] = words[i] = v & 0xFFFF
-            dw[self.a_spindle_angle + 1] = words[i + 1] = v >> 16
+        if v != self.out_words[ANGLE_WORD]:
+            dw[self.a_spindle_angle] = self.out_words[ANGLE_WORD] = v
 
     def _write_times(self, dw) -> None:
         """D49c04 / D49c06 (s) and the system time D49000-D49002 at last_t (a step that only
         counts)."""
-        words, i = self.out_words, self.times_word
-        now = []
-        for v in (self.total_us // 1_000_000, self.cycle_us // 1_000_000):
-            now += [v & 0xFFFF, (v >> 16) & 0xFFFF]
-        for k, v in enumerate(now + self._system_time(), i):
+        words = self.out_words
+        for k, v in enumerate(self._time_words(), self.times_word):
             if words[k] != v:
                 dw[self.word_addresses[k]] = words[k] = v
+
+    def _time_words(self) -> list[int]:
+        """D49c04-D49c07 (s, 32-bit) and D49000-D49002 at last_t."""
+        words = []
+        for v in (self.total_us // 1_000_000, self.cycle_us // 1_000_000):
+            words += [v & 0xFFFF, (v >> 16) & 0xFFFF]
+        return words + self._system_time()
 
     def _wake(self, now: int) -> int:
         """The first time after `now` at which a step with the same inputs does more than
@@ -1250,9 +1251,7 @@ class NcModel(DeviceModel):
         for v in (self.command, abs(rpm), self.angle_udeg // 10_000):  # angle: 0.01 deg (N0.1013's unit)
             words += [v & 0xFFFF, (v >> 16) & 0xFFFF]
         words += [self.spindle_tool, self.standby_t, self.standby, self._pot_steps() & 0xFFFF]
-        for v in (self.total_us // 1_000_000, self.cycle_us // 1_000_000):
-            words += [v & 0xFFFF, (v >> 16) & 0xFFFF]
-        words += self._system_time()
+        words += self._time_words()
         if words != self.out_words:
             for n, v, old in zip(self.word_addresses, words, self.out_words or [None] * len(words)):
                 if v != old:
