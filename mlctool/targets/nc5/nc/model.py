@@ -941,22 +941,14 @@ class NcModel(DeviceModel):
                 continue
             if mode in (JOG, RAPID) and plus != minus:
                 speed = self._jog_speed(dw) if mode == JOG else self._rapid_speed(dw)
-                sign = 1 if plus else -1
-                if self._move_by(mb, ax, sign * self._distance(ax, speed, dt)):
-                    ax.vel = sign * speed
+                self._drive(mb, ax, speed if plus else -speed, dt)
             elif mode == INC:
                 if ax.inc_target is None and (plus_edge or minus_edge) and plus != minus:
                     amount = _s32(dw[self.a_inc_amount], dw[self.a_inc_amount + 1])  # x 0.001 mm (N1.001)
                     ax.inc_target = ax.pos + (amount if plus else -amount)
-                if ax.inc_target is not None:
-                    speed = self._jog_speed(dw)
-                    step = self._distance(ax, speed, dt)
-                    left = ax.inc_target - ax.pos
-                    free = self._move_by(mb, ax, max(-step, min(step, left)))
-                    if ax.pos == ax.inc_target or self.alarm == HARD_LIMIT or not free:
-                        ax.inc_target = None
-                    else:
-                        ax.vel = speed if left > 0 else -speed
+                if ax.inc_target is not None and (self._approach(mb, ax, ax.inc_target, self._jog_speed(dw), dt)
+                                                  or self.alarm == HARD_LIMIT):
+                    ax.inc_target, ax.vel = None, 0
             elif mode == HOME:
                 if home_edge:
                     ax.homing = True
@@ -978,6 +970,22 @@ class NcModel(DeviceModel):
         total = speed * dt + ax.rest
         ax.rest = total % 60_000_000
         return total // 60_000_000
+
+    def _drive(self, mb, ax: Axis, vel: int, dt: int) -> None:
+        """A manual move at vel (0.001 mm/min, signed) for dt us: vel is in force after it
+        unless a limit stopped the axis."""
+        d = self._distance(ax, abs(vel), dt)
+        if self._move_by(mb, ax, d if vel > 0 else -d):
+            ax.vel = vel
+
+    def _approach(self, mb, ax: Axis, target: int, speed: int, dt: int) -> bool:
+        """A manual move toward target at speed (0.001 mm/min) for dt us: True when the axis
+        is there or a limit stopped it, else its velocity is in force."""
+        step = self._distance(ax, speed, dt)
+        if not self._move_by(mb, ax, max(-step, min(step, target - ax.pos))) or ax.pos == target:
+            return True
+        ax.vel = speed if target > ax.pos else -speed
+        return False
 
     def _jog_speed(self, dw) -> int:
         """6.4: jog at N2.030 (jog_max) x D2x006 %. DECISION (notes #9): in JOG/INC D2x006 is a
@@ -1066,17 +1074,10 @@ class NcModel(DeviceModel):
                 continue
             if speed_mode:
                 ax.mlc_target = None
-                if speed and self._move_by(mb, ax, (1 if speed > 0 else -1) * self._distance(ax, abs(speed), dt)):
-                    ax.vel = speed
+                self._drive(mb, ax, speed, dt)
                 ax.mlc_done = ax.vel != 0
-            elif ax.mlc_target is not None:
-                left = ax.mlc_target - ax.pos
-                step = self._distance(ax, abs(speed), dt)
-                free = self._move_by(mb, ax, max(-step, min(step, left))) if left else True
-                if ax.pos == ax.mlc_target or not free:
-                    ax.mlc_target, ax.mlc_done = None, ax.pos == ax.mlc_target
-                elif speed:
-                    ax.vel = abs(speed) if left > 0 else -abs(speed)
+            elif ax.mlc_target is not None and self._approach(mb, ax, ax.mlc_target, abs(speed), dt):
+                ax.mlc_target, ax.mlc_done = None, ax.pos == ax.mlc_target
 
     # -- synchronous and transferred axes (5.3.11, 5.3.12, 6.15, 6.16)
     def _relate(self, mb, only: Axis | None = None) -> None:
