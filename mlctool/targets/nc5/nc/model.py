@@ -78,8 +78,7 @@ def _s32(lo: int, hi: int) -> int:
 
 class Axis:
     __slots__ = ("letter", "offset", "pos", "speed", "vel", "rest", "homed", "home_done", "homing", "inc_target",
-                 "soft1", "soft2", "hard", "last_plus", "last_minus", "last_home", "mlc", "mlc_target",
-                 "mlc_done", "last_trigger", "base", "held")
+                 "soft1", "soft2", "hard", "mlc", "mlc_target", "mlc_done", "base", "held")
 
     def __init__(self, letter: str, pos: int):
         self.letter = letter
@@ -95,11 +94,9 @@ class Axis:
         self.soft1: tuple[int, int] | None = None
         self.soft2: tuple[int, int] | None = None
         self.hard: tuple[int, int] | None = None
-        self.last_plus = self.last_minus = self.last_home = 0
         self.mlc = False  # an MLC axis (M3x432+): the MLC moves it (5.3.9, 6.14)
         self.mlc_target: int | None = None  # position mode: where the trigger sent it
         self.mlc_done = False  # M3x448+: in position (position mode)
-        self.last_trigger = 0
         self.base = 0  # position when its synchronous / transfer relation began (5.3.11, 5.3.12)
         self.held: int | None = None  # a transfer's master: where it stands while pos is its command
 
@@ -926,10 +923,8 @@ class NcModel(DeviceModel):
         for i, ax in enumerate(self.axes):
             o = ax.offset
             plus, minus = mb[self.a_jog_plus + o], mb[self.a_jog_minus + o]
-            plus_edge, minus_edge = plus and not ax.last_plus, minus and not ax.last_minus
-            ax.last_plus, ax.last_minus = plus, minus
-            home = mb[self.a_home_start + o]
-            home_edge, ax.last_home = home and not ax.last_home, home
+            plus_edge, minus_edge = self._edge(mb, self.a_jog_plus + o), self._edge(mb, self.a_jog_minus + o)
+            home_edge = self._edge(mb, self.a_home_start + o)
             ok = moving_ok[i]
             if mode == HOME and home_edge and self.relations:
                 self._relate(mb, ax)  # 6.15 note 3 c
@@ -1055,7 +1050,7 @@ class NcModel(DeviceModel):
                 continue
             o = ax.offset
             trigger = mb[self.a_mlc_trigger + o]
-            edge, ax.last_trigger = trigger and not ax.last_trigger, trigger
+            edge = self._edge(mb, self.a_mlc_trigger + o)
             speed_mode = mb[self.a_mlc_speed_mode + o]
             speed = _f32(dw, self.a_mlc_speed + 2 * o)
             speed = round(max(-self.num["feed_max"], min(self.num["feed_max"], speed)) * 1000)
