@@ -385,7 +385,6 @@ class NcModel(DeviceModel):
         self.m_lo, self.d_lo = A.number(A.CYCLE_START, self.channel), A.number(A.MODE, self.channel)
         self.m_hi, self.d_hi = self.m_lo + 728, self.d_lo + 34
         self.speeds_lo = A.number(A.MLC_SPEED, self.channel)
-        self.extra = self.mpg is not None
 
     def _inputs(self, mb, dw) -> tuple:
         snap = (mb[self.m_lo:self.m_hi], dw[self.d_lo:self.d_hi])
