@@ -5,7 +5,7 @@ Inside the special ranges the target's signal table is the authority (the area w
 is not given there):
 - W250: a write to a row typed R: the NC (or the HMI, or the system) writes it, and the
   MLC's value is overwritten at its next update. A write is OUT/SET/RST/PLS/PLF/ALT, a
-  destination operand, a Kn group or a ZRST/BMOV/FILL range that covers the row. DECISION: a
+  destination operand, a Kn group or a ZRST range that covers the row. DECISION: a
   warning, not an error: the instruction is valid for the PLC and the vendor's tools accept
   it, and an error could be neither lowered nor silenced (mlc.toml [severity] makes W250 an
   error where a project wants that);
@@ -31,8 +31,6 @@ if TYPE_CHECKING:
 
 _CONTACTS = frozenset(("contact", "contact_not", "contact_rise", "contact_fall"))
 _WRITERS = frozenset(("out", "set", "rst", "pls", "plf", "alt"))
-_BLOCKS = frozenset(("bmov", "fill"))  # the last operand counts the destination's words
-_RANGES = _BLOCKS | {"zrst"}
 _WRITTEN_BY = {"NC->MLC": "the NC", "HMI->MLC": "the HMI"}
 
 
@@ -45,13 +43,13 @@ def check_signals(module: Module, target: Target, lines: list[str], config_data:
         lo, hi = bounds.get(r["kind"], (r["lo"], r["hi"]))
         bounds[r["kind"]] = (min(lo, r["lo"]), max(hi, r["hi"]))
     # the first number an operand can start at and still reach the ranges: a Kn group is at
-    # most 32 bits, a 32-bit operand a few words; ZRST and block ranges are looked at whole
+    # most 32 bits, a 32-bit operand a few words; ZRST ranges are looked at whole
     low = min(lo for lo, _ in bounds.values()) - 32
     table: SignalTable | None = None
     channels = 0
     out: list[Diagnostic] = []
     for ins in module.instrs:
-        if ins.spec.op not in _RANGES:
+        if ins.spec.op != "zrst":
             for o in ins.operands:  # (the usual instruction: no operand near; a constant's number is 0)
                 if o.number >= low:
                     break
@@ -76,14 +74,13 @@ def check_signals(module: Module, target: Target, lines: list[str], config_data:
 
 def _accesses(ins: Instr, target: Target):
     """(operand index, device kind, first, last number, written, words of one access) of the
-    devices an instruction reads or writes; `words` is 0 for bits and blocks."""
+    devices an instruction reads or writes; `words` is 0 for bits and ranges."""
     spec = ins.spec
     ops = ins.operands
     if spec.op == "zrst" and len(ops) == 2 and not (ops[0].index or ops[1].index):
         a, b = ops
         yield 0, a.kind, min(a.number, b.number), max(a.number, b.number), True, 0
         return
-    count = ops[-1].value if spec.op in _BLOCKS and ops and ops[-1].kind in ("K", "H") else 0
     for k, (o, s) in enumerate(zip(ops, spec.operands, strict=False)):
         if o.is_const or o.index:
             continue
@@ -102,10 +99,7 @@ def _accesses(ins: Instr, target: Target):
                 write, 0
             continue
         width = 1 if spec.api is None else s.words[1] if spec.width == 32 else s.words[0]
-        if isinstance(count, int) and count > 0 and k < len(ops) - 1 and (spec.op == "bmov" or write):
-            yield k, o.kind, o.number, o.number + count * width - 1, write, 0
-        else:
-            yield k, o.kind, o.number, o.number + width - 1, write, width
+        yield k, o.kind, o.number, o.number + width - 1, write, width
 
 
 def _diagnostic(ins: Instr, k: int, kind: str, first: int, last: int, write: bool, words: int,

@@ -152,14 +152,6 @@ class SignalTable:
         found = self._patterns.get(f"{kind}{digits[:k]}x{digits[k + 1:]}")
         return SignalAt(found[0], kind, number, int(digits[k]), found[1]) if found else None
 
-    def channel_of(self, kind: str, number: int) -> int:
-        """The channel a number of the special ranges belongs to (0: the system, or none)."""
-        r = self.range_of(kind, number)
-        if r is None:
-            return 0
-        digit = int(str(number)[r.channel_digit - 1])
-        return digit if self.channels[0] <= digit <= self.channels[1] else 0
-
     def channel_count(self, config_data: dict | None) -> int:
         """The channels the project's machine has (mlc.toml `channels`, else the default)."""
         value = (config_data or {}).get(self.setting, self.default_channels)

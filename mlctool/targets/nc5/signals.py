@@ -1,6 +1,6 @@
 """The NC5's special M/D by name: the rows of signals.tsv (manual 5.2.1, 5.2.2, 5.3.16-5.3.20)
-for code of this target (the virtual NC reads the MLC->NC signals and writes the NC->MLC
-ones through these).
+for code of this target (tests/targets/nc5/test_nc5_addresses.py holds the virtual NC's
+addresses, nc/addresses.py, to these rows).
 
 Generic code does not import this: it reaches the same table through
 mlctool/targetapi/signals.py (`signals_of`, `describe_device`).

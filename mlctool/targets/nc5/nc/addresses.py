@@ -127,7 +127,6 @@ PER_AXIS = (AXIS_SERVO_OFF, HOME_START, AXIS_LOCK, SOFT_LIMIT_RELEASE, JOG_PLUS,
             MLC_IN_POSITION)  # + axis 0-8 (X ... W)
 PER_AXIS_PAIRS = (MLC_TARGET, MLC_SPEED)  # + 2 x axis (two words each)
 RUNS = {MODE_FEEDBACK: 8, MACRO_PREPARE: 16, MACRO_READY: 16, MACRO_NAME: 16}  # rows n ... n + count - 1
-READ_GROUPS, WRITTEN_GROUPS = (2, 59), (3, 49)
 
 
 def entries() -> dict[str, tuple[str, int, int]]:

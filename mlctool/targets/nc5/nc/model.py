@@ -78,8 +78,7 @@ def _s32(lo: int, hi: int) -> int:
 
 class Axis:
     __slots__ = ("letter", "offset", "pos", "speed", "vel", "rest", "homed", "home_done", "homing", "inc_target",
-                 "soft1", "soft2", "hard", "last_plus", "last_minus", "last_home", "mlc", "mlc_target",
-                 "mlc_done", "last_trigger", "base", "held")
+                 "soft1", "soft2", "hard", "mlc", "mlc_target", "mlc_done", "base", "held")
 
     def __init__(self, letter: str, pos: int):
         self.letter = letter
@@ -95,11 +94,9 @@ class Axis:
         self.soft1: tuple[int, int] | None = None
         self.soft2: tuple[int, int] | None = None
         self.hard: tuple[int, int] | None = None
-        self.last_plus = self.last_minus = self.last_home = 0
         self.mlc = False  # an MLC axis (M3x432+): the MLC moves it (5.3.9, 6.14)
         self.mlc_target: int | None = None  # position mode: where the trigger sent it
         self.mlc_done = False  # M3x448+: in position (position mode)
-        self.last_trigger = 0
         self.base = 0  # position when its synchronous / transfer relation began (5.3.11, 5.3.12)
         self.held: int | None = None  # a transfer's master: where it stands while pos is its command
 
@@ -273,11 +270,8 @@ class NcModel(DeviceModel):
 
     def _addresses(self) -> None:
         """The device numbers of this channel, once (addresses.number)."""
-        ch = self.channel
-        for key in dir(A):
-            entry = getattr(A, key)
-            if key.isupper() and isinstance(entry, tuple) and len(entry) == 3:
-                setattr(self, "a_" + key.lower(), A.number(entry, ch))
+        for key, entry in A.entries().items():
+            setattr(self, "a_" + key.lower(), A.number(entry, self.channel))
 
     def _power_on(self) -> None:
         self.last_t: int | None = None
@@ -380,10 +374,7 @@ class NcModel(DeviceModel):
         self._power_on()
 
     def devices(self) -> list[DeviceView]:
-        names = ["mode", "state", "block", "alarm", "feed"]
-        names += [f"{a.letter}.{s}" for a in self.axes for s in ("pos", "speed")]
-        names += ["spindle.rpm", "spindle.cmd", "spindle.angle", "spindle.gear"]
-        return [parse_signal_name(f"{self.name}.{s}") for s in names] + \
+        return [parse_signal_name(f"{self.name}.{s}") for s in self.signal_names] + \
             ([self.mpg] if self.mpg is not None else [])
 
     def _input_ranges(self) -> None:
@@ -394,7 +385,6 @@ class NcModel(DeviceModel):
         self.m_lo, self.d_lo = A.number(A.CYCLE_START, self.channel), A.number(A.MODE, self.channel)
         self.m_hi, self.d_hi = self.m_lo + 728, self.d_lo + 34
         self.speeds_lo = A.number(A.MLC_SPEED, self.channel)
-        self.extra = self.mpg is not None
 
     def _inputs(self, mb, dw) -> tuple:
         snap = (mb[self.m_lo:self.m_hi], dw[self.d_lo:self.d_hi])
@@ -415,10 +405,8 @@ class NcModel(DeviceModel):
         if snap == self.snap:
             if t_us < self.wake:
                 self.skipped_to = t_us
-                if self.spindle_rpm:  # D3x028 (0.01 deg < 36000: the high word stays 0)
-                    v = (self.angle_udeg + int(self.spindle_rpm) * 6 * (t_us - self.last_t)) % 360_000_000 // 10_000
-                    if v != self.out_words[ANGLE_WORD]:
-                        dw[self.a_spindle_angle] = self.out_words[ANGLE_WORD] = v
+                if self.spindle_rpm:
+                    self._write_angle(dw, t_us)
                 return
             if self.tick_only:  # only a counted second passes: D49c04 / D49c06
                 self._catch_up(t_us)
@@ -508,23 +496,26 @@ class NcModel(DeviceModel):
             self._publish()
 
     def _write_angle(self, dw, t: int) -> None:
-        """D3x028 at t while the spindle turns at a steady speed (a skipped step)."""
+        """D3x028 at t while the spindle turns at a steady speed (a skipped step; 0.01 deg <
+        36000: the high word D3x029 stays 0)."""
         v = (self.angle_udeg + int(self.spindle_rpm) * 6 * (t - self.last_t)) % 360_000_000 // 10_000
-        words, i = self.out_words, ANGLE_WORD
-        if words and words[i] != v:
-            dw[self.a_spindle_angle] = words[i] = v & 0xFFFF
-            dw[self.a_spindle_angle + 1] = words[i + 1] = v >> 16
+        if v != self.out_words[ANGLE_WORD]:
+            dw[self.a_spindle_angle] = self.out_words[ANGLE_WORD] = v
 
     def _write_times(self, dw) -> None:
         """D49c04 / D49c06 (s) and the system time D49000-D49002 at last_t (a step that only
         counts)."""
-        words, i = self.out_words, self.times_word
-        now = []
-        for v in (self.total_us // 1_000_000, self.cycle_us // 1_000_000):
-            now += [v & 0xFFFF, (v >> 16) & 0xFFFF]
-        for k, v in enumerate(now + self._system_time(), i):
+        words = self.out_words
+        for k, v in enumerate(self._time_words(), self.times_word):
             if words[k] != v:
                 dw[self.word_addresses[k]] = words[k] = v
+
+    def _time_words(self) -> list[int]:
+        """D49c04-D49c07 (s, 32-bit) and D49000-D49002 at last_t."""
+        words = []
+        for v in (self.total_us // 1_000_000, self.cycle_us // 1_000_000):
+            words += [v & 0xFFFF, (v >> 16) & 0xFFFF]
+        return words + self._system_time()
 
     def _wake(self, now: int) -> int:
         """The first time after `now` at which a step with the same inputs does more than
@@ -841,10 +832,14 @@ class NcModel(DeviceModel):
         and limited to 150) up to feed_max; dry run (M2x005) takes D2x006 as the F (DECISION
         notes #9: in mm/min, 5.2.2's example "F50"); G00 at rapid x D2x004 (0-100 %)."""
         if rapid:
-            return self.num["rapid"] * 1000 * min(max(_s16(dw[self.a_rapid_override]), 0), 100) // 100
+            return self._rapid_speed(dw)
         feed = dw[self.a_jog_speed] * 1000 if mb[self.a_dry_run] else self.feed
         speed = feed * min(dw[self.a_feed_override], 150) // 100
         return min(speed, self.num["feed_max"] * 1000)
+
+    def _rapid_speed(self, dw) -> int:
+        """G00 and RAPID mode: rapid x D2x004 (0-100 %), 0.001 mm/min."""
+        return self.num["rapid"] * 1000 * min(max(_s16(dw[self.a_rapid_override]), 0), 100) // 100
 
     def _handshake(self, mb, dw, block: Block) -> bool:
         """5.3.10 / 6.8: the block's M, S and T codes raise their flags together with their
@@ -927,10 +922,8 @@ class NcModel(DeviceModel):
         for i, ax in enumerate(self.axes):
             o = ax.offset
             plus, minus = mb[self.a_jog_plus + o], mb[self.a_jog_minus + o]
-            plus_edge, minus_edge = plus and not ax.last_plus, minus and not ax.last_minus
-            ax.last_plus, ax.last_minus = plus, minus
-            home = mb[self.a_home_start + o]
-            home_edge, ax.last_home = home and not ax.last_home, home
+            plus_edge, minus_edge = self._edge(mb, self.a_jog_plus + o), self._edge(mb, self.a_jog_minus + o)
+            home_edge = self._edge(mb, self.a_home_start + o)
             ok = moving_ok[i]
             if mode == HOME and home_edge and self.relations:
                 self._relate(mb, ax)  # 6.15 note 3 c
@@ -941,24 +934,15 @@ class NcModel(DeviceModel):
                     ax.homing, ax.inc_target = False, None
                 continue
             if mode in (JOG, RAPID) and plus != minus:
-                speed = self._jog_speed(dw) if mode == JOG else \
-                    self.num["rapid"] * 1000 * min(max(_s16(dw[self.a_rapid_override]), 0), 100) // 100
-                sign = 1 if plus else -1
-                if self._move_by(mb, ax, sign * self._distance(ax, speed, dt)):
-                    ax.vel = sign * speed
+                speed = self._jog_speed(dw) if mode == JOG else self._rapid_speed(dw)
+                self._drive(mb, ax, speed if plus else -speed, dt)
             elif mode == INC:
                 if ax.inc_target is None and (plus_edge or minus_edge) and plus != minus:
                     amount = _s32(dw[self.a_inc_amount], dw[self.a_inc_amount + 1])  # x 0.001 mm (N1.001)
                     ax.inc_target = ax.pos + (amount if plus else -amount)
-                if ax.inc_target is not None:
-                    speed = self._jog_speed(dw)
-                    step = self._distance(ax, speed, dt)
-                    left = ax.inc_target - ax.pos
-                    free = self._move_by(mb, ax, max(-step, min(step, left)))
-                    if ax.pos == ax.inc_target or self.alarm == HARD_LIMIT or not free:
-                        ax.inc_target = None
-                    else:
-                        ax.vel = speed if left > 0 else -speed
+                if ax.inc_target is not None and (self._approach(mb, ax, ax.inc_target, self._jog_speed(dw), dt)
+                                                  or self.alarm == HARD_LIMIT):
+                    ax.inc_target, ax.vel = None, 0
             elif mode == HOME:
                 if home_edge:
                     ax.homing = True
@@ -980,6 +964,22 @@ class NcModel(DeviceModel):
         total = speed * dt + ax.rest
         ax.rest = total % 60_000_000
         return total // 60_000_000
+
+    def _drive(self, mb, ax: Axis, vel: int, dt: int) -> None:
+        """A manual move at vel (0.001 mm/min, signed) for dt us: vel is in force after it
+        unless a limit stopped the axis."""
+        d = self._distance(ax, abs(vel), dt)
+        if self._move_by(mb, ax, d if vel > 0 else -d):
+            ax.vel = vel
+
+    def _approach(self, mb, ax: Axis, target: int, speed: int, dt: int) -> bool:
+        """A manual move toward target at speed (0.001 mm/min) for dt us: True when the axis
+        is there or a limit stopped it, else its velocity is in force."""
+        step = self._distance(ax, speed, dt)
+        if not self._move_by(mb, ax, max(-step, min(step, target - ax.pos))) or ax.pos == target:
+            return True
+        ax.vel = speed if target > ax.pos else -speed
+        return False
 
     def _jog_speed(self, dw) -> int:
         """6.4: jog at N2.030 (jog_max) x D2x006 %. DECISION (notes #9): in JOG/INC D2x006 is a
@@ -1049,7 +1049,7 @@ class NcModel(DeviceModel):
                 continue
             o = ax.offset
             trigger = mb[self.a_mlc_trigger + o]
-            edge, ax.last_trigger = trigger and not ax.last_trigger, trigger
+            edge = self._edge(mb, self.a_mlc_trigger + o)
             speed_mode = mb[self.a_mlc_speed_mode + o]
             speed = _f32(dw, self.a_mlc_speed + 2 * o)
             speed = round(max(-self.num["feed_max"], min(self.num["feed_max"], speed)) * 1000)
@@ -1068,17 +1068,10 @@ class NcModel(DeviceModel):
                 continue
             if speed_mode:
                 ax.mlc_target = None
-                if speed and self._move_by(mb, ax, (1 if speed > 0 else -1) * self._distance(ax, abs(speed), dt)):
-                    ax.vel = speed
+                self._drive(mb, ax, speed, dt)
                 ax.mlc_done = ax.vel != 0
-            elif ax.mlc_target is not None:
-                left = ax.mlc_target - ax.pos
-                step = self._distance(ax, abs(speed), dt)
-                free = self._move_by(mb, ax, max(-step, min(step, left))) if left else True
-                if ax.pos == ax.mlc_target or not free:
-                    ax.mlc_target, ax.mlc_done = None, ax.pos == ax.mlc_target
-                elif speed:
-                    ax.vel = abs(speed) if left > 0 else -abs(speed)
+            elif ax.mlc_target is not None and self._approach(mb, ax, ax.mlc_target, abs(speed), dt):
+                ax.mlc_target, ax.mlc_done = None, ax.pos == ax.mlc_target
 
     # -- synchronous and transferred axes (5.3.11, 5.3.12, 6.15, 6.16)
     def _relate(self, mb, only: Axis | None = None) -> None:
@@ -1198,9 +1191,9 @@ class NcModel(DeviceModel):
             words += [n, n + 1]
         words += [A.SYSTEM_TIME + k for k in range(3)]
         self.word_addresses = words
-        self.signal_names = ["mode", "state", "block", "alarm", "feed", "spindle.rpm", "spindle.cmd",
-                             "spindle.angle", "spindle.gear"]
+        self.signal_names = ["mode", "state", "block", "alarm", "feed"]  # in the order _publish gives them
         self.signal_names += [f"{a.letter}.{s}" for a in self.axes for s in ("pos", "speed")]
+        self.signal_names += ["spindle.rpm", "spindle.cmd", "spindle.angle", "spindle.gear"]
 
     def _outputs(self, mb, dw, dt: int, before: list[int], moving_ok: list[bool]) -> None:
         """Every NC -> MLC relay and register, written where its value changed (the MLC does
@@ -1253,9 +1246,7 @@ class NcModel(DeviceModel):
         for v in (self.command, abs(rpm), self.angle_udeg // 10_000):  # angle: 0.01 deg (N0.1013's unit)
             words += [v & 0xFFFF, (v >> 16) & 0xFFFF]
         words += [self.spindle_tool, self.standby_t, self.standby, self._pot_steps() & 0xFFFF]
-        for v in (self.total_us // 1_000_000, self.cycle_us // 1_000_000):
-            words += [v & 0xFFFF, (v >> 16) & 0xFFFF]
-        words += self._system_time()
+        words += self._time_words()
         if words != self.out_words:
             for n, v, old in zip(self.word_addresses, words, self.out_words or [None] * len(words)):
                 if v != old:
@@ -1278,10 +1269,10 @@ class NcModel(DeviceModel):
 
     def _publish(self) -> None:
         values = [self.mode, self.state, self.block_line, self.alarm,
-                  self.path_speed if self.state in (RUNNING, MST_WAIT) else 0, round(self.spindle_rpm),
-                  self.spindle_target, self.angle_udeg // 10_000, self.gear]
+                  self.path_speed if self.state in (RUNNING, MST_WAIT) else 0]
         for ax in self.axes:
             values += [ax.pos if ax.held is None else ax.held, ax.speed]
+        values += [round(self.spindle_rpm), self.spindle_target, self.angle_udeg // 10_000, self.gear]
         if values != self.published:
             self.publisher(values, self.published)
             self.published = values
