@@ -27,7 +27,6 @@ from mlctool.cli.common import (
     target_option,
     write_outputs,
 )
-from mlctool.diagnostics import MlcError, diag
 from mlctool.fileio import Outputs, note_input
 from mlctool.sim.stimulus.quantities import StimError, parse_time
 from mlctool.verify.builtin import CHECKS
@@ -87,13 +86,10 @@ def verify_cmd(target_name, config_path, props_paths, engine, max_states, max_wa
             raise click.BadParameter(e.message, param_hint="--max-wall") from None
         if seconds <= 0:
             raise click.BadParameter("must be positive", param_hint="--max-wall")
-    from mlctool.verify.report import ProjectPropsError, project_checks, project_props, run_files
+    from mlctool.verify.report import project_checks, project_props, run_files
 
-    try:
-        paths = list(props_paths) or project_props(config)
-        wanted = [(c, "<command line>", 1) for c in checks] or project_checks(config)
-    except ProjectPropsError as e:
-        raise MlcError(diag(*config.locate("verify", e.key), "E110", str(e)), 2) from None
+    paths = list(props_paths) or project_props(config)
+    wanted = [(c, "<command line>", 1) for c in checks] or project_checks(config)
     if not paths and not wanted:
         raise click.UsageError("no property file: give --props FILE or --check NAME, or name them in mlc.toml "
                                "([verify] properties = [\"tests/*.props\"], checks = [...])")
@@ -118,7 +114,7 @@ def verify_cmd(target_name, config_path, props_paths, engine, max_states, max_wa
     if outcome.errors:
         show(outcome.errors, {**lines, **outcome.lines})
         sys.exit(2)
-    for path in [p for pair in outcome.artifacts.values() for p in pair]:
+    for path in outcome.files:
         plan.add(path, "a counterexample's file")
     plan.validate()
     show(outcome.findings, {**lines, **outcome.lines})
