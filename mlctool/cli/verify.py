@@ -30,6 +30,7 @@ from mlctool.cli.common import (
 from mlctool.fileio import Outputs, note_input
 from mlctool.sim.stimulus.quantities import StimError, parse_time
 from mlctool.verify.builtin import CHECKS
+from mlctool.verify.explicit import DEFAULT_MAX_STATES
 from mlctool.verify.run import ENGINES
 
 ARTIFACT_DIR = "mlc-verify-out"
@@ -48,7 +49,7 @@ ARTIFACT_DIR = "mlc-verify-out"
 @click.option("--engine", type=click.Choice(ENGINES), default="auto", show_default=True,
               help="explicit (breadth-first over reachable states), symbolic (bounded model checking and "
                    "k-induction) or auto (explicit, then symbolic if its budget runs out)")
-@click.option("--max-states", type=click.IntRange(1), default=2_000_000, show_default=True,
+@click.option("--max-states", type=click.IntRange(1), default=DEFAULT_MAX_STATES, show_default=True,
               help="states the explicit search may visit per property before it answers UNKNOWN")
 @click.option("--max-wall", default=None, metavar="TIME",
               help="wall-clock time for all properties (e.g. 30s): past it, UNKNOWN with statistics")
