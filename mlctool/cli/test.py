@@ -156,22 +156,15 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
     # picks scenarios
     verified = None
     if not inside and not keywords and config.data.get("verify"):
-        from mlctool.verify.report import (
-            ProjectPropsError,
-            project_checks,
-            project_props,
-            run_files,
-        )
+        from mlctool.verify.explicit import DEFAULT_MAX_STATES
+        from mlctool.verify.report import project_checks, project_props, run_files
 
-        try:
-            props_paths, checks = project_props(config), project_checks(config)
-        except ProjectPropsError as e:
-            raise MlcError(diag(*config.locate("verify", e.key), "E110", str(e)), 2) from None
-        verified = run_files(image, target, props_paths, "auto", 2_000_000, None, out_dir, checks, lines)
+        props_paths, checks = project_props(config), project_checks(config)
+        verified = run_files(image, target, props_paths, "auto", DEFAULT_MAX_STATES, None, out_dir, checks, lines)
         if verified.errors:
             show(verified.errors, {**lines, **verified.lines})
             sys.exit(2)
-        for p in [p for pair in verified.artifacts.values() for p in pair]:
+        for p in verified.files:
             plan.add(p, "a counterexample's file")
         plan.validate()
     all_lines = dict(lines)

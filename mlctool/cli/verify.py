@@ -27,10 +27,10 @@ from mlctool.cli.common import (
     target_option,
     write_outputs,
 )
-from mlctool.diagnostics import MlcError, diag
 from mlctool.fileio import Outputs, note_input
 from mlctool.sim.stimulus.quantities import StimError, parse_time
 from mlctool.verify.builtin import CHECKS
+from mlctool.verify.explicit import DEFAULT_MAX_STATES
 from mlctool.verify.run import ENGINES
 
 ARTIFACT_DIR = "mlc-verify-out"
@@ -49,7 +49,7 @@ ARTIFACT_DIR = "mlc-verify-out"
 @click.option("--engine", type=click.Choice(ENGINES), default="auto", show_default=True,
               help="explicit (breadth-first over reachable states), symbolic (bounded model checking and "
                    "k-induction) or auto (explicit, then symbolic if its budget runs out)")
-@click.option("--max-states", type=click.IntRange(1), default=2_000_000, show_default=True,
+@click.option("--max-states", type=click.IntRange(1), default=DEFAULT_MAX_STATES, show_default=True,
               help="states the explicit search may visit per property before it answers UNKNOWN")
 @click.option("--max-wall", default=None, metavar="TIME",
               help="wall-clock time for all properties (e.g. 30s): past it, UNKNOWN with statistics")
@@ -87,13 +87,10 @@ def verify_cmd(target_name, config_path, props_paths, engine, max_states, max_wa
             raise click.BadParameter(e.message, param_hint="--max-wall") from None
         if seconds <= 0:
             raise click.BadParameter("must be positive", param_hint="--max-wall")
-    from mlctool.verify.report import ProjectPropsError, project_checks, project_props, run_files
+    from mlctool.verify.report import project_checks, project_props, run_files
 
-    try:
-        paths = list(props_paths) or project_props(config)
-        wanted = [(c, "<command line>", 1) for c in checks] or project_checks(config)
-    except ProjectPropsError as e:
-        raise MlcError(diag(*config.locate("verify", e.key), "E110", str(e)), 2) from None
+    paths = list(props_paths) or project_props(config)
+    wanted = [(c, "<command line>", 1) for c in checks] or project_checks(config)
     if not paths and not wanted:
         raise click.UsageError("no property file: give --props FILE or --check NAME, or name them in mlc.toml "
                                "([verify] properties = [\"tests/*.props\"], checks = [...])")
@@ -118,7 +115,7 @@ def verify_cmd(target_name, config_path, props_paths, engine, max_states, max_wa
     if outcome.errors:
         show(outcome.errors, {**lines, **outcome.lines})
         sys.exit(2)
-    for path in [p for pair in outcome.artifacts.values() for p in pair]:
+    for path in outcome.files:
         plan.add(path, "a counterexample's file")
     plan.validate()
     show(outcome.findings, {**lines, **outcome.lines})

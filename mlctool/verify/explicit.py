@@ -218,7 +218,7 @@ def _prop_views(prop: Property) -> list[DeviceView]:
 def _bfs(st: Stepper, props: list[Property], space: Space, budget: Budget, started: float):
     monitors = [Monitor(p, st.period, st.m) for p in props]
     stats = Stats()
-    first = (st.power_on(), None, space.first_ages(), tuple(mon.start(st.read) for mon in monitors))
+    first = (st.power_on(), None, space.first_ages(), tuple(mon.start() for mon in monitors))
     parent: dict[tuple, tuple | None] = {first: None}
     frontier = [first]
     vectors = space.vectors
@@ -259,7 +259,7 @@ def _bfs(st: Stepper, props: list[Property], space: Space, budget: Budget, start
                                 "(the stimulus replays it)", node, f"the program faults in this scan: {f.message}")
                 stats.transitions += 1
                 # (a decided property's monitor stops: its history would only multiply the states)
-                stepped = [(None, False) if k in decided else mon.step(state, st.read)
+                stepped = [(None, False) if k in decided else mon.step(state)
                            for k, (mon, state) in enumerate(zip(monitors, mons, strict=True))]
                 node = (after, vec if tracked_inputs else None, space.next_ages(prev, vec, ages),
                         tuple(x[0] for x in stepped))
@@ -316,7 +316,7 @@ def _replayed(st: Stepper, vecs: list[tuple], prop: Property, space: Space, moni
     state = st.power_on()
     st.load(state, space.start)  # (the machine at power-on, for the monitor's start)
     st.m.now_us -= st.period
-    mon = monitor.start(st.read)
+    mon = monitor.start()
     trigger, trigger_checks = None, []
     checks: list = []
     for k, vec in enumerate(vecs):
@@ -325,7 +325,7 @@ def _replayed(st: Stepper, vecs: list[tuple], prop: Property, space: Space, moni
         except Fault:
             break
         before = mon
-        mon, _ = monitor.step(mon, st.read)
+        mon, _ = monitor.step(mon)
         if prop.kind == "response" and mon == 1 and not before:
             trigger, trigger_checks = k, explain(prop.expr, st.read)
     if not note:

@@ -21,7 +21,6 @@ from mlctool.syntax.source import read_source
 from mlctool.targetapi.model import Target
 
 KINDS = ("never", "always", "response", "reachable", "stable")
-ASSUME_FORMS = ("free", "constant", "onehot", "hold", "initial")
 MAX_HOLD = 10_000  # scans an input may be held for / a response may take (bounded search)
 _TOKEN = re.compile(r"\s*(?:(?P<op>->|<=|>=|!=|[=<>(){},])|(?P<word>(?:[^\s=<>!(){},-]|-(?!>))+))")
 _COMMENT = re.compile(r"(?:^|(?<=\s))#.*")
@@ -115,18 +114,6 @@ def evaluate(e, read) -> bool:
     if isinstance(e, Or):
         return any(evaluate(x, read) for x in e.args)
     return e.value
-
-
-def show(e, top: bool = True) -> str:
-    """The expression as written back (normalised spacing)."""
-    if isinstance(e, Atom):
-        return e.text
-    if isinstance(e, Not):
-        return "not " + show(e.arg, False)
-    if isinstance(e, And | Or):
-        s = (" and " if isinstance(e, And) else " or ").join(show(x, False) for x in e.args)
-        return s if top else f"({s})"
-    return "true" if e.value else "false"
 
 
 # ------------------------------------------------------------------ the file

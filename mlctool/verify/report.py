@@ -12,7 +12,7 @@ import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 
-from mlctool.diagnostics import Diagnostic, Span, diag
+from mlctool.diagnostics import Diagnostic, MlcError, Span, diag
 from mlctool.program import Image
 from mlctool.sim.campaign.junit import classname
 from mlctool.sim.run.run import Simulation, plan_scans
@@ -93,12 +93,9 @@ def _finding_message(v: Verdict, files) -> str:
     return f"{v.prop.name} is undecided: {v.reason or v.method}"
 
 
-class ProjectPropsError(ValueError):
-    """mlc.toml `[verify]` names no file or an unknown check (E110 at the key)."""
-
-    def __init__(self, message: str, key: str = "properties"):
-        super().__init__(message)
-        self.key = key
+def _project_error(config, key: str, message: str) -> MlcError:
+    """mlc.toml `[verify]` names no file or an unknown check: E110 at the key, exit 2."""
+    return MlcError(diag(*config.locate("verify", key), "E110", message), 2)
 
 
 def project_checks(config) -> list[tuple[str, str, int]]:
@@ -113,8 +110,8 @@ def project_checks(config) -> list[tuple[str, str, int]]:
         if name not in CHECKS:
             from mlctool.suggest import did_you_mean
 
-            raise ProjectPropsError(f"mlc.toml [verify] checks: unknown check {name!r}"
-                                    + (did_you_mean(name, CHECKS, "'") or f"; checks: {', '.join(CHECKS)}"), "checks")
+            raise _project_error(config, "checks", f"mlc.toml [verify] checks: unknown check {name!r}"
+                                 + (did_you_mean(name, CHECKS, "'") or f"; checks: {', '.join(CHECKS)}"))
     return [(name, os.path.relpath(path) if os.path.isabs(path) else path, span.line) for name in names]
 
 
@@ -130,7 +127,7 @@ def project_props(config) -> list[str]:
         full = os.path.join(root, pattern)
         hits = sorted(glob.glob(full)) if glob.has_magic(full) else [full] if os.path.isfile(full) else []
         if not hits:
-            raise ProjectPropsError(f"mlc.toml [verify] properties: {pattern!r} names no file")
+            raise _project_error(config, "properties", f"mlc.toml [verify] properties: {pattern!r} names no file")
         found += [os.path.relpath(h) for h in hits]
     return found
 

@@ -4,11 +4,10 @@ witness, written as a stimulus file that `mlc sim` replays to the same expectati
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 
 from mlctool.sim.state import DeviceView
-from mlctool.verify.props import Atom, Property, show
+from mlctool.verify.props import Atom, Property
 
 PROVEN, VIOLATED, UNKNOWN = "PROVEN", "VIOLATED", "UNKNOWN"
 # kinds proven by a witness (a run that shows it), violated when the reachable set has none;
@@ -22,9 +21,6 @@ class Stats:
     transitions: int = 0  # scans simulated
     depth: int = 0  # scans from power-on to the deepest state explored
     seconds: float = 0.0
-
-    def rate(self) -> float:
-        return self.transitions / self.seconds if self.seconds > 0 else 0.0
 
 
 @dataclass
@@ -166,13 +162,3 @@ def to_dict(v: Verdict, stim_path: str | None) -> dict:
                                    for vec in v.trace.vectors]}
     return out
 
-
-def to_json(verdicts: list[Verdict], props_path: str, stims: dict[str, str]) -> str:
-    body = {"properties_file": props_path,
-            "results": [to_dict(v, stims.get(v.prop.name)) for v in verdicts],
-            "ok": all(v.ok for v in verdicts)}
-    return json.dumps(body, indent=2) + "\n"
-
-
-def expression(e) -> str:
-    return show(e)

@@ -12,7 +12,7 @@ from mlctool.sim.scan import load_program
 from mlctool.sim.signals import SIGNAL
 from mlctool.sim.state import DeviceView
 from mlctool.targetapi.model import Target
-from mlctool.verify.explicit import Budget, index_modified, search
+from mlctool.verify.explicit import DEFAULT_MAX_STATES, Budget, index_modified, search
 from mlctool.verify.props import Props, views_of
 from mlctool.verify.results import UNKNOWN, Verdict
 from mlctool.verify.space import Space, SpaceError, input_space
@@ -64,7 +64,7 @@ def prepare(image: Image, target: Target, props: Props) -> tuple[Space, int]:
     return space, props.scan_us or DEFAULT_SCAN_US
 
 
-def verify(image: Image, target: Target, props: Props, engine: str = "auto", max_states: int = 2_000_000,
+def verify(image: Image, target: Target, props: Props, engine: str = "auto", max_states: int = DEFAULT_MAX_STATES,
            max_seconds: float | None = None, sim_engine: str | None = None) -> tuple[list[Verdict], Space, int]:
     """A verdict for every property of `props`, in file order."""
     space, period = prepare(image, target, props)

@@ -112,50 +112,38 @@ def input_space(props: Props, program_inputs: list[DeviceView]) -> Space:
 # ------------------------------------------------------------------ monitors
 
 class Monitor:
-    """A property's history over the scans: `start()` its state before the first scan,
-    `step(state, read)` the state after a scan and whether the property failed there
-    (`read(view)`: a device's value after the scan). A reachability monitor's failure is
-    its witness."""
+    """A property's history over the scans, read on the machine `m`: `start()` its state
+    before the first scan, `step(state)` the state after a scan and whether the property
+    failed there. A reachability monitor's failure is its witness."""
 
-    def __init__(self, prop: Property, period_us: int, m=None):
-        self.prop = prop
+    def __init__(self, prop: Property, period_us: int, m):
         self.kind = prop.kind
         self.limit = prop.scans if prop.time_us is None else prop.time_us // period_us
-        first = prop.bad_expr() if self.kind in ("always", "never") else prop.expr
-        # with a machine: the expressions compiled against it (read is then not used)
-        self.first = compiled(first, m) if m is not None else (lambda read=None: None)
-        self.second = compiled(prop.response, m) if m is not None and prop.response is not None else None
-        self.m = m
+        # the expressions compiled against the machine
+        self.first = compiled(prop.bad_expr() if self.kind in ("always", "never") else prop.expr, m)
+        self.second = compiled(prop.response, m) if prop.response is not None else None
 
-    def start(self, read=None):
+    def start(self):
         """The state at power-on (a stability property's value then counts as settled)."""
         if self.kind == "left":  # whether the expression has held yet
             return False
         if self.kind == "stable":
-            return (self._first(read), self.limit)
+            return (self.first(), self.limit)
         return 0 if self.kind == "response" else None
 
-    def _first(self, read) -> bool:
-        if self.m is not None:
-            return self.first()
-        return evaluate(self.prop.bad_expr() if self.kind in ("always", "never") else self.prop.expr, read)
-
-    def _second(self, read) -> bool:
-        return self.second() if self.m is not None else evaluate(self.prop.response, read)
-
-    def step(self, state, read):
+    def step(self, state):
         kind = self.kind
         if kind in ("always", "never", "reachable"):
-            return None, self._first(read)
+            return None, self.first()
         if kind == "left":  # the witness: On after some scan, Off after a later one
-            now = self._first(read)
+            now = self.first()
             return (state or now), bool(state and not now)
         if kind == "response":
-            if self._second(read):
+            if self.second():
                 return 0, False
-            p = min(state + 1, self.limit + 1) if state else (1 if self._first(read) else 0)
+            p = min(state + 1, self.limit + 1) if state else (1 if self.first() else 0)
             return p, p > self.limit
-        value = self._first(read)
+        value = self.first()
         prev, age = state
         if value != prev:
             return (value, 1), age < self.limit
