@@ -15,14 +15,12 @@ from __future__ import annotations
 import asyncio
 import os
 import sys
-import tempfile
 import time
 
 from lsprotocol import types as lsp
-from pygls.lsp.client import LanguageClient
 
 sys.path.insert(0, os.path.dirname(__file__))
-from lsp_speed import ten_k_lines  # noqa: E402
+from lsp_speed import editor  # noqa: E402
 
 GOAL_MB = 20
 WARM = 10  # edits before the first reading: the memo and the caches filled
@@ -37,52 +35,18 @@ def rss_mb(pid: int) -> float:
 
 
 async def measure(lines: int, edits: int) -> tuple[float, float, float]:
-    with tempfile.TemporaryDirectory() as d:
-        with open(os.path.join(d, "mlc.toml"), "w") as f:
-            f.write('target = "nc5"\nsources = ["main.il"]\n')
-        path = os.path.join(d, "main.il")
-        text = ten_k_lines(lines)
-        with open(path, "w") as f:
-            f.write(text)
-        uri = "file://" + path
-        client = LanguageClient("lsp-bench", "1")
-        waiting: dict[int, asyncio.Future] = {}
-
-        @client.feature(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
-        def on_diagnostics(params: lsp.PublishDiagnosticsParams) -> None:
-            fut = waiting.pop(params.version, None) if params.uri == uri else None
-            if fut is not None and not fut.done():
-                fut.set_result(None)
-
-        await client.start_io(sys.executable, "-m", "mlctool", "lsp")
-        await client.initialize_async(lsp.InitializeParams(capabilities=lsp.ClientCapabilities(),
-                                                           root_uri="file://" + d))
-        client.initialized(lsp.InitializedParams())
-        loop = asyncio.get_running_loop()
-        waiting[1] = loop.create_future()
-        client.text_document_did_open(lsp.DidOpenTextDocumentParams(lsp.TextDocumentItem(uri, "il", 1, text)))
-        await asyncio.wait_for(waiting[1], 60)
-        pid = client._server.pid  # pygls keeps the server process there
-        first = 0.0
+    first = 0.0
+    async with editor(lines) as ed:
         started = time.perf_counter()
         for version in range(2, edits + 2):
-            line = 5 + version % 1000
-            waiting[version] = fut = loop.create_future()
-            client.text_document_did_change(lsp.DidChangeTextDocumentParams(
-                lsp.VersionedTextDocumentIdentifier(version, uri),
-                [lsp.TextDocumentContentChangePartial(
-                    lsp.Range(lsp.Position(line, 0), lsp.Position(line, 0)), f"; edit {version}\n")]))
-            await asyncio.wait_for(fut, 60)
-            await client.text_document_semantic_tokens_full_async(
-                lsp.SemanticTokensParams(lsp.TextDocumentIdentifier(uri)))
+            await ed.insert(version, 5 + version % 1000, f"; edit {version}\n")
+            await ed.client.text_document_semantic_tokens_full_async(
+                lsp.SemanticTokensParams(lsp.TextDocumentIdentifier(ed.uri)))
             if version == WARM + 1:
-                first = rss_mb(pid)
-        last = rss_mb(pid)
+                first = rss_mb(ed.pid)
+        last = rss_mb(ed.pid)
         seconds = time.perf_counter() - started
-        await client.shutdown_async(None)
-        client.exit(None)
-        await client.stop()
-        return first, last, seconds
+    return first, last, seconds
 
 
 def main() -> None:

@@ -11,6 +11,7 @@ Run: .venv/bin/python bench/lsp_speed.py [LINES] [ROUNDS]
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import os
 import statistics
 import sys
@@ -41,7 +42,42 @@ def cpu_seconds(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-async def measure(lines: int) -> tuple[list[float], list[float]]:
+class Editor:
+    """A server process (python -m mlctool lsp) and a pygls client, as an editor talks to it,
+    on a temporary nc5 project of one generated module (`editor()` opens it)."""
+
+    def __init__(self, client: LanguageClient, uri: str):
+        self.client, self.uri = client, uri
+        self.pid = 0
+        self.arrived: dict[int, float] = {}  # version -> when its diagnostics arrived (perf_counter)
+        self.waiting: dict[int, asyncio.Future] = {}
+
+    def diagnostics(self, params: lsp.PublishDiagnosticsParams) -> None:
+        if params.uri == self.uri and params.version is not None:
+            self.arrived[params.version] = time.perf_counter()
+            fut = self.waiting.pop(params.version, None)
+            if fut is not None and not fut.done():
+                fut.set_result(None)
+
+    async def until_diagnostics(self, version: int, send) -> None:
+        """send() (a notification making `version`), then wait for that version's diagnostics."""
+        self.waiting[version] = fut = asyncio.get_running_loop().create_future()
+        send()
+        await asyncio.wait_for(fut, 60)
+
+    async def insert(self, version: int, line: int, text: str) -> None:
+        """Insert `text` at the start of `line` (the document becomes `version`) and wait for
+        the diagnostics of that version."""
+        await self.until_diagnostics(version, lambda: self.client.text_document_did_change(
+            lsp.DidChangeTextDocumentParams(
+                lsp.VersionedTextDocumentIdentifier(version, self.uri),
+                [lsp.TextDocumentContentChangePartial(lsp.Range(lsp.Position(line, 0), lsp.Position(line, 0)),
+                                                      text)])))
+
+
+@contextlib.asynccontextmanager
+async def editor(lines: int):
+    """An Editor with the generated `lines`-line module open and its first diagnostics arrived."""
     with tempfile.TemporaryDirectory() as d:
         with open(os.path.join(d, "mlc.toml"), "w") as f:
             f.write('target = "nc5"\nsources = ["main.il"]\n')
@@ -49,46 +85,36 @@ async def measure(lines: int) -> tuple[list[float], list[float]]:
         text = ten_k_lines(lines)
         with open(path, "w") as f:
             f.write(text)
-        uri = "file://" + path
         client = LanguageClient("lsp-bench", "1")
-        arrived: dict[int, float] = {}
-        waiting: dict[int, asyncio.Future] = {}
+        ed = Editor(client, "file://" + path)
 
         @client.feature(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
-        def on_diagnostics(params: lsp.PublishDiagnosticsParams) -> None:
-            if params.uri == uri and params.version is not None:
-                arrived[params.version] = time.perf_counter()
-                fut = waiting.pop(params.version, None)
-                if fut is not None and not fut.done():
-                    fut.set_result(None)
+        def on_diagnostics(params: lsp.PublishDiagnosticsParams) -> None:  # (pygls takes no bound method)
+            ed.diagnostics(params)
 
         await client.start_io(sys.executable, "-m", "mlctool", "lsp")
         await client.initialize_async(lsp.InitializeParams(capabilities=lsp.ClientCapabilities(),
                                                            root_uri="file://" + d))
         client.initialized(lsp.InitializedParams())
-        loop = asyncio.get_running_loop()
-        waiting[1] = loop.create_future()
-        client.text_document_did_open(lsp.DidOpenTextDocumentParams(
-            lsp.TextDocumentItem(uri, "il", 1, text)))
-        await asyncio.wait_for(waiting[1], 60)
-        times, cpu = [], []
-        pid = client._server.pid  # pygls keeps the server process there
-        for version in range(2, EDITS + 2):
-            line = 5 + version  # a different contact each time: the text really changes
-            waiting[version] = loop.create_future()
-            fut = waiting[version]
-            start, used = time.perf_counter(), cpu_seconds(pid)
-            client.text_document_did_change(lsp.DidChangeTextDocumentParams(
-                lsp.VersionedTextDocumentIdentifier(version, uri),
-                [lsp.TextDocumentContentChangePartial(
-                    lsp.Range(lsp.Position(line, 0), lsp.Position(line, 0)), "; edited\n")]))
-            await asyncio.wait_for(fut, 60)
-            times.append(arrived[version] - start)
-            cpu.append(cpu_seconds(pid) - used)
+        await ed.until_diagnostics(1, lambda: client.text_document_did_open(
+            lsp.DidOpenTextDocumentParams(lsp.TextDocumentItem(ed.uri, "il", 1, text))))
+        ed.pid = client._server.pid  # pygls keeps the server process there
+        yield ed
         await client.shutdown_async(None)
         client.exit(None)
         await client.stop()
-        return times, cpu
+
+
+async def measure(lines: int) -> tuple[list[float], list[float]]:
+    times, cpu = [], []
+    async with editor(lines) as ed:
+        for version in range(2, EDITS + 2):
+            # a different contact each time: the text really changes
+            start, used = time.perf_counter(), cpu_seconds(ed.pid)
+            await ed.insert(version, 5 + version, "; edited\n")
+            times.append(ed.arrived[version] - start)
+            cpu.append(cpu_seconds(ed.pid) - used)
+    return times, cpu
 
 
 def main() -> None:

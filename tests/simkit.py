@@ -20,12 +20,12 @@ NC5 = load_target("nc5")
 ENGINE: str | None = None
 
 
-def image_of(il: str, name: str = "t.il"):
+def image_of(il: str, name: str = "t.il", target=NC5):
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, name)
         with open(path, "w", encoding="utf-8") as f:
             f.write(il.strip() + "\n")
-        image, diags, _ = program_from_paths([path], NC5)
+        image, diags, _ = program_from_paths([path], target)
     errors = [f"{d.span.line}: {d.code} {d.message}" for d in diags if d.severity == "error"]
     assert image is not None and not errors, errors
     return image

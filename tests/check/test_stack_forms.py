@@ -6,6 +6,7 @@ every engine, to the logic worked out by hand, for all 256 combinations of X0..X
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 
 import pytest
@@ -123,10 +124,12 @@ def _checked(text: str, target):
     return r.modules[0].instrs
 
 
-def _outputs_per_scan(instrs, target, engine: str, watch: list[str]) -> list[dict[str, bool]]:
+def _outputs_per_scan(instrs, target, engine: str, watch: list[str], select: str | None = None) -> list[dict[str, bool]]:
     prog = load_program(Image(target.name, instrs), target)
     m = Machine(target, len(prog.steps))
     scan = scanner(prog, m, engine)
+    if select is not None:
+        parse_device_name(select, target).write(m, 1)
     xs = [parse_device_name(f"X{k}", target) for k in range(8)]
     views = {name: parse_device_name(name, target) for name in watch}
     seen = []
@@ -136,6 +139,22 @@ def _outputs_per_scan(instrs, target, engine: str, watch: list[str]) -> list[dic
         scan()
         seen.append({name: bool(view.read(m)) for name, view in views.items()})
     return seen
+
+
+SELECT = 100  # M100 + k selects the k-th form of FORMS (sorted) in _all_forms()'s program
+
+
+@functools.cache
+def _all_forms(target_name: str):
+    """Every form in one program, each behind `LDI M<SELECT + k> / CJ P<k>` (a form not
+    selected runs nothing), for the native engine: a build takes seconds, one per target then,
+    not one per form."""
+    lines = []
+    for k, name in enumerate(sorted(FORMS)):
+        lines += [f"LDI M{SELECT + k}", f"CJ P{k}", FORMS[name][0].removesuffix("END\n").strip(), f"P{k}:"]
+    r = check_texts([SourceText("t.il", _program(*lines))], TARGETS[target_name])
+    assert not [d for d in r.diagnostics if d.severity == "error"], [(d.span.line, d.code, d.message) for d in r.diagnostics]
+    return r.modules[0].instrs
 
 
 def _expected(logic: dict[str, Callable[[X], bool]]) -> list[dict[str, bool]]:
@@ -150,7 +169,12 @@ def test_stack_form_checks_draws_and_simulates(form, target_name):
     instrs = _checked(text, target)
     want = _expected(logic)
     for engine in ENGINES:
-        assert _outputs_per_scan(instrs, target, engine, list(logic)) == want, engine
+        if engine == "native":  # the form in the one program of them all (_all_forms)
+            got = _outputs_per_scan(_all_forms(target_name), target, engine, list(logic),
+                                    f"M{SELECT + sorted(FORMS).index(form)}")
+        else:
+            got = _outputs_per_scan(instrs, target, engine, list(logic))
+        assert got == want, engine
     # the ladder: one rung (or one per LD after a coil outside any MPS), drawn every way
     items = build_items(instrs)
     rungs = sum(isinstance(i, Rung) for i in items)

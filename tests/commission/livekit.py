@@ -6,7 +6,7 @@ from __future__ import annotations
 import contextlib
 import threading
 
-import vskit
+import simkit
 from mlctool.commission.exchange import Exchange
 from mlctool.commission.modbus_map import Permissions, load_map
 from mlctool.commission.net import ModbusServer, NetThread, Slave, parse_endpoint
@@ -24,8 +24,7 @@ def live_plc(il: str, target_name: str = "vs", period_us: int = 2000, stim: str 
     """Yield (live, servers): scans run on a thread until the block ends."""
     target = load_target(target_name)
     if image is None:
-        image = vskit.image_of(il + "\nEND") if target_name == "vs" else _image(il, target)
-    assert image is not None
+        image = simkit.image_of(il + "\nEND", target=target)
     st, diags = parse_stimulus_text("t.stim", stim, target)
     assert not diags
     sim = Simulation(image, target, st, [], period_us, [], False)
@@ -69,17 +68,3 @@ def on_scan_thread(live: LiveRun, job):
         raise box["e"]
     return box["r"]
 
-
-def _image(il: str, target):
-    import os
-    import tempfile
-    from pathlib import Path
-
-    from mlctool.asm import program_from_paths
-
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "t.il")
-        Path(path).write_text(il.strip() + "\nEND\n", encoding="utf-8")
-        image, diags, _ = program_from_paths([path], target)
-    assert image is not None, [(d.code, d.message) for d in diags]
-    return image
