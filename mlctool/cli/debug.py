@@ -101,16 +101,14 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
     # no FILE: the project; a module of the project: the whole project runs
     scope = command_scope(program, config, "program FILE... (or --dap)")
     program = scope.files
-    from mlctool.asm.project import table_file
     from mlctool.debug.console import Console, interactive
     from mlctool.debug.load import LoadError, load_session
 
     target = get_target(target_name, config)
-    specs = [*scope.tables, *tables]  # the project's register tables, then --table (as mlc sim)
     preload = load_tables(tables, scope.tables, target, config)
     try:
         session = load_session(list(program), stim_path, target, config, scan_us, engine, checkpoint_every,
-                               preload=preload, table_files=[table_file(t) for t in specs])
+                               preload=preload)
     except LoadError as e:
         show(e.diagnostics, e.lines)
         sys.exit(2)

@@ -23,12 +23,11 @@ class LoadError(Exception):
 
 def load_session(program: list[str], stim_path: str | None, target, config: Config | None = None,
                  scan_us: int | None = None, engine: str | None = None,
-                 checkpoint_every: int = 100, cwd: str | None = None, preload: list = (),
-                 table_files: list[str] = ()) -> DebugSession:
+                 checkpoint_every: int = 100, cwd: str | None = None, preload: list = ()) -> DebugSession:
     """`cwd`: the session's current folder (relative `save` paths; the folder `save` may write
     into when the program is in no project), by default the process's. `preload`: the register
-    tables loaded with the program (mlc.toml `tables`, `--table`: as mlc sim loads them), read
-    from `table_files` (inputs `save` never overwrites)."""
+    tables loaded with the program (mlc.toml `tables`, `--table`: as mlc sim loads them). The
+    files read are in fileio's register of inputs, which `save` never overwrites."""
     image, diags, lines = program_from_paths(list(program), target, config)
     if image is None:
         raise LoadError([d for d in diags if d.severity == "error"], lines)
@@ -51,11 +50,4 @@ def load_session(program: list[str], stim_path: str | None, target, config: Conf
         session.folder, session.folder_is = str(config.root), "the project's folder"
     else:
         session.folder = session.cwd
-    # what `save` may never overwrite: everything the session read
-    config_files = [str(config.root / n) for n in ("mlc.toml", "pyproject.toml")] if config and config.root else []
-    if config is not None and config.file is not None:
-        config_files.append(str(config.file))
-    session.inputs = [p for p in [*program, *lines, *([stim_path] if stim_path else []), *config_files,
-                                  *table_files]
-                      if os.path.isfile(p)]
     return session

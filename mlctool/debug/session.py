@@ -154,7 +154,6 @@ class DebugSession:
         # (load_session sets them: the project's folder, the files the session read)
         self.cwd = self.folder = os.getcwd()
         self.folder_is = "the session's current folder"
-        self.inputs: list[str] = [stimulus.path] if os.path.isfile(stimulus.path) else []
 
     # -- positions and state ------------------------------------------------------------
     @property

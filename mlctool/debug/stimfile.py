@@ -92,7 +92,7 @@ def save_stimulus(s: DebugSession, path: str) -> str:
         raise DebugError(f"save: {path} is outside {folder} ({s.folder_is}): save writes only there")
     text = stimulus_text(s)
     try:
-        plan = Outputs(s.inputs)
+        plan = Outputs()  # the inputs it must not overwrite: fileio's register
         plan.add(real, "save")
         plan.validate()
         plan.write({real: text})
