@@ -49,7 +49,7 @@ from http import HTTPStatus
 
 from mlctool.debug.console import ALIASES, Console
 from mlctool.debug.session import BOUNDARY, DebugError, DebugSession, Interrupted, Stop, _fmt, _time
-from mlctool.ladder.document import RungView, build_sheet
+from mlctool.ladder.document import RungView, image_sheet
 from mlctool.ladder.html import page, sheets_body
 from mlctool.ladder.lighting import lamps, lit
 from mlctool.limits import MAX_DIGITS
@@ -224,10 +224,7 @@ class Monitor:
         self.lock = threading.RLock()
         self.clients: dict[object, Tab] = {}
         self.clients_lock = threading.Lock()
-        image = session.image
-        names = [p for p, _, _ in image.modules] or sorted({i.file for i in image.instrs if i.file})
-        self.sheet = build_sheet(" + ".join(names), list(image.instrs), getattr(session, "lines", {}) or {},
-                                 session.target)
+        self.sheet = image_sheet(session.image, getattr(session, "lines", {}) or {}, session.target)
         self.title = title or f"Monitor: {self.sheet.path}"
         self.elements = elements_of(session, self.sheet)
         self.lamps = lamps(self.sheet)
