@@ -33,19 +33,28 @@ def max_wall_option(fn):
                         help="stop after TIME of wall-clock time (e.g. 30s, 5min): E607, exit 1 (for CI)")(fn)
 
 
+def positive_time(value: str | None, flag: str) -> int | None:
+    """A duration option (`500ms`, `2s`, the stimulus's units) -> microseconds, None when not
+    given; a bad or non-positive one is the option's usage error."""
+    if value is None:
+        return None
+    from mlctool.sim.stimulus.quantities import StimError, parse_time
+
+    try:
+        us = parse_time(value)
+    except StimError as e:
+        raise click.BadParameter(e.message, param_hint=flag) from None
+    if us <= 0:
+        raise click.BadParameter("must be positive", param_hint=flag)
+    return us
+
+
 def _start_wall_limit(_ctx, _param, text: str | None) -> None:
     """Start the wall-clock limit: a timer that interrupts the command as Ctrl-C would, so every
     output being written is discarded (mlctool/fileio.py); run_guarded says why."""
     if text is None:
         return
-    from mlctool.sim.stimulus.stimulus import StimError, parse_time
-
-    try:
-        us = parse_time(text)
-    except StimError as e:
-        raise click.BadParameter(e.message, param_hint="--max-wall") from None
-    if us <= 0:
-        raise click.BadParameter("must be positive", param_hint="--max-wall")
+    us = positive_time(text, "--max-wall")
     timer = threading.Timer(us / 1e6, _wall_reached)
     timer.daemon = True
     _WALL.update(timer=timer, text=text)

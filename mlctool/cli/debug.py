@@ -17,12 +17,12 @@ from mlctool.cli.common import (
     get_config,
     get_target,
     load_tables,
+    positive_time,
     show,
     target_option,
 )
 from mlctool.diagnostics import Span, diag
 from mlctool.sim.engines.engine import ENGINE_ENV, ENGINES
-from mlctool.sim.stimulus.stimulus import StimError, parse_time
 
 
 @main_group.command("debug", epilog=examples(
@@ -64,14 +64,7 @@ def debug_cmd(target_name, config_path, stim_path, scan_time, engine, checkpoint
     With --web the ladder is served as a live monitor page until Ctrl-C.
     Exit 0: the session ended; 2: usage error, unreadable input or a port in use (E609).
     """
-    scan_us = None
-    if scan_time is not None:
-        try:
-            scan_us = parse_time(scan_time)
-        except StimError as e:
-            raise click.BadParameter(e.message, param_hint="--scan-time") from None
-        if scan_us <= 0:
-            raise click.BadParameter("must be positive", param_hint="--scan-time")
+    scan_us = positive_time(scan_time, "--scan-time")
     if web and (dap or dap_port is not None):
         raise click.UsageError("--web and --dap/--dap-port are different front ends: give one")
     if port is not None and not web:

@@ -25,6 +25,7 @@ from mlctool.cli.common import (
     examples,
     get_config,
     get_target,
+    positive_time,
     show,
     target_option,
 )
@@ -35,7 +36,7 @@ from mlctool.sim.run.output import run_diagnostics
 from mlctool.sim.run.run import DEFAULT_SCAN_US, RunResult, Simulation, build_models
 from mlctool.sim.scan import DEFAULT_WATCHDOG
 from mlctool.sim.state import NameError_, parse_device_name
-from mlctool.sim.stimulus.stimulus import MAX_SCANS, StimError, Stimulus, load_stimulus, parse_time
+from mlctool.sim.stimulus.stimulus import MAX_SCANS, Stimulus, load_stimulus
 
 MAX_SPEED = 1000.0
 
@@ -121,8 +122,8 @@ def run_cmd(target_name, config_path, stim_path, scan_time, duration, speed, ser
     program faulted; 2: usage error, unreadable input, a server that cannot be opened.
     """
     factor = parse_speed(speed)
-    scan_us = _time(scan_time, "--scan-time")
-    duration_us = _time(duration, "--duration")
+    scan_us = positive_time(scan_time, "--scan-time")
+    duration_us = positive_time(duration, "--duration")
     if read_only and allows:
         raise _fail("give --read-only or --allow, not both")
     from mlctool.commission.net import EndpointError, parse_endpoint
@@ -183,18 +184,6 @@ def run_cmd(target_name, config_path, stim_path, scan_time, duration, speed, ser
                                      "failed": len(result.failed), "servers": [_server_json(s) for s in servers]},
                                     indent=2) + "\n")
     sys.exit(0 if result.ok else 1)
-
-
-def _time(value: str | None, flag: str) -> int | None:
-    if value is None:
-        return None
-    try:
-        us = parse_time(value)
-    except StimError as e:
-        raise click.BadParameter(e.message, param_hint=flag) from None
-    if us <= 0:
-        raise click.BadParameter("must be positive", param_hint=flag)
-    return us
 
 
 def _scan_count(duration_us: int | None, st: Stimulus, period: int) -> int | None:

@@ -22,13 +22,13 @@ from mlctool.cli.common import (
     get_config,
     get_target,
     output_format,
+    positive_time,
     quiet_option,
     show,
     target_option,
     write_outputs,
 )
 from mlctool.fileio import Outputs, note_input
-from mlctool.sim.stimulus.quantities import StimError, parse_time
 from mlctool.verify.builtin import CHECKS
 from mlctool.verify.explicit import DEFAULT_MAX_STATES
 from mlctool.verify.run import ENGINES
@@ -79,14 +79,8 @@ def verify_cmd(target_name, config_path, props_paths, engine, max_states, max_wa
     """
     config = get_config(config_path)
     scope = command_scope(program, config, "program to verify")
-    seconds = None
-    if max_wall is not None:
-        try:
-            seconds = parse_time(max_wall) / 1e6
-        except StimError as e:
-            raise click.BadParameter(e.message, param_hint="--max-wall") from None
-        if seconds <= 0:
-            raise click.BadParameter("must be positive", param_hint="--max-wall")
+    wall_us = positive_time(max_wall, "--max-wall")
+    seconds = None if wall_us is None else wall_us / 1e6
     from mlctool.verify.report import project_checks, project_props, run_files
 
     paths = list(props_paths) or project_props(config)

@@ -88,3 +88,15 @@ def test_mlc_toml_globs_stay_inside_the_project(tmp_path):
         assert r.code == 2 and "E105" in r.err and "leaves the project" in r.err, (pattern, r.err)
     (tmp_path / "mlc.toml").write_text('sources = ["c.il"]\ntests = ["**/*.stim"]\n')
     assert run_mlc("test", cwd=tmp_path).code == 0
+
+
+@pytest.mark.parametrize("command, flag", [(["run"], "--scan-time"), (["run"], "--duration"),
+                                           (["debug"], "--scan-time"), (["verify"], "--max-wall"),
+                                           (["sim"], "--max-wall")], ids=lambda c: " ".join(c) if isinstance(c, list) else c)
+@pytest.mark.parametrize("value, said", [("0ms", "must be positive"), ("soon", "")])
+def test_a_duration_option_that_is_not_a_positive_time_is_a_usage_error(tmp_path, command, flag, value, said):
+    """cli.common.positive_time, one rule for every command's duration option: exit 2 naming the
+    option, before any input is read (p.il does not exist)."""
+    r = run_mlc(*command, flag, value, "p.il", cwd=tmp_path)
+    assert r.code == 2 and flag in r.err and said in r.err, (r.code, r.err)
+    assert "E100" not in r.err
