@@ -4,7 +4,7 @@ ladder -> sim and print one table row per file (docs/formats.md shows two runs).
     python tools/run_corpus.py FOLDER [--target vs] [--scans 100] [--markdown]
 
 If FOLDER holds `manifest.tsv` (tab-separated: file, repository, commit, path; one row per file,
-`#` lines ignored), only the files it lists are run and each row cites where the file came from,
+`#` lines and a `file repository commit path` header ignored), only the files it lists are run and each row cites where the file came from,
 so a table over public programs can name its sources without the files being committed.
 Otherwise every file with a known suffix is run.
 
@@ -113,6 +113,8 @@ def manifest(folder: Path) -> dict[str, tuple[str, str, str]] | None:
         if not line.strip() or line.startswith("#"):
             continue
         cells = line.split("\t")
+        if cells == ["file", "repository", "commit", "path"]:  # the header line, where there is one
+            continue
         if len(cells) != 4:
             sys.exit(f"{listed}:{n}: {len(cells)} cells where a row has 4 (file, repository, commit, path)")
         out[cells[0]] = (cells[1], cells[2], cells[3])
