@@ -33,9 +33,9 @@ def max_wall_option(fn):
                         help="stop after TIME of wall-clock time (e.g. 30s, 5min): E607, exit 1 (for CI)")(fn)
 
 
-def positive_time(value: str | None, flag: str) -> int | None:
+def positive_time(value: str | None, flag: str, zero: bool = False) -> int | None:
     """A duration option (`500ms`, `2s`, the stimulus's units) -> microseconds, None when not
-    given; a bad or non-positive one is the option's usage error."""
+    given; a bad or non-positive one (negative, with `zero`) is the option's usage error."""
     if value is None:
         return None
     from mlctool.sim.stimulus.quantities import StimError, parse_time
@@ -44,7 +44,7 @@ def positive_time(value: str | None, flag: str) -> int | None:
         us = parse_time(value)
     except StimError as e:
         raise click.BadParameter(e.message, param_hint=flag) from None
-    if us <= 0:
+    if us < 0 or (us == 0 and not zero):
         raise click.BadParameter("must be positive", param_hint=flag)
     return us
 

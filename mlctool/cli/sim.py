@@ -25,6 +25,7 @@ from mlctool.cli.common import (
     load_tables,
     max_wall_option,
     output_format,
+    positive_time,
     quiet_option,
     show,
     target_option,
@@ -53,18 +54,6 @@ from mlctool.targetapi.registry import simulation_of
 from mlctool.targetapi.signals import device_signal
 
 PROGRESS_MIN_SCANS = 5000
-
-
-def _time_option(value: str | None, flag: str) -> int | None:
-    if value is None:
-        return None
-    try:
-        us = parse_time(value)
-    except StimError as e:
-        raise click.BadParameter(e.message, param_hint=flag) from None
-    if flag == "--scan-time" and us <= 0:
-        raise click.BadParameter("must be positive", param_hint=flag)
-    return us
 
 
 def _check_formats(vcd_path, junit_path, report_path) -> None:
@@ -134,8 +123,8 @@ def sim_cmd(target_name, config_path, stim_path, scan_time, until, scans, vcd_pa
     if cluster and not is_batch(stim_path):
         raise click.UsageError("--cluster runs a batch: give --stimulus 'PATTERN' (e.g. 'tests/*.stim')")
     window = _window_option(pulse_window, vcd_path, stim_path)
-    scan_us = _time_option(scan_time, "--scan-time")
-    until_us = _time_option(until, "--until")
+    scan_us = positive_time(scan_time, "--scan-time")
+    until_us = positive_time(until, "--until", zero=True)
     config = get_config(config_path)
     scope = command_scope(program, config, "program to simulate")
     program = scope.files

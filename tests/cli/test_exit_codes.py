@@ -92,7 +92,7 @@ def test_mlc_toml_globs_stay_inside_the_project(tmp_path):
 
 @pytest.mark.parametrize("command, flag", [(["run"], "--scan-time"), (["run"], "--duration"),
                                            (["debug"], "--scan-time"), (["verify"], "--max-wall"),
-                                           (["sim"], "--max-wall")], ids=lambda c: " ".join(c) if isinstance(c, list) else c)
+                                           (["sim"], "--max-wall"), (["sim"], "--scan-time")], ids=lambda c: " ".join(c) if isinstance(c, list) else c)
 @pytest.mark.parametrize("value, said", [("0ms", "must be positive"), ("soon", "")])
 def test_a_duration_option_that_is_not_a_positive_time_is_a_usage_error(tmp_path, command, flag, value, said):
     """cli.common.positive_time, one rule for every command's duration option: exit 2 naming the
