@@ -156,3 +156,26 @@ def test_import_refuses_a_broken_wcd_with_exit_2(tmp_path, data, code, offset):
     assert "Traceback" not in r.err and "internal error" not in r.err
     assert not (tmp_path / "p.il").exists()
 
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.binary(max_size=200), st.integers(0, len(GOOD) - 1), st.integers(0, 255))
+def test_any_bytes_are_read_or_refused_never_a_crash(tail, at, byte):
+    """Bytes after the magic, and GOOD with one byte changed: comments or a WcdError."""
+    changed = bytearray(GOOD)
+    changed[at] = byte
+    for data in (reader.MAGIC + tail, bytes(changed)):
+        try:
+            reader.read(data)
+        except WcdError as e:
+            assert e.code in ("E936", "E937", "E938", "E939") and 0 <= e.offset <= len(data)
+
+
+def test_a_file_larger_than_any_comment_file_is_refused_unread(tmp_path):
+    from mlctool.imports import read_comments
+    from mlctool.targetapi import load_target
+
+    big = tmp_path / "c.wcd"
+    big.write_bytes(GOOD + b" " * reader.MAX_FILE)
+    comments, diags = read_comments(str(big), load_target("vs"))
+    assert comments is None and diags[0].code == "E937" and "larger than" in diags[0].message
