@@ -733,11 +733,9 @@ def _wcd_comments(path: str, data: bytes, target: Target, encoding: str | None
     """A GX Developer comment file's comments, each device (as FX writes it) through the
     target's operand syntax as a CSV row's. DECISION: a device's text is its comment; an alias
     alone is the text; both are `alias: comment`."""
-    from mlctool.wcd import MAX_FILE, WcdError, read
+    from mlctool.wcd import WcdError, read
 
     try:
-        if len(data) > MAX_FILE:
-            raise WcdError("E937", MAX_FILE, f"larger than {MAX_FILE} bytes: no comment file is")
         found = read(data, encoding)
     except WcdError as e:
         return None, [diag(path, Span.at(1), e.code, str(e), *e.notes)]

@@ -104,6 +104,8 @@ def is_wcd(head: bytes) -> bool:
 def read(data: bytes, encoding: str | None = None) -> Comments:
     """The comments of a `.wcd` file's bytes; WcdError for anything the layout does not hold.
     `encoding` decodes the text (None: ASCII only)."""
+    if len(data) > MAX_FILE:
+        raise WcdError("E937", MAX_FILE, f"larger than {MAX_FILE} bytes, which no comment file is")
     width = _header(data)
     runs = _runs(data, width)
     record = ALIAS_WIDTH + width
@@ -123,7 +125,7 @@ def read(data: bytes, encoding: str | None = None) -> Comments:
 def _header(data: bytes) -> int:
     """The comment width, once the header is checked."""
     if not data:
-        raise WcdError("E936", 0, "empty file: no GX Developer header")
+        raise WcdError("E936", 0, "empty file: neither a device-comment CSV nor a GX Developer comment file")
     if not is_wcd(data):
         raise WcdError("E936", 0, f"starts {data[:4].hex(' ')}, not 40 00 22 01 (a GX Developer file)")
     if len(data) < TABLE_AT + TABLE_HEAD:
