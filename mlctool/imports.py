@@ -677,12 +677,25 @@ _COMMENT_HEADER = {"device": ("device name", "device", "デバイス名", "软�
 
 def read_comments(path: str, target: Target, encoding: str | None = None
                   ) -> tuple[dict[str, str] | None, list[Diagnostic]]:
-    """A GX Works2 / GX Developer device-comment CSV (`"COMMENT"` title row, a header row
-    `"Device Name","Comment"` in the tool's language, then one device a row; UTF-16 tab or
-    comma separated) -> {device as the target writes it: comment}."""
-    text, diags = read_export(path, encoding)
-    if text is None:
+    """Device comments -> {device as the target writes it: comment}, from a GX Works2 / GX
+    Developer device-comment CSV (`"COMMENT"` title row, a header row `"Device Name","Comment"`
+    in the tool's language, then one device a row; UTF-16 tab or comma separated) or a GX
+    Developer comment file (`COMMENT.wcd`, a program's `MAIN.wcd`: mlctool/wcd.py), told apart
+    by their content."""
+    from mlctool.fileio import read_input
+    from mlctool.syntax.source import MAX_BYTES
+    from mlctool.wcd import is_wcd
+
+    try:
+        data = read_input(path, MAX_BYTES + 1)
+    except OSError as e:
+        return None, [diag(path, Span.at(1), "E100", f"cannot read: {e.strerror or e}")]
+    if not data or is_wcd(data):  # nothing is no CSV either: the .wcd reader says "empty file"
+        return _wcd_comments(path, data, target, encoding)
+    src, diags = decode(path, data, encoding)
+    if src is None:
         return None, diags
+    text = src.text
     delimiter = "\t" if "\t" in text else ","
     cols: tuple[int, int] | None = None
     out: dict[str, str] = {}
@@ -712,6 +725,24 @@ def read_comments(path: str, target: Target, encoding: str | None = None
     if cols is None:
         return None, [diag(path, Span.at(1), "E909", "not recognised as a device-comment CSV: no header row "
                            "naming the Device Name and Comment columns")]
+    return out, []
+
+
+def _wcd_comments(path: str, data: bytes, target: Target, encoding: str | None
+                  ) -> tuple[dict[str, str] | None, list[Diagnostic]]:
+    """A GX Developer comment file's comments, each device (as FX writes it) through the
+    target's operand syntax as a CSV row's. DECISION: a device's text is its comment; an alias
+    alone is the text; both are `alias: comment`."""
+    from mlctool.wcd import WcdError, read
+
+    try:
+        found = read(data, encoding)
+    except WcdError as e:
+        return None, [diag(path, Span.at(1), e.code, str(e), *e.notes)]
+    out: dict[str, str] = {}
+    for c in found.comments:  # X/Y are octal already: the target's syntax takes every one
+        text = f"{c.alias}: {c.text}" if c.alias and c.text else c.alias or c.text
+        out[format_operand(parse_operand(c.device, target.operand_syntax))] = " ".join(text.split())
     return out, []
 
 

@@ -50,7 +50,8 @@ from mlctool.syntax.source import source_encoding
 @click.option("-o", "--output", default=None, type=click.Path(dir_okay=False),
               help="write the IL here (default: standard output)")
 @click.option("--comments", "comments_file", default=None, type=click.Path(dir_okay=False),
-              help="a GX device-comment CSV: each device's comment on the lines using it")
+              help="a GX device-comment CSV or GX Developer COMMENT.wcd: each device's comment on the lines "
+              "using it")
 @quiet_option
 @click.option("--program", default=None, metavar="NAME",
               help="a GX Works2 project's program POU to read (default: its only one)")
@@ -149,7 +150,8 @@ def _comments(comments_file, target, config) -> dict[str, str] | None:
     comments, found = read_comments(comments_file, target, source_encoding(config)[0])
     if comments is None:
         show(found, {})
-        sys.exit(2 if unreadable(found) or any(d.code == "E909" for d in found) else 1)
+        sys.exit(2 if unreadable(found) or any(d.code == "E909" or "E936" <= d.code <= "E939" for d in found)
+                 else 1)
     return comments
 
 
