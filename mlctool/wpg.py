@@ -46,12 +46,17 @@ MAX_FILE = 4 * 1024 * 1024
 CPUS = {
     0x0205: ("FX2N(C)", "milochen0418/PLC-3floor-elevator c9aaf5a (Gppw.gpj CpuType \"FX2N(C)\", Gppw.gps lCpuType "
              "517) and kacper97/Traffic-Lights-GX-MItshubishi-PLC cd9b5e5 (Gppw.gpj CpuType \"FX2N(C)\")"),
-    0x0208: ("FX3U(C)", "Super0415/PLC 242cecb, PLSY-FX3U-Y0-Y1 (Gppw.gps lCpuType 520; the project is named for its "
-             "FX3U)"),
+    0x0207: ("FX1N", "borispad/gate fcd29e8 (Gppw.gpj CpuType \"FX1N\", Gppw.gps lCpuType 519)"),
+    0x0208: ("FX3U(C)", "Maelstro/PLC_PD_Controller 0e0460f (Gppw.gpj CpuType \"FX3UC\", Gppw.gps lCpuType 520) and "
+             "Super0415/PLC 242cecb, PLSY-FX3U-Y0-Y1 (Gppw.gps lCpuType 520)"),
 }
 # CPUs of other series seen in public bodies: their programs are no FX programs (hexadecimal
-# X/Y, M9000/D9000 specials, other step counts).
+# X/Y, M9000/D9000 or SM/SD specials, other step counts).
 OTHER_CPUS = {
+    0x0092: ("Q06UDEH (MELSEC-Q)", "HellerkoreaCSCho/PLC_PCO520L2 c96dfa3 (Gppw.gpj CpuType \"Q06UDEH\", Gppw.gps "
+             "lCpuType 146)"),
+    0x0106: ("A1N (MELSEC-A)", "autoinst578/Canvas_Cleaner-PLC 6609c03 (Gppw.gpj CpuType \"A1N\", Gppw.gps lCpuType "
+             "262)"),
     0x010A: ("A3N (MELSEC-A)", "autoinst578/Winder_MHI-PLC defce74 (Gppw.gpj CpuType \"A3N\", Gppw.gps lCpuType 266)"),
 }
 
