@@ -15,8 +15,8 @@ registry (the public notes' facts): one decoder for both containers.
 - 0x40: 04 00 FF FF (every public body; E932 otherwise), then the program's frames
   [length payload length] to the file's end: the instructions up to END, then `02 02`
   frames (an empty payload), one per unused step of the program memory: a program of S
-  steps in a memory of C steps is followed by C - S of them (every public FX body: 2,000 or
-  8,000 steps). An empty frame within the program is a NOP too (DECISION: the same frame,
+  steps in a memory of C steps is followed by C - S of them (each of the 105 public FX bodies:
+  2,000, 8,000, 16,000 or 64,000 steps; docs/formats.md). An empty frame within the program is a NOP too (DECISION: the same frame,
   the same step). Anything after END that is not an empty frame is E921, as in a POU.
 
 Nothing here writes a body (no `mlc export --to wpg`): the project around it (Gppw.gpj, the

@@ -6,6 +6,7 @@ each defect is a diagnostic with a code and the offset, exit 2, never a tracebac
 from __future__ import annotations
 
 import struct
+from pathlib import Path
 
 import pytest
 import wpgkit
@@ -88,6 +89,16 @@ def test_the_fx_dialect_path_through_the_cli(tmp_path):
     assert r.code == 2 and "one program" in r.err
 
 
+BUNDLED = ".dialect fx\nLD X0\nOR Y0\nANI X1\nOUT Y0\nLD Y0\nOUT T0 K50\nEND\n"
+
+
+def test_the_bundled_body_is_the_kits():
+    """tests/data/wpg/MAIN.wpg (the docs' examples run on it) is written by tests/wpgkit.py."""
+    data = (Path(__file__).parent / "data" / "wpg" / "MAIN.wpg").read_bytes()
+    assert data == wpgkit.il_body(BUNDLED, VS)
+    assert import_wpg("MAIN.wpg", data, VS) == (BUNDLED, "wpg", [])
+
+
 # --- defects: each a code and the offset, exit 2 --------------------------------------------
 
 _GOOD = wpgkit.body([("LD", ["X0"]), ("OUT", ["Y0"]), ("END", [])], 8000 - 3)
@@ -105,6 +116,7 @@ DEFECTS = {
     "header length": (_with(0, b"\x44\x00"), "E932", "offset 0: 44 00 22 01"),
     "mark at 0x40": (_with(0x40, b"\x05\x00\xff\xff"), "E932", "offset 0x40"),
     "A-series CPU": (_with(CPU_FIELD, struct.pack("<H", 0x010A)), "E933", "0x010A: a program for the A3N"),
+    "Q-series CPU": (_with(CPU_FIELD, struct.pack("<H", 0x0092)), "E933", "0x0092: a program for the Q06UDEH"),
     "unknown CPU": (_with(CPU_FIELD, struct.pack("<H", 0x0299)), "E933", "offset 0x26: CPU type 0x0299"),
     "broken frame": (_with(0x46, b"\x04"), "E918", "offset 0x46: closing sentinel 0x04"),
     "frame of 1": (_with(TOKENS, b"\x01"), "E918", "offset 0x44: token length 1, the least is 2"),
@@ -155,8 +167,8 @@ _RUNG = st.tuples(st.sampled_from(["LD", "LDI"]), _BIT, st.lists(st.tuples(st.sa
 
 
 @settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(st.lists(_RUNG, min_size=1, max_size=4), st.sampled_from([2000, 8000]), st.sampled_from([wpgkit.FX3U, wpgkit.FX2N]),
-       st.integers(0, 9))
+@given(st.lists(_RUNG, min_size=1, max_size=4), st.sampled_from([2000, 8000]),
+       st.sampled_from([wpgkit.FX3U, wpgkit.FX2N, wpgkit.FX1N]), st.integers(0, 9))
 def test_generated_programs_round_trip_with_the_vendors_steps(rungs, memory, cpu, seed):
     text = ".dialect fx\n" + "".join(f"{line}\n" for rung in rungs for line in rung) + "END\n"
     data = wpgkit.il_body(text, VS, memory, cpu=cpu, seed=seed)

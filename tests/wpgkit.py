@@ -15,7 +15,7 @@ import gxwkit
 
 from mlctool.wpg import BODY_MARK, CPU_FIELD, HEADER, SIGNATURE
 
-FX3U, FX2N = 0x0208, 0x0205
+FX3U, FX2N, FX1N = 0x0208, 0x0205, 0x0207
 NOP = b"\x02\x02"
 
 
