@@ -20,6 +20,8 @@ docs/process/research/gxw_reverse_engineering.md; docs/formats.md cites the rest
   operand tokens, decoded through the registry mlctool/gxw_tokens.toml (data, each entry
   citing its sample). An unknown token, a bad sentinel, an operand of a type the slot does
   not take is an error with the stream's name and the offset (E918-E921), never a guess.
+  frames() and decode() serve a GX Developer program body too (mlctool/wpg.py), whose
+  instructions are the same tokens: one decoder for both containers.
 
 Device comments (`COMMENT.qcd`) are not read: the notes establish that they live there, not
 their record layout. Nothing here writes a project (see docs/formats.md: the notes warn that
@@ -305,20 +307,27 @@ def tokens(pou: bytes, where: str) -> list[tuple[int, bytes]]:
     if any(tail):
         at = HEADER + length + next(k for k, b in enumerate(tail) if b)
         raise GxwError("E917", f"{where}: offset 0x{at:X}: the {trailer}-byte trailer is not zero", _LAYOUT_NOTE)
+    return frames(pou, HEADER, HEADER + length, where)
+
+
+def frames(data: bytes, start: int, end: int, where: str, least: int = 3) -> list[tuple[int, bytes]]:
+    """The frames [length payload length] of data[start:end] -> [(offset, payload)], every
+    frame's sentinels checked (E918). `least`: the shortest frame the container holds (3, an
+    opcode's; a GX Developer program body's NOP frame `02 02` is 2)."""
     out = []
-    at, end = HEADER, HEADER + length
+    at = start
     while at < end:
-        n = pou[at]
-        if n < 3:
-            raise GxwError("E918", f"{where}: offset 0x{at:X}: token length {n}, the least is 3 "
+        n = data[at]
+        if n < least:
+            raise GxwError("E918", f"{where}: offset 0x{at:X}: token length {n}, the least is {least} "
                            "([length payload length])")
         if at + n > end:
             raise GxwError("E918", f"{where}: offset 0x{at:X}: a token of {n} bytes runs past the token stream's "
                            f"end at 0x{end:X}")
-        if pou[at + n - 1] != n:
-            raise GxwError("E918", f"{where}: offset 0x{at + n - 1:X}: closing sentinel {pou[at + n - 1]:#04x} "
+        if data[at + n - 1] != n:
+            raise GxwError("E918", f"{where}: offset 0x{at + n - 1:X}: closing sentinel {data[at + n - 1]:#04x} "
                            f"where the token opened at 0x{at:X} says {n:#04x}")
-        out.append((at, pou[at + 1:at + n - 1]))
+        out.append((at, data[at + 1:at + n - 1]))
         at += n
     return out
 
@@ -329,12 +338,29 @@ _LAYOUT_NOTE = ("the public notes describe a simple project's ladder POU (header
 
 
 def decode_pou(pou: bytes, where: str) -> list[Instruction]:
-    reg = registry()
     toks = tokens(pou, where)
+    out, rest = decode(toks, where, HEADER)
+    if rest < len(toks):
+        raise GxwError("E921", f"{where}: offset 0x{toks[rest][0]:X}: tokens after END ({len(toks) - rest} of them)")
+    return out
+
+
+def decode(toks: list[tuple[int, bytes]], where: str, start: int, nop: bool = False
+           ) -> tuple[list[Instruction], int]:
+    """Tokens (of a GX Works2 POU or a GX Developer program body) -> the instructions up to END
+    and the index of the first token after it: each instruction a header token and its operand
+    tokens, decoded through the registry. `nop`: an empty frame is a NOP (a GX Developer
+    program body's). E919/E920 for what the registry does not establish, E921 without END
+    (`start`: the offset the tokens begin at, for an empty stream)."""
+    reg = registry()
     out: list[Instruction] = []
     k = 0
     while k < len(toks):
         at, payload = toks[k]
+        if nop and not payload:
+            out.append(Instruction(at, "NOP", (), None))
+            k += 1
+            continue
         form, width = _header(reg, at, payload, where)
         operands = []
         for n, slot_name in enumerate(form.slots, 1):
@@ -350,11 +376,8 @@ def decode_pou(pou: bytes, where: str) -> list[Instruction]:
         out.append(Instruction(at, form.mnemonic, tuple(operands), width))
         k += 1 + len(form.slots)
         if form.mnemonic == "END":
-            if k < len(toks):
-                raise GxwError("E921", f"{where}: offset 0x{toks[k][0]:X}: tokens after END "
-                               f"({len(toks) - k} of them)")
-            return out
-    end = toks[-1][0] if toks else HEADER
+            return out, k
+    end = toks[-1][0] if toks else start
     raise GxwError("E921", f"{where}: offset 0x{end:X}: the program does not end with END")
 
 

@@ -1,6 +1,7 @@
 """Vendor exports -> plain IL (`mlc import`): GX Works2 and GX Developer instruction-list CSV,
-WPLSoft CSV, plain IL text; and GX Works2 projects (.gxw, decoded by mlctool/gxw.py), whose
-instructions take the path of the CSV rows (import_project).
+WPLSoft CSV, plain IL text; and GX Works2 projects (.gxw, decoded by mlctool/gxw.py) and GX
+Developer program bodies (.wpg, mlctool/wpg.py), whose instructions take the path of the CSV
+rows (import_project, import_wpg).
 
 The shapes read (docs/vs.md "Imports"):
 - GX Works2 "CSV": UTF-16 with BOM, tab-separated quoted fields; a program-name row and a
@@ -55,7 +56,7 @@ _FX_POINTER = re.compile(r"I([0-9]{1,3})", re.IGNORECASE)
 # an X/Y written with a number: in an FX export octal, so X58 and X5B are no device (E913)
 _IO_NUMBER = re.compile(r"[XY][0-9][0-9A-F]*", re.IGNORECASE)
 # the family of each export's special devices (targets/<name>/specials.toml)
-SOURCE_FAMILY = {"gxworks2": "fx", "gxdeveloper": "fx", "wplsoft": "dvp", "delta": "dvp", "gxw": "fx"}
+SOURCE_FAMILY = {"gxworks2": "fx", "gxdeveloper": "fx", "wplsoft": "dvp", "delta": "dvp", "gxw": "fx", "wpg": "fx"}
 
 
 # the CPU row of a GX export: GX Works2 `"PLC Information:"<TAB>"FXCPU FX3U/FX3UC"` (Japanese
@@ -608,16 +609,7 @@ def _count_check(w: _Writer, text: str, target: Target, counts: dict[int, tuple[
     """W107 at each row whose instruction the source counts in other steps than the target's
     step convention does. The message quotes the row as the source writes it (M8000, not the
     M9000 it became; every operand)."""
-    # the resolver alone (addresses), not mlctool.check: the checker imports this module
-    from mlctool.check.labels import assign_named_labels, restrict_names
-    from mlctool.check.resolve import resolve
-    from mlctool.syntax.parser import parse
-    from mlctool.syntax.source import SourceText
-
-    parsed = restrict_names(parse(SourceText(w.path, text)), target)
-    names, _ = assign_named_labels([parsed], target)
-    module, _ = resolve(parsed, target, {}, names.get(parsed.path))
-    by_line = {ins.line: ins for ins in module.instrs}
+    by_line = {ins.line: ins for ins in _resolved(w.path, text, target).instrs}
     out = []
     for index, (row, count, words, source) in sorted(counts.items()):
         ins = by_line.get(index + 1)
@@ -628,6 +620,20 @@ def _count_check(w: _Writer, text: str, target: Target, counts: dict[int, tuple[
                          f"{ins.steps} by target {target.name}'s step convention", "the source's step count is the "
                          "vendor tool's; the target's addresses follow its own convention (docs/vs.md, Steps)"), kind))
     return out
+
+
+def _resolved(path: str, text: str, target: Target):
+    """The IL's instructions with their steps and addresses by the target's step convention."""
+    # the resolver alone (addresses), not mlctool.check: the checker imports this module
+    from mlctool.check.labels import assign_named_labels, restrict_names
+    from mlctool.check.resolve import resolve
+    from mlctool.syntax.parser import parse
+    from mlctool.syntax.source import SourceText
+
+    parsed = restrict_names(parse(SourceText(path, text)), target)
+    names, _ = assign_named_labels([parsed], target)
+    module, _ = resolve(parsed, target, {}, names.get(parsed.path))
+    return module
 
 
 def _once_per_kind(diags: list[Diagnostic], kinds: list[str], unit: str = "row") -> list[Diagnostic]:
@@ -749,22 +755,19 @@ def _wcd_comments(path: str, data: bytes, target: Target, encoding: str | None
 # The target of each export's dialect, when the command line names none: GX Works2 and GX
 # Developer export Mitsubishi FX programs, WPLSoft Delta DVP ones, both FX-style IL, which the
 # Vigor VS target follows (docs/vs.md).
-DIALECT_TARGET = {"gxworks2": "vs", "gxdeveloper": "vs", "wplsoft": "vs", "delta": "vs", "gxw": "vs"}
+DIALECT_TARGET = {"gxworks2": "vs", "gxdeveloper": "vs", "wplsoft": "vs", "delta": "vs", "gxw": "vs", "wpg": "vs"}
 
 
 # Vendor project files (binary) not read: what each is and what the public record holds about
 # it (docs/formats.md). Their program bodies are not publicly described well enough to decode
 # reliably, and a guess is never written (E914 says what to do instead). A GX Works2 `.gxw`,
-# and any other compound (OLE2) file, goes to the project reader (import_project); a FATEK
-# WinProladder `.pdw` / `.ldr` to import_winproladder.
+# and any other compound (OLE2) file, goes to the project reader (import_project); a GX
+# Developer `.wpg` to import_wpg; a FATEK WinProladder `.pdw` / `.ldr` to import_winproladder.
 PROJECT_FILES = {
     ".gx3": ("GX Works3 project", "undocumented"),
-    ".wpg": ("GX Developer program", "undocumented container around the FX program body"),
     ".dvp": ("WPLSoft project", "undocumented"),
     ".isp": ("ISPSoft project", "undocumented"),
 }
-_TEXT_EXPORT = {"GX Developer program": "open it in GX Developer or GX Works2 and write the program as CSV, then "
-                "`mlc import` that CSV"}
 
 
 def project_file(path: str, head: bytes) -> Diagnostic | None:
@@ -777,9 +780,8 @@ def project_file(path: str, head: bytes) -> Diagnostic | None:
     name, facts = what
     return diag(path, Span.at(1), "E914", f"offset 0: a {name}: starting {head[:8].hex(' ') or '(empty)'}; "
                 f"mlctool reads no such file ({facts} in public sources: docs/formats.md)",
-                "export the program as text from the vendor's tool and import that: "
-                + _TEXT_EXPORT.get(name, "its instruction-list or CSV export (WPLSoft and ISPSoft: the instruction "
-                                   "list as text)"))
+                "export the program as text from the vendor's tool and import that: its instruction-list or CSV "
+                "export (WPLSoft and ISPSoft: the instruction list as text)")
 
 
 def is_gx_project(path: str, head: bytes) -> bool:
@@ -818,6 +820,55 @@ def import_project(path: str, data: bytes, target: Target, comments: dict[str, s
             counts[k - 1] = (k, ins.width, " ".join([ins.mnemonic, *ins.operands]), "the project (its stored width)")
     w.finish()
     return _assemble(path, "gxw", w, target, counts)
+
+
+def is_wpg(path: str) -> bool:
+    """A GX Developer program body to read with import_wpg: by its name (its signature is 4 bytes)."""
+    import os
+
+    return os.path.splitext(path)[1].lower() == ".wpg"
+
+
+def import_wpg(path: str, data: bytes, target: Target, comments: dict[str, str] | None = None
+               ) -> tuple[str | None, str, list[Diagnostic]]:
+    """A GX Developer program body (.wpg) -> (IL or None, "wpg", diagnostics): its program
+    decoded (mlctool/wpg.py, with gxw.py's token decoder), then the path of the CSV imports as
+    a .gxw's. W107 where an application instruction's stored width is not the target's count;
+    W916 where the target's steps and the NOP fill after END make no FX program memory size:
+    GX Developer's count of the whole program is not the target's."""
+    from mlctool.gxw import GxwError
+    from mlctool.wpg import CAPACITIES, read_program
+
+    fmt = "wpg"
+    try:
+        prog = read_program(data)
+    except GxwError as e:
+        return None, fmt, [diag(path, Span.at(1), e.code, e.message, *e.notes)]
+    places = {k: f"offset 0x{ins.offset:X}" for k, ins in enumerate(prog.instructions, 1)}
+    w = _Writer(path, target, "fx", comments, places)
+    counts = {}
+    for k, ins in enumerate(prog.instructions, 1):
+        w.instruction(ins.mnemonic, list(ins.operands), k)
+        if ins.width is not None:  # one IL line per instruction, in order
+            counts[k - 1] = (k, ins.width, " ".join([ins.mnemonic, *ins.operands]), "the file (its stored width)")
+    w.finish()
+    text, fmt, diags = _assemble(path, fmt, w, target, counts)
+    if text is None:
+        return text, fmt, diags
+    steps = sum(ins.steps for ins in _resolved(path, text, target).instrs)
+    if steps + prog.fill not in CAPACITIES:
+        size = min((c for c in CAPACITIES if c > prog.fill), key=lambda c: abs(c - steps - prog.fill),
+                   default=CAPACITIES[-1])
+        diags = sorted(diags + [diag(
+            path, Span.at(len(prog.instructions)), "W916",
+            f"offset 0x{prog.fill_offset:X}: {prog.fill} NOP steps follow END, and target {target.name} counts "
+            f"the program as {steps} steps: {steps + prog.fill}, no FX program memory size "
+            f"({', '.join(map(str, CAPACITIES))} steps); GX Developer counts it as {size - prog.fill} steps if its "
+            f"memory is {size}",
+            "the vendor's step addresses are not the target's somewhere in the program: W107 names an instruction "
+            "whose stored width differs; else a special device or an operand counted otherwise (docs/formats.md)")],
+            key=Diagnostic.sort_key)
+    return text, fmt, diags
 
 
 # the target a WinProladder program is for: its words are FATEK FBs instructions and devices

@@ -287,8 +287,8 @@ def test_e914_is_gone_for_winproladder_files(tmp_path):
     (tmp_path / "x.ldr").write_bytes(GOOD_LDR)
     r = run_mlc("import", "x.ldr", cwd=tmp_path)
     assert r.code == 0 and "E914" not in r.err and r.out == SUBSET_IL
-    (tmp_path / "x.wpg").write_bytes(b"\0" * 16)
-    assert "E914" in run_mlc("import", "x.wpg", cwd=tmp_path).err
+    (tmp_path / "x.dvp").write_bytes(b"\0" * 16)
+    assert "E914" in run_mlc("import", "x.dvp", cwd=tmp_path).err
 
 
 def test_the_bundled_project_is_the_kits():

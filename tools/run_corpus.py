@@ -4,9 +4,9 @@ ladder -> sim and print one table row per file (docs/formats.md shows two runs).
     python tools/run_corpus.py FOLDER [--target vs] [--scans 100] [--markdown]
 
 If FOLDER holds `manifest.tsv` (tab-separated: file, repository, commit, path; one row per file,
-`#` lines and a `file repository commit path` header ignored), only the files it lists are run and each row cites where the file came from,
-so a table over public programs can name its sources without the files being committed.
-Otherwise every file with a known suffix is run.
+`#` lines and a first row naming those columns ignored), only the files it lists are run and
+each row cites where the file came from, so a table over public programs can name its sources
+without the files being committed. Otherwise every file with a known suffix is run.
 
 Each file is imported with `mlc import` (format recognised, or refused with its code); the IL
 then goes through `mlc check`, `mlc build` (with a listing: the built program's steps), `mlc
@@ -14,8 +14,9 @@ ladder` and `mlc sim` (with FILE's stem .stim beside it as the stimulus if there
 `--scans` scans with no stimulus: the program runs, nothing is asserted). Columns: the format
 the import recognised, the CPU the export names (GX CSV exports; "-" where the format names
 none), the instructions imported and the built program's steps, the steps column saying whether
-the export's own step numbers (a .gxw: its stored widths) agree with the built addresses (the
-import's W107 at the first disagreement; "-" where the format has none), and per stage "ok" or
+the export's own step numbers (a .gxw: its stored widths; a .wpg: those and the NOP fill after
+END, W916) agree with the built addresses (the import's W107 at the first disagreement; "-"
+where the format has none), and per stage "ok" or
 the exit code and the diagnostic codes said. Stages after a failed one are not run. The exit code
 is 0 whatever the programs do: this is a report.
 """
@@ -33,7 +34,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from mlctool.imports import export_cpu, read_export  # noqa: E402  (the CPU row as the importer reads it)
+from mlctool.imports import export_cpu  # noqa: E402  (the CPU row as the importer reads it)
 
 SUFFIXES = (".csv", ".txt", ".il", ".gxw", ".wpg", ".dvp", ".isp", ".pdw", ".ldr")
 STAGES = ("import", "check", "build", "ladder", "sim")
@@ -57,8 +58,15 @@ def said(code: int, out: str) -> str:
 
 
 def cpu_of(path: Path) -> str:
-    text, _ = read_export(str(path))
-    return (export_cpu(text) if text is not None else None) or "-"
+    data = path.read_bytes()[:4096]
+    for encoding in ("utf-16", "utf-8", "cp932", "gbk") if data[:2] in (b"\xff\xfe", b"\xfe\xff") else \
+            ("utf-8", "cp932", "gbk"):
+        try:
+            text = data.decode(encoding)
+        except UnicodeDecodeError:
+            continue
+        return export_cpu(text) or "-"
+    return "-"
 
 
 def run_one(path: Path, target: str, scans: int) -> dict[str, str]:
@@ -71,8 +79,10 @@ def run_one(path: Path, target: str, scans: int) -> dict[str, str]:
         row["import"] = said(code, out)
         if code != 0:
             return row
-        if row["format"] in ("gxworks2", "gxdeveloper", "gxw", "winproladder"):  # gxw: stored widths; pdw: words
-            row["steps"] = "differ (W107)" if "W107" in codes(out) else "equal"
+        # gxw: stored widths; pdw: words; wpg: stored widths and the NOP fill to the memory's size (W916)
+        if row["format"] in ("gxworks2", "gxdeveloper", "gxw", "winproladder", "wpg"):
+            differ = [c for c in ("W107", "W916") if c in codes(out)]
+            row["steps"] = f"differ ({' '.join(differ)})" if differ else "equal"
         lines = [ln for ln in Path(tmp, "p.il").read_text(encoding="utf-8").splitlines()
                  if ln.strip() and not ln.lstrip().startswith((".", ";", "//"))]
         row["size"] = f"{len(lines)} instr."
@@ -113,10 +123,10 @@ def manifest(folder: Path) -> dict[str, tuple[str, str, str]] | None:
         if not line.strip() or line.startswith("#"):
             continue
         cells = line.split("\t")
-        if cells == ["file", "repository", "commit", "path"]:  # the header line, where there is one
-            continue
         if len(cells) != 4:
             sys.exit(f"{listed}:{n}: {len(cells)} cells where a row has 4 (file, repository, commit, path)")
+        if n == 1 and cells == ["file", "repository", "commit", "path"]:
+            continue  # a header row naming the columns
         out[cells[0]] = (cells[1], cells[2], cells[3])
     return out
 

@@ -1,5 +1,6 @@
 """`mlc import`: a vendor export (GX Works2 / GX Developer / WPLSoft / Delta CSV, plain IL), a
-GX Works2 project (.gxw) or a FATEK WinProladder project / ladder resource (.pdw / .ldr) -> IL."""
+GX Works2 project (.gxw), a GX Developer program body (.wpg) or a FATEK WinProladder project /
+ladder resource (.pdw / .ldr) -> IL."""
 
 from __future__ import annotations
 
@@ -28,8 +29,10 @@ from mlctool.imports import (
     import_project,
     import_text,
     import_winproladder,
+    import_wpg,
     is_gx_project,
     is_winproladder,
+    is_wpg,
     project_file,
     read_comments,
     read_export,
@@ -39,7 +42,7 @@ from mlctool.syntax.source import source_encoding
 
 @main_group.command("import", epilog=examples(
     "mlc import --target vs export.csv -o prog.il      # the format is recognised",
-    "mlc import --comments COMMENT.csv MAIN.csv -o prog.il   # device comments too",
+    "mlc import --comments COMMENT.csv MAIN.wpg -o prog.il   # GX Developer program, device comments too",
     "mlc import --target fbs project.pdw -o fatek.il   # FATEK WinProladder (.pdw / .ldr)",
 ))
 @target_option
@@ -57,10 +60,10 @@ from mlctool.syntax.source import source_encoding
               help="a GX Works2 project's program POU to read (default: its only one)")
 @click.argument("file", type=click.Path())
 def import_cmd(target_name, config_path, fmt, output, comments_file, program, file):
-    """Convert an editor's export or a GX Works2 / WinProladder project to plain IL (docs/formats.md).
+    """Convert an editor's export or a GX Works2 / GX Developer / WinProladder project to plain IL (docs/formats.md).
 
-    Without --target, a GX Works2, GX Developer, WPLSoft or Delta export or a GX Works2 project
-    (FX dialect) is imported for target vs, a WinProladder .pdw / .ldr for fbs; plain IL for
+    Without --target, a GX Works2, GX Developer, WPLSoft or Delta export, a GX Works2 project or
+    a GX Developer program body (FX dialect) is imported for target vs, a WinProladder .pdw / .ldr for fbs; plain IL for
     the target of mlc.toml, else nc5.
 
     Exit 0: converted; 1: rows that cannot be placed; 2: unreadable input or not an export.
@@ -75,6 +78,12 @@ def import_cmd(target_name, config_path, fmt, output, comments_file, program, fi
     if project is not None:
         show([project], {})
         sys.exit(2)
+    if is_wpg(file):
+        if program is not None:
+            raise click.UsageError("--program names a program POU of a GX Works2 project (.gxw); a GX Developer "
+                                   f".wpg holds one program: {file}")
+        _import_wpg(file, target_name, config, output, comments_file, plan)
+        return
     if is_gx_project(file, head):
         _import_project(file, target_name, config, output, comments_file, program, plan)
         return
@@ -113,6 +122,28 @@ def _import_project(file, target_name, config, output, comments_file, program, p
     if text is None:
         sys.exit(2 if any("E915" <= d.code <= "E922" for d in diags) else 1)
     _write(file, text, "gxw", target, dialect, output, plan)
+
+
+def _import_wpg(file, target_name, config, output, comments_file, plan):
+    """A GX Developer program body: exit 2 for a file it cannot read (E918-E921, E932, E933), 1
+    for instructions the target cannot place, as a .gxw's."""
+    from mlctool.diagnostics import Span, diag
+    from mlctool.fileio import read_input
+    from mlctool.wpg import MAX_FILE
+
+    dialect = DIALECT_TARGET["wpg"] if not target_name else None
+    target = get_target(target_name or dialect, config)
+    try:
+        data = read_input(file, MAX_FILE + 1)
+    except OSError as e:
+        show([diag(file, Span.at(1), "E100", f"cannot read: {e.strerror or e}")], {})
+        sys.exit(2)
+    comments = _comments(comments_file, target, config)
+    text, fmt, diags = import_wpg(file, data, target, comments)
+    show(diags, {})
+    if text is None:
+        sys.exit(2 if any("E918" <= d.code <= "E921" or d.code in ("E932", "E933") for d in diags) else 1)
+    _write(file, text, fmt, target, dialect, output, plan)
 
 
 def _import_winproladder(file, target_name, config, output, comments_file, program, plan):

@@ -15,7 +15,8 @@ Example file names are mapped to bundled files: each document runs in a fresh co
 workspace (WORKSPACE_FILES), in which the names the docs use are copies of bundled samples:
 `src/main.il` and `src/lib.il` are samples/project's conveyor and pick-and-place library,
 `prog.il`/`s.stim` the NC5 conveyor sample (docs/vs.md: the VS traffic light), `export.csv`
-a GX Works2 export from tests/data, `prog.pos` an FBs positioning sample, `project.pdw` / `rungs.il` a WinProladder project of
+a GX Works2 export from tests/data, `MAIN.wpg` a GX Developer program body of tests/wpgkit.py,
+`prog.pos` an FBs positioning sample, `project.pdw` / `rungs.il` a WinProladder project of
 tests/pdwkit.py and its IL; `mlc.toml` makes it
 a project (sources src/main.il, src/lib.il; scenarios tests/*.stim), `samples/` is a copy of
 the bundled samples, and the project is built beforehand (build/program.mlx, .map, .lst and
@@ -54,6 +55,7 @@ WORKSPACE_FILES = {
     "program.csv": "tests/data/vs_imports/gxworks2.csv",
     "MAIN.csv": "tests/corpus/gxworks2_zh_cn.csv",
     "COMMENT.csv": "tests/corpus/COMMENT.csv",
+    "MAIN.wpg": "tests/data/wpg/MAIN.wpg",
     "prog.pos": "samples/fbs/run.pos",
     "project.pdw": "tests/data/winproladder/project.pdw",
     "rungs.il": "tests/data/winproladder/rungs.il",

@@ -148,13 +148,17 @@ def test_the_dialect_of_origin_decides_w217(tmp_path):
 def test_a_vendor_project_file_is_refused_saying_what_to_do(tmp_path):
     """Binary project files no public description reads reliably: E914, never a guess. A
     GX Works2 .gxw (or any compound file) goes to the project reader, which refuses a damaged
-    one with E915 (tests/test_gxw.py), a WinProladder .pdw / .ldr to its reader, which refuses a
-    damaged one with E923 (tests/test_winproladder.py)."""
-    for name in ("p.wpg", "p.dvp", "p.isp", "p.gx3"):
+    one with E915 (tests/test_gxw.py), a GX Developer .wpg to its reader, which refuses one
+    without its signature with E932 (tests/test_wpg.py), a WinProladder .pdw / .ldr to its
+    reader, which refuses a damaged one with E923 (tests/test_winproladder.py)."""
+    for name in ("p.dvp", "p.isp", "p.gx3"):
         (tmp_path / name).write_bytes(b"\x00\x01\x02\x03LD X0")
         r = run_mlc("import", name, "-o", "p.il", cwd=tmp_path)
         assert r.code == 2 and "E914" in r.err and "offset 0" in r.err and "export" in r.err, (name, r.err)
         assert not (tmp_path / "p.il").exists()
+    (tmp_path / "p.wpg").write_bytes(b"\x00\x01\x02\x03LD X0" + bytes(0x40))
+    r = run_mlc("import", "p.wpg", "-o", "p.il", cwd=tmp_path)
+    assert r.code == 2 and "E932" in r.err and "offset 0" in r.err and "CSV" in r.err and not (tmp_path / "p.il").exists()
     for name in ("p.pdw", "p.ldr"):
         (tmp_path / name).write_bytes(b"\x00\x01\x02\x03LD X0")
         r = run_mlc("import", name, "-o", "p.il", cwd=tmp_path)

@@ -1,0 +1,66 @@
+"""Test fixtures: GX Developer program bodies (.wpg) written by the project's own code, in the
+layout mlctool/wpg.py reads (docs/formats.md): the signature, the CPU type at 0x26, 04 00 FF FF
+at 0x40, the program's tokens (tests/gxwkit.py: mlctool/gxw_tokens.toml read backwards; a NOP
+is the empty frame 02 02), then one 02 02 per unused step of the program memory. The header's
+bytes the reader does not read (the title, the bytes not identified) are seeded random, so a
+test shows they are not read. Not an exporter: GX Developer opens a project, not a body alone.
+"""
+
+from __future__ import annotations
+
+import random
+import struct
+
+import gxwkit
+
+from mlctool.wpg import BODY_MARK, CPU_FIELD, HEADER, SIGNATURE
+
+FX3U, FX2N, FX1N = 0x0208, 0x0205, 0x0207
+NOP = b"\x02\x02"
+
+
+def header(cpu: int = FX3U, seed: int = 0) -> bytes:
+    rng = random.Random(seed)
+    out = bytearray(rng.randbytes(HEADER))
+    out[:len(SIGNATURE)] = SIGNATURE
+    struct.pack_into("<H", out, CPU_FIELD, cpu)
+    return bytes(out) + BODY_MARK
+
+
+def tokens(lines: list[tuple[str, list[str]]]) -> bytes:
+    return b"".join(NOP if m == "NOP" else gxwkit.instruction(m, ops) for m, ops in lines)
+
+
+def body(lines: list[tuple[str, list[str]]], fill: int, cpu: int = FX3U, seed: int = 0) -> bytes:
+    """A .wpg: the header, the program's tokens (END last), `fill` NOP frames after END."""
+    return header(cpu, seed) + tokens(lines) + NOP * fill
+
+
+def steps(text: str, target) -> int:
+    """The target's step count of an IL program (its instructions' steps, END included)."""
+    from mlctool.check import check_texts
+    from mlctool.syntax.source import SourceText
+
+    result = check_texts([SourceText("p.il", text)], target)
+    errors = [d.message for d in result.diagnostics if d.severity == "error"]
+    if errors:
+        raise ValueError(errors)
+    return sum(ins.steps for ins in result.modules[0].instrs)
+
+
+def il_lines(text: str, target) -> list[tuple[str, list[str]]]:
+    """IL of the target (`.dialect fx`) -> FX instructions (mnemonic, operands), as GX writes
+    them (M9000 -> M8000); a line statement or note has no place in a body's tokens."""
+    from mlctool.exports import family_rows
+
+    rows, _, errors = family_rows("p.il", text, target, "fx")
+    if rows is None:
+        raise ValueError([d.message for d in errors])
+    if any(statement or note for _, statement, _, _, note in rows):
+        raise ValueError("a line statement or note: no token of the subset")
+    return [(mnemonic, operands) for _, _, mnemonic, operands, _ in rows]
+
+
+def il_body(text: str, target, memory: int = 8000, **kw) -> bytes:
+    """IL of the target (`.dialect fx`) -> a .wpg filling a program memory of `memory` steps."""
+    return body(il_lines(text, target), memory - steps(text, target), **kw)
