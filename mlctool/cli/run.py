@@ -176,7 +176,8 @@ def run_cmd(target_name, config_path, stim_path, scan_time, duration, speed, ser
             net.stop()
     if sys.stderr.isatty():
         click.echo("", err=True)
-    result = RunResult(period, stats.scans, {}, [], live.outcomes, [], live.fault, [])
+    result = RunResult(period, stats.scans, {}, [], live.outcomes, live.reports.alarms(), live.fault, [],
+                       warnings=live.reports.warnings())
     show(run_diagnostics(result, st.path), {st.path: st.lines, **lines})
     click.echo(f"stopped: {stats.line()}" + "".join(f"; {_server_line(s)}" for s in servers), err=True)
     if as_json:

@@ -22,7 +22,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from mlctool.commission.exchange import Exchange
-from mlctool.sim.run.run import ExpectOutcome, FaultReport, Simulation
+from mlctool.sim.run.run import ExpectOutcome, FaultReport, ScanReports, Simulation
 from mlctool.sim.scan import Fault
 
 SLIP_PERIODS = 10
@@ -76,6 +76,7 @@ class LiveRun:
         self.keep_jitters = keep_jitters
         self.outcomes: list[ExpectOutcome] = []
         self.fault: FaultReport | None = None
+        self.reports = ScanReports(sim)  # the alarms and warnings, as mlc sim reports them
         self.stop = threading.Event()
         # called after every scan on the scan thread (OPC UA publishes the values it watches)
         self.after_scan: list[Callable[[int], None]] = []
@@ -134,6 +135,9 @@ class LiveRun:
         except Fault as f:
             self.fault = sim.fault_report(f, k)
         sim.apply_forces()
+        self.reports.collect(k)
+        if self.fault is not None:
+            return  # as in a batch run, a faulted scan's expectations are not checked
         for e in sim.by_scan.get(k, ()):
             if e.kind in ("expect", "alarm"):
                 self.outcomes.append(sim.check(e, k))

@@ -86,3 +86,15 @@ def test_bad_options_are_e750_and_a_busy_port_e751():
 def test_listen_serves_beyond_loopback_with_a_warning():
     r = run_mlc("run", CONVEYOR, "--duration", "20ms", "--listen", "0.0.0.0", "--serve", "modbus-tcp://0.0.0.0:0")
     assert r.code == 0 and "W750" in r.err, r.err
+
+
+def test_alarms_are_reported_as_mlc_sim_reports_them(tmp_path):
+    """mlc run said nothing of an operation error and exited 0 where mlc sim gives E604, exit 1;
+    named in the stimulus (`expect alarm`), the run passes as the simulation does."""
+    (tmp_path / "p.il").write_text("LD M9000\nDIV K1 D1 D0\nEND\n")
+    for command in (["sim", "--scans", "3"], ["run", "--duration", "30ms", "--speed", "10x"]):
+        r = run_mlc(*command, "--target", "vs", "p.il", cwd=tmp_path)
+        assert r.code == 1 and "error[E604]: alarm MLC_ARITH_ERROR at 0 ms (scan 0)" in r.err, (command, r.err)
+    (tmp_path / "p.stim").write_text("scan 10ms\n0ms expect alarm MLC_ARITH_ERROR\nrun 30ms\n")
+    r = run_mlc("run", "--target", "vs", "p.il", "--stimulus", "p.stim", "--speed", "10x", cwd=tmp_path)
+    assert r.code == 0 and "E604" not in r.err, r.err

@@ -440,9 +440,7 @@ class Simulation:
         y_views = {v.number: i for i, v in enumerate(self.views) if v.kind == "Y" and v.view == "bit"}
         moved: set[int] = set()
         fault = None
-        seen_alarms = seen_warnings = 0
-        alarms: list[AlarmReport] = []
-        warnings: dict[tuple[int, str, str], WarningReport] = {}  # the first of each
+        reports = ScanReports(self)
         scans_done = 0
         checked_at = time.perf_counter()
         for k in range(n_scans):
@@ -454,14 +452,7 @@ class Simulation:
                 fault = self.fault_report(f, k)
             self.apply_forces()
             scans_done = k + 1
-            for a in m.alarms[seen_alarms:]:
-                ins = self.prog.steps[a[1]].ins
-                alarms.append(AlarmReport(a[0], k, a[2], a[3], ins.addr, ins.file, ins.line,
-                                          a[2] in self.alarm_names))
-            seen_alarms = len(m.alarms)
-            for t, pc, code, message in m.warnings[seen_warnings:]:
-                warnings.setdefault((pc, code, message), WarningReport(t, k, code, message, *self.warned_at(pc)))
-            seen_warnings = len(m.warnings)
+            reports.collect(k)
             outputs = self.irq.outputs if self.irq is not None else []
             if self.tracing and outputs:
                 for t, n, level in outputs:
@@ -503,10 +494,9 @@ class Simulation:
                                               "", e.text))
                     outcomes.append(o)
         outcomes.sort(key=lambda o: (o.scan, o.line))
-        alarms = _first_alarms(alarms)
         devices = {v.name: v.read(m) for v in self.views}
-        return RunResult(self.period, scans_done, devices, self.views, outcomes, alarms, fault, trace.close(),
-                         m.pin_window, list(warnings.values()))
+        return RunResult(self.period, scans_done, devices, self.views, outcomes, reports.alarms(), fault,
+                         trace.close(), m.pin_window, reports.warnings())
 
     def fault_report(self, f: Fault, k: int) -> FaultReport:
         if f.step is None:
@@ -543,12 +533,32 @@ class TraceLog:
         return self.entries
 
 
-def _first_alarms(alarms: list[AlarmReport]) -> list[AlarmReport]:
-    """One report per (alarm, instruction): a continuous instruction repeats it every scan."""
-    seen, out = set(), []
-    for a in alarms:
-        key = (a.name, a.addr)
-        if key not in seen:
-            seen.add(key)
-            out.append(a)
-    return out
+class ScanReports:
+    """The alarms and run-time warnings a run raised, gathered after each scan (`collect`): the
+    first of each alarm per instruction (a continuous instruction repeats it every scan) and
+    the first of each warning, as batch runs (Simulation.run) and live ones (mlc run) report
+    them."""
+
+    def __init__(self, sim: Simulation):
+        self.sim = sim
+        self.seen_alarms = self.seen_warnings = 0
+        self._alarms: dict[tuple[str, int], AlarmReport] = {}
+        self._warnings: dict[tuple[int, str, str], WarningReport] = {}
+
+    def collect(self, k: int) -> None:
+        sim, m = self.sim, self.sim.m
+        for t, pc, name, message in m.alarms[self.seen_alarms:]:
+            ins = sim.prog.steps[pc].ins
+            if (name, ins.addr) not in self._alarms:
+                self._alarms[(name, ins.addr)] = AlarmReport(t, k, name, message, ins.addr, ins.file, ins.line,
+                                                             name in sim.alarm_names)
+        self.seen_alarms = len(m.alarms)
+        for t, pc, code, message in m.warnings[self.seen_warnings:]:
+            self._warnings.setdefault((pc, code, message), WarningReport(t, k, code, message, *sim.warned_at(pc)))
+        self.seen_warnings = len(m.warnings)
+
+    def alarms(self) -> list[AlarmReport]:
+        return list(self._alarms.values())
+
+    def warnings(self) -> list[WarningReport]:
+        return list(self._warnings.values())
