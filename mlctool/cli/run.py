@@ -1,7 +1,8 @@
 """`mlc run`: the simulated PLC in real time, reachable by HMIs and SCADA (docs/commissioning.md).
 
 Exit 0: stopped (Ctrl-C, SIGTERM, --duration, the stimulus's end) with every expectation
-held; 1: an expectation failed or the program faulted; 2: usage errors, unreadable input, a
+held; 1: an expectation failed, an alarm no expectation names was raised (E604) or the
+program faulted; 2: usage errors, unreadable input, a
 server that cannot be opened.
 """
 
@@ -118,8 +119,8 @@ def run_cmd(target_name, config_path, stim_path, scan_time, duration, speed, ser
     serving its memory over Modbus or OPC UA (docs/commissioning.md).
 
     A status line (scans, jitter, overruns) shows on a terminal; Ctrl-C stops after the scan
-    in progress. Exit 0: stopped with every expectation held; 1: an expectation failed or the
-    program faulted; 2: usage error, unreadable input, a server that cannot be opened.
+    in progress. Exit 0: stopped with every expectation held; 1: an expectation failed, an
+    alarm no expectation names was raised or the program faulted; 2: usage error, unreadable input, a server that cannot be opened.
     """
     factor = parse_speed(speed)
     scan_us = positive_time(scan_time, "--scan-time")
