@@ -47,7 +47,7 @@ COMMAND_SUMMARIES = {
     "export": "Write an IL program in a vendor tool's form, for that tool to read (docs/formats.md).",
     "explain": "Print the documentation of a diagnostic code, or the manual's row of a special device.",
     "fmt": "Rewrite IL files in the canonical layout (idempotent; code unchanged).",
-    "import": "Convert an editor's export or a GX Works2 / WinProladder project to plain IL (docs/formats.md).",
+    "import": "Convert an editor's export or a GX Works2 / GX Developer / WinProladder project to plain IL (docs/formats.md).",
     "init": "Write a new project into DIR (default: here): mlc.toml, src/main.il, a passing scenario "
             "in tests/, a CI workflow and a pre-commit configuration.",
     "ladder": "Draw the FILEs as ladder diagrams, one rung per IL rung, in program order.",

@@ -63,8 +63,8 @@ def import_cmd(target_name, config_path, fmt, output, comments_file, program, fi
     """Convert an editor's export or a GX Works2 / GX Developer / WinProladder project to plain IL (docs/formats.md).
 
     Without --target, a GX Works2, GX Developer, WPLSoft or Delta export, a GX Works2 project or
-    a GX Developer program body (FX dialect) is imported for target vs, a WinProladder .pdw / .ldr for fbs; plain IL for
-    the target of mlc.toml, else nc5.
+    a GX Developer program body (FX dialect) is imported for target vs, a WinProladder .pdw /
+    .ldr for fbs; plain IL for the target of mlc.toml, else nc5.
 
     Exit 0: converted; 1: rows that cannot be placed; 2: unreadable input or not an export.
     """
