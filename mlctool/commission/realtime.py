@@ -135,7 +135,7 @@ class LiveRun:
         except Fault as f:
             self.fault = sim.fault_report(f, k)
         sim.apply_forces()
-        self.reports.collect(k)
+        self.reports.collect(k, trim=True)
         if self.fault is not None:
             return  # as in a batch run, a faulted scan's expectations are not checked
         for e in sim.by_scan.get(k, ()):

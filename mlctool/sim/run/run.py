@@ -545,7 +545,10 @@ class ScanReports:
         self._alarms: dict[tuple[str, int], AlarmReport] = {}
         self._warnings: dict[tuple[int, str, str], WarningReport] = {}
 
-    def collect(self, k: int) -> None:
+    def collect(self, k: int, trim: bool = False) -> None:
+        """Scan k's new alarms and warnings. `trim` (a live run, which has no end): the machine
+        then keeps one entry per alarm name, all `expect alarm` reads, and no warnings, so a
+        continuous instruction's alarm every scan does not grow them for hours."""
         sim, m = self.sim, self.sim.m
         for t, pc, name, message in m.alarms[self.seen_alarms:]:
             ins = sim.prog.steps[pc].ins
@@ -556,6 +559,13 @@ class ScanReports:
         for t, pc, code, message in m.warnings[self.seen_warnings:]:
             self._warnings.setdefault((pc, code, message), WarningReport(t, k, code, message, *sim.warned_at(pc)))
         self.seen_warnings = len(m.warnings)
+        if trim and (len(m.alarms) > len(self._alarms) or m.warnings):
+            firsts: dict[str, tuple] = {}
+            for a in m.alarms:
+                firsts.setdefault(a[2], a)
+            m.alarms[:] = firsts.values()
+            m.warnings.clear()
+            self.seen_alarms, self.seen_warnings = len(m.alarms), 0
 
     def alarms(self) -> list[AlarmReport]:
         return list(self._alarms.values())
