@@ -5,7 +5,8 @@ Inside the special ranges the target's signal table is the authority (the area w
 is not given there):
 - W250: a write to a row typed R: the NC (or the HMI, or the system) writes it, and the
   MLC's value is overwritten at its next update. A write is OUT/SET/RST/PLS/PLF/ALT, a
-  destination operand, a Kn group or a ZRST range that covers the row. DECISION: a
+  destination operand, a Kn group, a ZRST range or a block a constant count sizes (the
+  tables' `span`: DECO D0 M30996 K3 writes 2^3 bits) that covers the row. DECISION: a
   warning, not an error: the instruction is valid for the PLC and the vendor's tools accept
   it, and an error could be neither lowered nor silenced (mlc.toml [severity] makes W250 an
   error where a project wants that);
@@ -90,16 +91,33 @@ def _accesses(ins: Instr, target: Target):
                 continue
         else:
             write = s.writes
-        if o.is_group:
-            yield k, o.device, o.number, o.number + 4 * o.digits - 1, write, 0
-            continue
         dev = target.devices.get(o.device)
+        n = _span(spec, s, ops, dev, o)
+        if o.is_group:
+            yield k, o.device, o.number, o.number + 4 * o.digits * n - 1, write, 0
+            continue
         if dev is None or dev.kind != "word" or o.is_bit_of_word:
-            yield k, o.device, o.number, o.number + (s.bits if dev is not None and dev.kind == "bit" else 1) - 1, \
+            yield k, o.device, o.number, o.number + (s.bits if dev is not None and dev.kind == "bit" else 1) * n - 1, \
                 write, 0
             continue
         width = 1 if spec.api is None else s.words[1] if spec.width == 32 else s.words[0]
+        if n > 1:  # a block of n elements: looked at whole, as a range is (no halves)
+            yield k, o.kind, o.number, o.number + width * n - 1, write, 0
+            continue
         yield k, o.kind, o.number, o.number + width - 1, write, width
+
+
+def _span(spec, s, ops, dev, o) -> int:
+    """How many elements operand `o` covers when another operand counts them with a constant
+    (the tables' `span`: DECO D covers 2^n bits), else 1. The count's own range check (E206,
+    E208) says what is wrong with a count out of range: here it is capped."""
+    if s.span is None or o.index or (s.span_kinds == "bit" and (dev is None or dev.kind != "bit" or o.is_group)):
+        return 1
+    c = next((i for i, x in enumerate(spec.operands) if x.role == s.span[0]), None)
+    count = ops[c] if c is not None and c < len(ops) else None
+    if count is None or count.kind not in ("K", "H") or count.index or not isinstance(count.value, int):
+        return 1
+    return s.span_count(max(1, min(count.value, 16)))
 
 
 def _diagnostic(ins: Instr, k: int, kind: str, first: int, last: int, write: bool, words: int,

@@ -37,6 +37,7 @@ def test_out_to_an_nc_flag_names_the_signal_and_says_it_is_the_ncs():
     ("MOV K1 D31048", 8),  # a destination operand: D3x048 M code data
     ("MOV K0 K2M31000", 8),  # a Kn group covering the mode feedback M31000-M31007
     ("ZRST M30990 M31005", 6),  # a ZRST range that covers M31000
+    ("DECO D0 M30996 K3", 9),  # 2^3 = 8 bits M30996-M31003, the span of DECO D (only W251 before)
     ("DMOV K1 D31023", 9),  # a 32-bit destination whose high word is D3x024's low word
 ])
 def test_every_kind_of_write_to_an_r_row_is_w250(body, col):
