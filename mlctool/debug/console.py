@@ -297,19 +297,13 @@ class Console:
     def cmd_help(self, rest: str) -> None:
         self.out(HELP)
 
-    def execute_interruptible(self, line: str) -> bool:
-        """execute(line) where Ctrl-C ends a long move where it is (`step 99999999`, `goto N`,
-        `diff 0 N`, `reverse-continue`) and comes back to the prompt, as in gdb, instead of
-        ending the debugger. Main thread only."""
-        with self.ctrl_c_ends_moves():
-            return self.execute(line)
-
     @contextlib.contextmanager
     def ctrl_c_ends_moves(self):
-        """Within the block, SIGINT (Ctrl-C) ends the move running, not the debugger: every long
-        move looks at the poll hook between two scans (and every few thousand instructions
-        inside one), so one Ctrl-C is enough; more of them, during the move or between two
-        commands, change nothing more. Main thread only."""
+        """Within the block, SIGINT (Ctrl-C) ends the move running (`step 99999999`, `goto N`,
+        `diff 0 N`, `reverse-continue`) and comes back to the prompt, as in gdb, instead of
+        ending the debugger: every long move looks at the poll hook between two scans (and
+        every few thousand instructions inside one), so one Ctrl-C is enough; more of them,
+        during the move or between two commands, change nothing more. Main thread only."""
         pressed = self._ctrl_c = []  # execute() empties it: a Ctrl-C between two commands is for none
 
         def poll() -> None:

@@ -275,7 +275,8 @@ def test_ctrl_c_ends_a_long_console_move_and_the_console_goes_on():
         timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))
         timer.start()
         try:
-            assert console.execute_interruptible(line)
+            with console.ctrl_c_ends_moves():
+                assert console.execute(line)
         finally:
             timer.cancel()
         assert len(out) == 1 and out[0].startswith("interrupted at scan "), out
