@@ -127,17 +127,11 @@ def _import_project(file, target_name, config, output, comments_file, program, p
 def _import_wpg(file, target_name, config, output, comments_file, plan):
     """A GX Developer program body: exit 2 for a file it cannot read (E918-E921, E932, E933), 1
     for instructions the target cannot place, as a .gxw's."""
-    from mlctool.diagnostics import Span, diag
-    from mlctool.fileio import read_input
     from mlctool.wpg import MAX_FILE
 
     dialect = DIALECT_TARGET["wpg"] if not target_name else None
     target = get_target(target_name or dialect, config)
-    try:
-        data = read_input(file, MAX_FILE + 1)
-    except OSError as e:
-        show([diag(file, Span.at(1), "E100", f"cannot read: {e.strerror or e}")], {})
-        sys.exit(2)
+    data = _read(file, MAX_FILE + 1)
     comments = _comments(comments_file, target, config)
     text, fmt, diags = import_wpg(file, data, target, comments)
     show(diags, {})
