@@ -64,9 +64,10 @@ class GxwError(Exception):
 @dataclasses.dataclass(frozen=True)
 class Instruction:
     offset: int  # of the header token in the POU stream
-    mnemonic: str
+    mnemonic: str  # "" for a line statement or note (`text`)
     operands: tuple[str, ...]  # as FX writes them: X10 (octal), M8000, K-1, H1F
-    width: int | None  # an application header's stored step width, None for the others
+    width: int | None  # the header's stored step count (application, 2-byte headers), None for the others
+    text: str | None = None  # a line statement's or note's text (a text record: no instruction, no step)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -81,7 +82,7 @@ class Program:
 class _Slot:
     types: frozenset[int]
     words: int
-    below: dict[int, int]  # type byte -> the first number the notes did not sample
+    numbers: dict[int, tuple[int, int]]  # type byte -> the numbers the slot takes of it (lo, hi)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -95,8 +96,9 @@ class Registry:
     operand: dict[int, dict]  # type byte -> {device, octal, bits}
     slot: dict[str, _Slot]
     basic: dict[int, _Form]  # opcode
-    tc_output: dict[bytes, _Form]  # the header's payload
-    application: dict[tuple[int, int], _Form]  # (family, subtype)
+    short: dict[bytes, _Form]  # a 2-byte header's payload [opcode steps]
+    application: dict[tuple[int, ...], _Form]  # (family, subtype) or (family, subtype, form byte)
+    text: dict[bytes, str]  # a text record's first two payload bytes -> what it is
 
 
 @cache
@@ -112,10 +114,12 @@ def registry() -> Registry:
     return Registry(
         operand={int(k, 16): v for k, v in data["operand"].items()},
         slot={k: _Slot(frozenset(int(t, 16) for t in v["types"]), v.get("words", 0),
-                       {int(t, 16): n for t, n in v.get("below", {}).items()}) for k, v in data["slot"].items()},
+                       {int(t, 16): (lo, hi) for t, (lo, hi) in v.get("numbers", {}).items()})
+              for k, v in data["slot"].items()},
         basic={int(k, 16): form(v) for k, v in data["basic"].items()},
-        tc_output={bytes(key(k)): form(v) for k, v in data["tc_output"].items()},
-        application={key(k): form(v) for k, v in data["application"].items()},  # type: ignore[misc]
+        short={bytes(key(k)): form(v) for k, v in data["short"].items()},
+        application={key(k): form(v) for k, v in data["application"].items()},
+        text={bytes(key(k)): v["kind"] for k, v in data["text"].items()},
     )
 
 
@@ -361,6 +365,10 @@ def decode(toks: list[tuple[int, bytes]], where: str, start: int, nop: bool = Fa
             out.append(Instruction(at, "NOP", (), None))
             k += 1
             continue
+        if payload[:2] in reg.text and len(payload) > 2:
+            out.append(Instruction(at, "", (), None, _text(payload[2:])))
+            k += 1
+            continue
         form, width = _header(reg, at, payload, where)
         operands = []
         for n, slot_name in enumerate(form.slots, 1):
@@ -368,7 +376,7 @@ def decode(toks: list[tuple[int, bytes]], where: str, start: int, nop: bool = Fa
                 raise GxwError("E920", f"{where}: offset 0x{at:X}: {form.mnemonic} lacks its operand {n} of "
                                f"{len(form.slots)}: the token stream ends")
             operands.append(_operand(reg, toks[k + n], reg.slot[slot_name], slot_name, form.mnemonic, where))
-        if width is not None:
+        if width is not None and len(payload) >= 3:  # an application header (a 2-byte one: its steps)
             words = sum(reg.slot[s].words for s in form.slots)
             if width != 1 + 2 * words:
                 raise GxwError("E919", f"{where}: offset 0x{at:X}: {form.mnemonic} header width {width}, where its "
@@ -381,22 +389,32 @@ def decode(toks: list[tuple[int, bytes]], where: str, start: int, nop: bool = Fa
     raise GxwError("E921", f"{where}: offset 0x{end:X}: the program does not end with END")
 
 
+def _text(raw: bytes) -> str:
+    """A text record's bytes -> the text. DECISION: the body does not say its code page (the
+    public texts are ASCII but for two Latin-1 words), so a byte outside printable ASCII is
+    written as \\xNN: kept, never guessed."""
+    return "".join(chr(b) if 0x20 <= b < 0x7F and b != 0x5C else f"\\x{b:02X}" for b in raw)
+
+
 def _header(reg: Registry, at: int, payload: bytes, where: str) -> tuple[_Form, int | None]:
     if len(payload) == 1 and payload[0] in reg.basic:
         return reg.basic[payload[0]], None
-    if payload in reg.tc_output:
-        return reg.tc_output[payload], None
-    if len(payload) == 3 and (payload[0], payload[2]) in reg.application:
-        return reg.application[payload[0], payload[2]], payload[1]
+    if payload in reg.short:
+        return reg.short[payload], payload[1]
+    if len(payload) in (3, 4) and (payload[0], *payload[2:]) in reg.application:
+        return reg.application[payload[0], *payload[2:]], payload[1]
     shown = payload.hex(" ").upper()
     if len(payload) == 1:
-        why = f"basic instruction opcode {payload[0]:02X}, not one the public notes establish"
-    elif len(payload) == 3 and any(f == payload[0] for f, _ in reg.application):
-        why = f"application family {payload[0]:02X} subtype {payload[2]:02X}, not one the public notes establish"
+        why = f"basic instruction opcode {payload[0]:02X}, not one the public sources establish"
+    elif len(payload) == 2 and payload[0] < 0x80:
+        why = f"instruction {payload[0]:02X} of {payload[1]} steps, not a form the public sources establish"
+    elif len(payload) in (3, 4) and any(f[0] == payload[0] for f in reg.application):
+        why = (f"application family {payload[0]:02X} subtype {payload[2]:02X}"
+               + (f" form {payload[3]:02X}" if len(payload) == 4 else "") + ", not one the public sources establish")
     elif payload and payload[0] in reg.operand:
         why = "an operand where an instruction was expected"
     else:
-        why = "no instruction token the public notes establish"
+        why = "no instruction token the public sources establish"
     raise GxwError("E919", f"{where}: offset 0x{at:X}: token [{shown}]: {why}",
                    "mlctool decodes the instructions of mlctool/gxw_tokens.toml only; write the program to CSV "
                    "from GX Works2 and import that (docs/formats.md)")
@@ -410,7 +428,7 @@ def _operand(reg: Registry, token: tuple[int, bytes], slot: _Slot, slot_name: st
         taken = ", ".join(_type_name(reg, t) for t in sorted(slot.types))
         got = f"type {payload[0]:02X}" + (f" ({_type_name(reg, payload[0])})" if kind else "") if payload else "empty"
         raise GxwError("E920", f"{where}: offset 0x{at:X}: {mnemonic}'s {slot_name.replace('_', '/')} operand is {got}; "
-                       f"the notes establish {taken} there")
+                       f"the registry takes {taken} there")
     value = payload[1:]
     limit = kind.get("bits", 32) // 8
     if not 1 <= len(value) <= limit:
@@ -418,9 +436,10 @@ def _operand(reg: Registry, token: tuple[int, bytes], slot: _Slot, slot_name: st
                        f"(1 to {limit})")
     number = int.from_bytes(value, "little")
     device = kind["device"]
-    if number >= slot.below.get(payload[0], number + 1):
-        raise GxwError("E920", f"{where}: offset 0x{at:X}: {mnemonic} {device}{number}: the notes sampled "
-                       f"{device}0-{device}{slot.below[payload[0]] - 1} there only")
+    lo, hi = slot.numbers.get(payload[0], (0, number))
+    if not lo <= number <= hi:
+        raise GxwError("E920", f"{where}: offset 0x{at:X}: {mnemonic} {device}{number}: the registry takes "
+                       f"{device}{lo}-{device}{hi} in its {slot_name.replace('_', '/')} operand")
     if device == "K":
         if len(value) == limit and number >> (8 * limit - 1):
             number -= 1 << (8 * limit)  # full width: two's complement

@@ -7,7 +7,9 @@ writer does not make (MAIN.res's copy of the program, compiler state, parameters
   mini stream in the root entry, streams of 4096 bytes and more in sectors. One storage (the
   root) holding streams; up to 109 FAT sectors (the header's DIFAT), no DIFAT sectors.
 - pou(): a program POU: a 0x4F-byte header (the length field twice at 0x37/0x3B), the tokens,
-  24 zero bytes (or 20, as in public projects); instructions encoded by mlctool/gxw_tokens.toml read backwards.
+  24 zero bytes (or 20, as in public projects); instructions encoded by mlctool/gxw_tokens.toml
+  read backwards (every header shape: basic, 2-byte [opcode steps], application with or without
+  a form byte), a comment line a text record `82 00 text`.
 - project(): the outer file: projectdatalist.xml and history.xml naming the POUs' numbered
   streams in _hdb, itself a compound file.
 - il_project(): IL (the target's, `.dialect fx`) -> a project, in FX spelling (M9000 -> M8000)
@@ -19,6 +21,7 @@ from __future__ import annotations
 import base64
 import hashlib
 import math
+import re
 import struct
 
 from mlctool.gxw import HEADER, LENGTH_BIAS, LENGTH_FIELDS, TRAILERS, registry
@@ -128,11 +131,19 @@ def compound_file(streams: dict[str, bytes]) -> bytes:
 # --- program POUs -------------------------------------------------------------------------
 
 def _reverse():
+    """The registry backwards: mnemonic -> its headers, each with its form. One mnemonic may
+    have several (SET [23] of Y/M, SET [23 02] of S or a special relay; OUT [20], OUT T/C [21 03]):
+    instruction() takes the first whose slots take the operands."""
     reg = registry()
-    basic = {f.mnemonic: (bytes([op]), f) for op, f in reg.basic.items()}
-    tc = {f.mnemonic: (payload, f) for payload, f in reg.tc_output.items()}
-    app = {f.mnemonic: (fam, sub, f) for (fam, sub), f in reg.application.items()}
-    return reg, basic, tc, app
+    heads: dict[str, list[tuple[bytes, object]]] = {}
+    for op, f in reg.basic.items():
+        heads.setdefault(f.mnemonic, []).append((bytes([op]), f))
+    for payload, f in reg.short.items():
+        heads.setdefault(f.mnemonic, []).append((payload, f))
+    for (family, subtype, *form), f in reg.application.items():
+        width = 1 + 2 * sum(reg.slot[s].words for s in f.slots)
+        heads.setdefault(f.mnemonic, []).append((bytes([family, width, subtype, *form]), f))
+    return reg, heads
 
 
 def _frame(payload: bytes) -> bytes:
@@ -161,29 +172,31 @@ def operand(text: str, slot: str) -> bytes:
             raw = _minimal(int(rest, 16))
         else:
             raw = _minimal(int(rest, 8 if kind.get("octal") else 10))
-        if len(raw) > kind.get("bits", 32) // 8 or int.from_bytes(raw, "little") >= reg.slot[slot].below.get(t, 1 << 32):
+        lo, hi = reg.slot[slot].numbers.get(t, (0, 1 << 32))
+        if len(raw) > kind.get("bits", 32) // 8 or not (device in "KH" or lo <= int(rest, 8 if kind.get("octal") else 10) <= hi):
             raise ValueError(f"{text}: outside the subset")
         return _frame(bytes([t]) + raw)
     raise ValueError(f"{text}: no {slot} operand of the subset")
 
 
 def instruction(mnemonic: str, operands: list[str]) -> bytes:
-    reg, basic, tc, app = _reverse()
-    if mnemonic == "OUT" and operands and operands[0][0] in "TC":
-        payload, form = tc["OUT"]
-        head = _frame(payload)
-    elif mnemonic in basic:
-        payload, form = basic[mnemonic]
-        head = _frame(payload)
-    elif mnemonic in app:
-        family, subtype, form = app[mnemonic]
-        width = 1 + 2 * sum(reg.slot[s].words for s in form.slots)
-        head = _frame(bytes([family, width, subtype]))
-    else:
-        raise ValueError(f"{mnemonic}: not in the subset")
-    if len(operands) != len(form.slots):
-        raise ValueError(f"{mnemonic} {operands}: {len(form.slots)} operands")
-    return head + b"".join(operand(o, s) for o, s in zip(operands, form.slots))
+    """One instruction's tokens: the first header of the mnemonic whose slots take the operands."""
+    _, heads = _reverse()
+    for payload, form in heads.get(mnemonic, []):
+        if len(operands) != len(form.slots):
+            continue
+        try:
+            return _frame(payload) + b"".join(operand(o, s) for o, s in zip(operands, form.slots))
+        except ValueError:
+            continue
+    raise ValueError(f"{mnemonic} {operands}: not in the subset")
+
+
+def text(line: str, kind: bytes = b"\x82\x00") -> bytes:
+    """A text record (a line statement or note): printable ASCII (the reader writes any other
+    byte as \\xNN, which this writer turns back into the byte)."""
+    raw = re.sub(rb"\\x([0-9A-F]{2})", lambda m: bytes([int(m[1], 16)]), line.encode("ascii"))
+    return _frame(kind + raw)
 
 
 def pou(body: bytes, trailer: int = TRAILERS[0]) -> bytes:
@@ -196,8 +209,13 @@ def pou(body: bytes, trailer: int = TRAILERS[0]) -> bytes:
     return bytes(header) + body + bytes(trailer)
 
 
+def tokens(lines: list[tuple[str, list[str]]]) -> bytes:
+    """Instructions (mnemonic, operands) -> their tokens; (";", [text]) a text record."""
+    return b"".join(text(ops[0]) if m == ";" else instruction(m, ops) for m, ops in lines)
+
+
 def program(lines: list[tuple[str, list[str]]]) -> bytes:
-    return pou(b"".join(instruction(m, ops) for m, ops in lines))
+    return pou(tokens(lines))
 
 
 # --- projects -----------------------------------------------------------------------------
@@ -245,10 +263,16 @@ def il_lines(text: str, target) -> list[tuple[str, list[str]]]:
         raise ValueError([d.message for d in errors])
     out = []
     for _, statement, mnemonic, operands, note in rows:
-        if statement or note or not operands and mnemonic not in ("END", "ORB", "ANB"):
-            raise ValueError(f"no place in the subset for {statement or note or mnemonic!r}")
-        out.append((mnemonic, operands))
+        if note or (not statement and not operands and not registry_takes_none(mnemonic)):
+            raise ValueError(f"no place in the subset for {note or mnemonic!r}")
+        out.append((";", [statement]) if statement else (mnemonic, operands))
     return out
+
+
+def registry_takes_none(mnemonic: str) -> bool:
+    """Whether the registry has the mnemonic without operands (END, ORB, MPS ...)."""
+    _, heads = _reverse()
+    return any(not form.slots for _, form in heads.get(mnemonic, []))
 
 
 def il_project(text: str, target, **kw) -> bytes:

@@ -41,8 +41,8 @@ def test_a_body_imports_with_the_vendors_step_count():
     prog = read_program(data)
     assert prog.cpu == "FX3U(C)" and prog.instructions[0].offset == TOKENS
     built = _built(PROGRAM)
-    assert [(i.mnemonic, i.width) for i in prog.instructions if i.width] == [("MOV", 5), ("DADD", 13)]
-    assert [s for _, s, m in built if m in ("MOV", "DADD")] == [5, 13]
+    assert [(i.mnemonic, i.width) for i in prog.instructions if i.width] == [("OUT", 3), ("MOV", 5), ("DADD", 13)]
+    assert [s for _, s, m in built if m in ("MOV", "DADD") or s == 3] == [3, 5, 13]
     last_address, last_steps, _ = built[-1]
     assert last_address + last_steps + prog.fill == 2000
     il, fmt, diags = import_wpg("p.wpg", data, VS)
