@@ -18,8 +18,11 @@ docs/process/research/gxw_reverse_engineering.md; docs/formats.md cites the rest
   Anything else (a structured project's records, another layout) is refused (E917).
 - tokens are framed [length payload length]; each instruction is a header token and its
   operand tokens, decoded through the registry mlctool/gxw_tokens.toml (data, each entry
-  citing its sample). An unknown token, a bad sentinel, an operand of a type the slot does
-  not take is an error with the stream's name and the offset (E918-E921), never a guess.
+  citing its public source: the notes, the same repository's table of headers harvested from
+  GX Works2's conversion DLL, the MC protocol's device codes); a text record (a line statement
+  or note) is an Instruction with its text. An unknown token, a bad sentinel, an operand of a
+  type the slot does not take is an error with the stream's name and the offset (E918-E921),
+  never a guess.
   frames() and decode() serve a GX Developer program body too (mlctool/wpg.py), whose
   instructions are the same tokens: one decoder for both containers.
 
