@@ -294,7 +294,7 @@ def _refused(data: bytes) -> GxwError:
     ("05 49 07 30 05 04 A8 01 04 04 A8 02 04 04 A8 03 04 03 34 03", "E919", "family 49 subtype 30"),
     ("04 9C 01 04 03 34 03", "E919", "an operand where an instruction was expected"),
     ("03 00 03 04 C1 00 04 03 34 03", "E920", "offset 0x52: LD's contact operand is type C1"),  # LD T0: unsampled
-    ("03 00 03 04 91 00 04 03 34 03", "E920", "type 91"),  # SM0, a Q CPU's special relay
+    ("03 00 03 04 93 00 04 03 34 03", "E920", "type 93"),  # F0, an annunciator (MC F 0x93): not in the registry
     ("03 20 03 04 C2 00 04 03 34 03", "E920", "type C2 (T)"),  # OUT T0 without its preset: not a coil
     ("05 4C 09 01 05 04 EA 10 04 04 A8 00 04 03 34 03", "E920", "type EA (H)"),  # H in a 32-bit slot
     ("05 4C 05 00 05 07 E8 01 02 03 04 07 04 A8 00 04 03 34 03", "E920", "K operand of 4 value bytes"),
@@ -526,3 +526,16 @@ def test_headers_no_source_names_stay_refused(hexes, where):
     with pytest.raises(GxwError) as e:
         decode_pou(_pou(hexes), "P")
     assert e.value.code == "E919" and where in e.value.message, e.value.message
+
+
+def test_special_relays_of_either_code_are_mapped_by_the_fx_specials():
+    """M8002 as GX stores it in programs (90, its number) and as its comment files store it (91,
+    the MC protocol's SM): both LD M8002, mapped to the VS's M9002; 91 below 8000 (a Q CPU's SM0)
+    is no FX device."""
+    hexes = "03 00 03 05 90 42 1F 05 03 06 03 05 91 42 1F 05 03 20 03 04 9D 00 04 03 34 03"
+    assert _decoded(hexes) == ["LD M8002", "OR M8002", "OUT Y0", "END"]
+    il, _, diags = import_project("p.gxw", gxwkit.project({"MAIN": _pou(hexes)}), VS)
+    assert il == ".dialect fx\nLD M9002\nOR M9002\nOUT Y0\nEND\n" and [d.code for d in diags] == ["N910"]
+    with pytest.raises(GxwError) as e:
+        decode_pou(_pou("03 00 03 04 91 00 04 03 34 03"), "P")
+    assert e.value.code == "E920" and "M0: the registry takes M8000-M8511" in e.value.message
