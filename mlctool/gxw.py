@@ -71,6 +71,8 @@ class Instruction:
     operands: tuple[str, ...]  # as FX writes them: X10 (octal), M8000, K-1, H1F
     width: int | None  # the header's stored step count (application, 2-byte headers), None for the others
     text: str | None = None  # a line statement's or note's text (a text record: no instruction, no step)
+    note: bool = False  # the text is a note on the instruction before it (else a line statement)
+    label: bool = False  # a label (P10:): `operands` holds its pointer
 
 
 @dataclasses.dataclass(frozen=True)
@@ -101,7 +103,8 @@ class Registry:
     basic: dict[int, _Form]  # opcode
     short: dict[bytes, _Form]  # a 2-byte header's payload [opcode steps]
     application: dict[tuple[int, ...], _Form]  # (family, subtype) or (family, subtype, form byte)
-    text: dict[bytes, str]  # a text record's first two payload bytes -> what it is
+    text: dict[bytes, str]  # a text record's first two payload bytes -> "statement" or "note"
+    label: dict[bytes, str]  # a label header's payload -> its pointer's slot
 
 
 @cache
@@ -123,6 +126,7 @@ def registry() -> Registry:
         short={bytes(key(k)): form(v) for k, v in data["short"].items()},
         application={key(k): form(v) for k, v in data["application"].items()},
         text={bytes(key(k)): v["kind"] for k, v in data["text"].items()},
+        label={bytes(key(k)): v["operand"] for k, v in data["label"].items()},
     )
 
 
@@ -369,8 +373,16 @@ def decode(toks: list[tuple[int, bytes]], where: str, start: int, nop: bool = Fa
             k += 1
             continue
         if payload[:2] in reg.text and len(payload) > 2:
-            out.append(Instruction(at, "", (), None, _text(payload[2:])))
+            out.append(Instruction(at, "", (), None, _text(payload[2:]), note=reg.text[payload[:2]] == "note"))
             k += 1
+            continue
+        if payload in reg.label:
+            if k + 1 >= len(toks):
+                raise GxwError("E920", f"{where}: offset 0x{at:X}: a label lacks its pointer: the token stream ends")
+            slot = reg.label[payload]
+            pointer = _operand(reg, toks[k + 1], reg.slot[slot], slot, "a label", where)
+            out.append(Instruction(at, "", (pointer,), None, label=True))
+            k += 2
             continue
         form, width = _header(reg, at, payload, where)
         operands = []
@@ -428,7 +440,7 @@ def _operand(reg: Registry, token: tuple[int, bytes], slot: _Slot, slot_name: st
     at, payload = token
     kind = reg.operand.get(payload[0]) if payload else None
     if kind is None or payload[0] not in slot.types:
-        taken = ", ".join(_type_name(reg, t) for t in sorted(slot.types))
+        taken = ", ".join(dict.fromkeys(_type_name(reg, t) for t in sorted(slot.types)))
         got = f"type {payload[0]:02X}" + (f" ({_type_name(reg, payload[0])})" if kind else "") if payload else "empty"
         raise GxwError("E920", f"{where}: offset 0x{at:X}: {mnemonic}'s {slot_name.replace('_', '/')} operand is {got}; "
                        f"the registry takes {taken} there")

@@ -819,13 +819,20 @@ def import_project(path: str, data: bytes, target: Target, comments: dict[str, s
 
 
 def _decoded(w: _Writer, instructions, source: str) -> dict[int, tuple[int, int, str, str]]:
-    """A decoded program (mlctool/gxw.py) into the writer: each instruction its IL line, each
-    text record (a line statement or note) a comment line where it stands. -> the stored step
-    counts (application and 2-byte headers) by IL line index, for W107."""
+    """A decoded program (mlctool/gxw.py) into the writer: each instruction its IL line, a label
+    its label line, a line statement a comment line where it stands, a note a comment on the
+    instruction before it. -> the stored step counts (application and 2-byte headers) by IL line
+    index, for W107."""
     counts = {}
     for k, ins in enumerate(instructions, 1):
         if ins.text is not None:
-            w.comment(ins.text)
+            if ins.note and w.pending is not None:
+                w.pending.append(f"; {ins.text}")  # on the instruction's line, as an export's note cell
+            else:
+                w.comment(ins.text)
+            continue
+        if ins.label:
+            w.label(ins.operands[0] + ":", k)
             continue
         w.instruction(ins.mnemonic, list(ins.operands), k)
         if ins.width is not None:  # its line is the next the writer appends

@@ -192,11 +192,27 @@ def instruction(mnemonic: str, operands: list[str]) -> bytes:
     raise ValueError(f"{mnemonic} {operands}: not in the subset")
 
 
-def text(line: str, kind: bytes = b"\x82\x00") -> bytes:
-    """A text record (a line statement or note): printable ASCII (the reader writes any other
-    byte as \\xNN, which this writer turns back into the byte)."""
+STATEMENT, NOTE = b"\x80\x00", b"\x82\x00"
+
+
+def text(line: str, kind: bytes = STATEMENT) -> bytes:
+    """A text record (a line statement, or a note on the instruction before it): printable ASCII
+    (the reader writes any other byte as \\xNN, which this writer turns back into the byte)."""
     raw = re.sub(rb"\\x([0-9A-F]{2})", lambda m: bytes([int(m[1], 16)]), line.encode("ascii"))
     return _frame(kind + raw)
+
+
+def label(pointer: str) -> bytes:
+    """A label line (P1:): the label header [3C] and its pointer."""
+    (payload, slot), = registry().label.items()
+    return _frame(payload) + operand(pointer, slot)
+
+
+def tokens(lines: list[tuple[str, list[str]]]) -> bytes:
+    """Instructions (mnemonic, operands) -> their tokens; (";", [text]) a line statement, ("note",
+    [text]) a note on the instruction before it, ("label", [P1]) a label."""
+    special = {";": lambda ops: text(ops[0]), "note": lambda ops: text(ops[0], NOTE), "label": lambda ops: label(ops[0])}
+    return b"".join(special[m](ops) if m in special else instruction(m, ops) for m, ops in lines)
 
 
 def pou(body: bytes, trailer: int = TRAILERS[0]) -> bytes:
@@ -207,11 +223,6 @@ def pou(body: bytes, trailer: int = TRAILERS[0]) -> bytes:
     for at in LENGTH_FIELDS:
         struct.pack_into("<I", header, at, len(body) + LENGTH_BIAS)
     return bytes(header) + body + bytes(trailer)
-
-
-def tokens(lines: list[tuple[str, list[str]]]) -> bytes:
-    """Instructions (mnemonic, operands) -> their tokens; (";", [text]) a text record."""
-    return b"".join(text(ops[0]) if m == ";" else instruction(m, ops) for m, ops in lines)
 
 
 def program(lines: list[tuple[str, list[str]]]) -> bytes:
@@ -253,19 +264,29 @@ def project(pous: dict[str, bytes], numbers: dict[str, int] | None = None, comme
     return compound_file(outer)
 
 
-def il_lines(text: str, target) -> list[tuple[str, list[str]]]:
+def il_lines(text: str, target, nop: bool = False) -> list[tuple[str, list[str]]]:
     """IL of the target (`.dialect fx`) -> FX instructions (mnemonic, operands), as an export
-    writes them; labels and comments have no place in the subset."""
+    writes them (M9000 -> M8000), a comment line a line statement (";", [text]), an instruction's
+    trailing comment a note after it ("note", [text]), a P label ("label", [P1]); `nop`: NOP
+    lines kept (a GX Developer body's empty frame). Anything else has no place in the subset."""
     from mlctool.exports import family_rows
 
     rows, _, errors = family_rows("p.il", text, target, "fx")
     if rows is None:
         raise ValueError([d.message for d in errors])
-    out = []
+    out: list[tuple[str, list[str]]] = []
     for _, statement, mnemonic, operands, note in rows:
-        if note or (not statement and not operands and not registry_takes_none(mnemonic)):
-            raise ValueError(f"no place in the subset for {note or mnemonic!r}")
-        out.append((";", [statement]) if statement else (mnemonic, operands))
+        if statement:
+            out.append((";", [statement]))
+            continue
+        if re.fullmatch(r"P[0-9]+", mnemonic) and not operands:
+            out.append(("label", [mnemonic]))
+        elif operands or registry_takes_none(mnemonic) or nop and mnemonic == "NOP":
+            out.append((mnemonic, operands))
+        else:
+            raise ValueError(f"no place in the subset for {mnemonic!r}")
+        if note:
+            out.append(("note", [note]))
     return out
 
 

@@ -409,7 +409,10 @@ def test_any_token_stream_decodes_or_is_refused(body):
 
 # --- the registry against the target (the DECISION of mlctool/gxw_tokens.toml) -----------------
 
-_KIND = {"M": "M", "S": "S", "X": "X", "Y": "Y", "D": "D", "T": "T", "C": "C", "K": "K", "H": "H"}
+_KIND = {"M": "M", "S": "S", "X": "X", "Y": "Y", "D": "D", "T": "T", "C": "C", "K": "K", "H": "H", "P": "P"}
+# the program structure every entry's rung sits in: CJ jumps to P1 in the main routine, CALL
+# calls the subroutine P2 after FEND
+_TAIL = "P1:\nLD X0\nMPS\nOUT Y0\nMRD\nOUT Y1\nMPP\nOUT Y2 ; a note\nFEND\nP2:\nLD X1\nOUT Y3\nSRET\nEND\n"
 
 
 def _entries():
@@ -431,8 +434,14 @@ def _sample(reg, slot: str, kinds: set[str], position: int) -> str:
         device = reg.operand[t]["device"]
         if device in kinds:
             lo = reg.slot[slot].numbers.get(t, (0, 0))[0]
-            return {"D": f"D{10 * position}", "K": "K2", "H": "H2"}.get(device, f"{device}{lo}")
+            return {"D": f"D{10 * position}", "K": "K2", "H": "H2", "P": "P1"}.get(device, f"{device}{lo}")
     raise AssertionError(f"slot {slot}: no type the target takes")
+
+
+def _line(reg, mnemonic: str, slots, taken) -> str:
+    """The entry as an IL line with sample operands (a CALL calls the subroutine P2)."""
+    line = " ".join([mnemonic, *(_sample(reg, s, taken[k], k) for k, s in enumerate(slots))])
+    return line.replace("P1", "P2") if mnemonic.startswith("CALL") else line
 
 
 def _rung(line: str) -> str:
@@ -460,12 +469,12 @@ def test_every_registry_entry_is_the_targets_instruction_with_its_steps():
             assert kinds <= taken[k], f"{payload.hex(' ')} {mnemonic} operand {k + 1}: {kinds - taken[k]} not vs's"
         if mnemonic in ("END", "FEND", "SRET"):
             continue  # program structure: their steps are the convention's 1 (tests below place them)
-        lines.append(" ".join([mnemonic, *(_sample(reg, s, taken[k], k) for k, s in enumerate(slots))]))
+        lines.append(_line(reg, mnemonic, slots, taken))
         widths.append((payload.hex(" "), width))
     from mlctool.check import check_texts
     from mlctool.syntax.source import SourceText
 
-    text = "".join(_rung(line) for line in lines) + "LD X0\nMPS\nOUT Y0\nMRD\nOUT Y1\nMPP\nOUT Y2\nEND\n"
+    text = "".join(_rung(line) for line in lines) + _TAIL
     result = check_texts([SourceText("p.il", text)], VS)
     assert not [d.message for d in result.diagnostics if d.severity == "error"]
     steps = {" ".join([i.spec.mnemonic, *map(str, i.operands)]).upper(): i.steps for i in result.modules[0].instrs}
@@ -476,7 +485,7 @@ def test_every_registry_entry_is_the_targets_instruction_with_its_steps():
 
 def _every_entry_program() -> str:
     """IL with one rung for every registry entry (sample operands as above), a line statement
-    with a byte outside ASCII, MPS/MRD/MPP, END."""
+    with a byte outside ASCII, a note, labels, MPS/MRD/MPP, FEND, a subroutine, END."""
     reg, entries = _entries()
     lines = []
     for _, mnemonic, slots, _ in entries:
@@ -484,9 +493,8 @@ def _every_entry_program() -> str:
             continue
         variants = [v for v in VS.variants_of(mnemonic) if len(v.operands) == len(slots)]
         taken = [set().union(*(v.operands[k].kinds for v in variants)) for k in range(len(slots))]
-        lines.append(" ".join([mnemonic, *(_sample(reg, s, taken[k], k) for k, s in enumerate(slots))]))
-    return (".dialect fx\n; every registry entry, caf\\xE9\n" + "".join(_rung(line) for line in lines)
-            + "LD X0\nMPS\nOUT Y0\nMRD\nOUT Y1\nMPP\nOUT Y2\nEND\n")
+        lines.append(_line(reg, mnemonic, slots, taken))
+    return ".dialect fx\n; every registry entry, caf\\xE9\n" + "".join(_rung(line) for line in lines) + _TAIL
 
 
 def test_every_registry_entry_round_trips_through_a_project_and_a_body():
@@ -504,7 +512,8 @@ def test_every_registry_entry_round_trips_through_a_project_and_a_body():
     body = wpgkit.il_body(text, VS, memory=4000)
     il, _, diags = import_wpg("p.wpg", body, VS)
     assert il == text and [d.code for d in diags] == []
-    assert b"\x82\x00every registry entry, caf\xe9" in body  # the text record, its byte restored
+    assert b"\x80\x00every registry entry, caf\xe9" in body  # the statement, its byte restored
+    assert b"\x9d\x02\x04\x0a\x82\x00a note\x0a" in body  # OUT Y2's operand, then its note
 
 
 @pytest.mark.parametrize(("hexes", "said"), [

@@ -28,7 +28,7 @@ def header(cpu: int = FX3U, seed: int = 0) -> bytes:
 
 
 def tokens(lines: list[tuple[str, list[str]]]) -> bytes:
-    """Instructions (mnemonic, operands) -> tokens; NOP the empty frame, (";", [text]) a text record."""
+    """Instructions (mnemonic, operands) -> tokens (tests/gxwkit.py's), NOP the empty frame."""
     return b"".join(NOP if m == "NOP" else gxwkit.tokens([(m, ops)]) for m, ops in lines)
 
 
@@ -51,16 +51,8 @@ def steps(text: str, target) -> int:
 
 def il_lines(text: str, target) -> list[tuple[str, list[str]]]:
     """IL of the target (`.dialect fx`) -> FX instructions (mnemonic, operands), as GX writes
-    them (M9000 -> M8000); a comment line a text record (";", [text]); a note after an
-    instruction has no place (the reader gives every text record a line of its own)."""
-    from mlctool.exports import family_rows
-
-    rows, _, errors = family_rows("p.il", text, target, "fx")
-    if rows is None:
-        raise ValueError([d.message for d in errors])
-    if any(note for *_, note in rows):
-        raise ValueError("a note after an instruction: the reader reads every text as a line of its own")
-    return [(";", [statement]) if statement else (mnemonic, operands) for _, statement, mnemonic, operands, _ in rows]
+    them (M9000 -> M8000): tests/gxwkit.py's, with NOP lines kept."""
+    return gxwkit.il_lines(text, target, nop=True)
 
 
 def il_body(text: str, target, memory: int = 8000, **kw) -> bytes:
