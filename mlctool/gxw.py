@@ -88,6 +88,13 @@ class _Slot:
     types: frozenset[int]
     words: int
     numbers: dict[int, tuple[int, int]]  # type byte -> the numbers the slot takes of it (lo, hi)
+    digits: frozenset[int]  # the bit devices a digit group [F1 n] may make a word of here (KnM0)
+    most_digits: int  # K1-K4 in a 16-bit slot, K1-K8 in a 32-bit one
+
+
+# a digit group's modifier token [F1 n], before its bit device: Kn of it (the notes' decoder,
+# src/gxw/token_pou.py: "digit_group", n 1-8; MOV K4X0 D0 -> 04 F1 04 04 04 9C 00 04)
+DIGITS = 0xF1
 
 
 @dataclasses.dataclass(frozen=True)
@@ -120,7 +127,8 @@ def registry() -> Registry:
     return Registry(
         operand={int(k, 16): v for k, v in data["operand"].items()},
         slot={k: _Slot(frozenset(int(t, 16) for t in v["types"]), v.get("words", 0),
-                       {int(t, 16): (lo, hi) for t, (lo, hi) in v.get("numbers", {}).items()})
+                       {int(t, 16): (lo, hi) for t, (lo, hi) in v.get("numbers", {}).items()},
+                       frozenset(int(t, 16) for t in v.get("digits", ())), 4 * v.get("words", 0))
               for k, v in data["slot"].items()},
         basic={int(k, 16): form(v) for k, v in data["basic"].items()},
         short={bytes(key(k)): form(v) for k, v in data["short"].items()},
@@ -386,18 +394,26 @@ def decode(toks: list[tuple[int, bytes]], where: str, start: int, nop: bool = Fa
             continue
         form, width = _header(reg, at, payload, where)
         operands = []
+        j = k + 1  # the next operand token
         for n, slot_name in enumerate(form.slots, 1):
-            if k + n >= len(toks):
+            slot = reg.slot[slot_name]
+            if j >= len(toks):
                 raise GxwError("E920", f"{where}: offset 0x{at:X}: {form.mnemonic} lacks its operand {n} of "
                                f"{len(form.slots)}: the token stream ends")
-            operands.append(_operand(reg, toks[k + n], reg.slot[slot_name], slot_name, form.mnemonic, where))
+            group = toks[j][1]
+            if group and group[0] == DIGITS and slot.digits:  # [F1 n] then its bit device: KnM0
+                operands.append(_digit_group(reg, toks, j, slot, slot_name, form.mnemonic, where))
+                j += 2
+                continue
+            operands.append(_operand(reg, toks[j], slot, slot_name, form.mnemonic, where))
+            j += 1
         if width is not None and len(payload) >= 3:  # an application header (a 2-byte one: its steps)
             words = sum(reg.slot[s].words for s in form.slots)
             if width != 1 + 2 * words:
                 raise GxwError("E919", f"{where}: offset 0x{at:X}: {form.mnemonic} header width {width}, where its "
                                f"{words} word slots give {1 + 2 * words} (width = 1 + 2 x word slots)")
         out.append(Instruction(at, form.mnemonic, tuple(operands), width))
-        k += 1 + len(form.slots)
+        k = j
         if form.mnemonic == "END":
             return out, k
     end = toks[-1][0] if toks else start
@@ -462,6 +478,20 @@ def _operand(reg: Registry, token: tuple[int, bytes], slot: _Slot, slot_name: st
     if device == "H":
         return f"H{number:X}"
     return f"{device}{number:o}" if kind.get("octal") else f"{device}{number}"
+
+
+def _digit_group(reg: Registry, toks: list[tuple[int, bytes]], j: int, slot: _Slot, slot_name: str, mnemonic: str,
+                 where: str) -> str:
+    """A digit group [F1 n] [bit device] in a word slot -> KnM0 (n digits of 4 bits from the device)."""
+    at, payload = toks[j]
+    if len(payload) != 2 or not 1 <= payload[1] <= slot.most_digits:
+        raise GxwError("E920", f"{where}: offset 0x{at:X}: {mnemonic}'s digit group {payload[1:].hex(' ') or 'empty'}: "
+                       f"K1-K{slot.most_digits} in its {slot_name.replace('_', '/')} operand")
+    if j + 1 >= len(toks):
+        raise GxwError("E920", f"{where}: offset 0x{at:X}: {mnemonic}'s digit group lacks its device: the token "
+                       "stream ends")
+    bits = _Slot(slot.digits, 0, {}, frozenset(), 0)
+    return f"K{payload[1]}{_operand(reg, toks[j + 1], bits, slot_name, mnemonic, where)}"
 
 
 def _type_name(reg: Registry, t: int) -> str:

@@ -24,7 +24,7 @@ import math
 import re
 import struct
 
-from mlctool.gxw import HEADER, LENGTH_BIAS, LENGTH_FIELDS, TRAILERS, registry
+from mlctool.gxw import DIGITS, HEADER, LENGTH_BIAS, LENGTH_FIELDS, TRAILERS, registry
 
 SECTOR, MINI, CUTOFF = 512, 64, 4096
 FREE, END, FATSECT, NOSTREAM = 0xFFFFFFFF, 0xFFFFFFFE, 0xFFFFFFFD, 0xFFFFFFFF
@@ -156,8 +156,15 @@ def _minimal(value: int) -> bytes:
 
 
 def operand(text: str, slot: str) -> bytes:
-    """One operand token, as GX Works2 writes it in a slot of that kind."""
+    """One operand's tokens, as GX Works2 writes them in a slot of that kind (a digit group KnM0:
+    the modifier [F1 n], then its bit device)."""
     reg = registry()
+    group = re.fullmatch(r"K([1-8])([XYMS][0-9]+)", text.upper())
+    if group and reg.slot[slot].digits:
+        devices = {reg.operand[t]["device"]: t for t in reg.slot[slot].digits}
+        if group[2][0] not in devices or int(group[1]) > reg.slot[slot].most_digits:
+            raise ValueError(f"{text}: no digit group of the {slot} slot")
+        return _frame(bytes([DIGITS, int(group[1])])) + operand(group[2], "contact")  # the device as a contact's
     device, rest = text[0].upper(), text[1:]
     for t in sorted(reg.slot[slot].types):
         kind = reg.operand[t]

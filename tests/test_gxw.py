@@ -466,6 +466,7 @@ def test_every_registry_entry_is_the_targets_instruction_with_its_steps():
         taken = [set().union(*(v.operands[k].kinds for v in variants)) for k in range(len(slots))]
         for k, slot in enumerate(slots):
             kinds = {_KIND[reg.operand[t]["device"]] for t in reg.slot[slot].types}
+            kinds |= {"Kn" + reg.operand[t]["device"] for t in reg.slot[slot].digits}  # digit groups
             assert kinds <= taken[k], f"{payload.hex(' ')} {mnemonic} operand {k + 1}: {kinds - taken[k]} not vs's"
         if mnemonic in ("END", "FEND", "SRET"):
             continue  # program structure: their steps are the convention's 1 (tests below place them)
@@ -548,3 +549,22 @@ def test_special_relays_of_either_code_are_mapped_by_the_fx_specials():
     with pytest.raises(GxwError) as e:
         decode_pou(_pou("03 00 03 04 91 00 04 03 34 03"), "P")
     assert e.value.code == "E920" and "M0: the registry takes M8000-M8511" in e.value.message
+
+
+def test_digit_groups_decode_and_round_trip_with_the_vendors_steps():
+    """A digit group is the modifier [F1 n] and its bit device (MOV K4X0 D0 as a public body stores
+    it), one word slot: MOV K4X0 D0 5 steps, DMOV K8M0 D2 9; K5 in a 16-bit slot, or a digit group
+    of a destination's X, is refused."""
+    assert _decoded("05 4C 05 00 05 04 F1 04 04 04 9C 00 04 04 A8 00 04 03 34 03") == ["MOV K4X0 D0", "END"]
+    import wpgkit
+
+    from mlctool.imports import import_wpg
+
+    text = ".dialect fx\nLD X0\nMOV K4X0 D0\nBCD D14 K1M0\nDMOV K8M0 D2\nMOV D1 K4Y0\nEND\n"
+    il, _, diags = import_wpg("p.wpg", wpgkit.il_body(text, VS), VS)
+    assert il == text and diags == []
+    for hexes, said in (("05 4C 05 00 05 04 F1 05 04 04 9C 00 04 04 A8 00 04 03 34 03", "K1-K4"),
+                        ("05 4C 05 00 05 04 A8 00 04 04 F1 04 04 04 9C 00 04 03 34 03", "type 9C (X)")):
+        with pytest.raises(GxwError) as e:
+            decode_pou(_pou(hexes), "P")
+        assert e.value.code == "E920" and said in e.value.message, e.value.message
