@@ -18,8 +18,11 @@ docs/process/research/gxw_reverse_engineering.md; docs/formats.md cites the rest
   Anything else (a structured project's records, another layout) is refused (E917).
 - tokens are framed [length payload length]; each instruction is a header token and its
   operand tokens, decoded through the registry mlctool/gxw_tokens.toml (data, each entry
-  citing its sample). An unknown token, a bad sentinel, an operand of a type the slot does
-  not take is an error with the stream's name and the offset (E918-E921), never a guess.
+  citing its public source: the notes, the same repository's table of headers harvested from
+  GX Works2's conversion DLL, the MC protocol's device codes); a text record (a line statement
+  or note) is an Instruction with its text. An unknown token, a bad sentinel, an operand of a
+  type the slot does not take is an error with the stream's name and the offset (E918-E921),
+  never a guess.
   frames() and decode() serve a GX Developer program body too (mlctool/wpg.py), whose
   instructions are the same tokens: one decoder for both containers.
 
@@ -64,9 +67,12 @@ class GxwError(Exception):
 @dataclasses.dataclass(frozen=True)
 class Instruction:
     offset: int  # of the header token in the POU stream
-    mnemonic: str
+    mnemonic: str  # "" for a line statement or note (`text`)
     operands: tuple[str, ...]  # as FX writes them: X10 (octal), M8000, K-1, H1F
-    width: int | None  # an application header's stored step width, None for the others
+    width: int | None  # the header's stored step count (application, 2-byte headers), None for the others
+    text: str | None = None  # a line statement's or note's text (a text record: no instruction, no step)
+    note: bool = False  # the text is a note on the instruction before it (else a line statement)
+    label: bool = False  # a label (P10:): `operands` holds its pointer
 
 
 @dataclasses.dataclass(frozen=True)
@@ -81,7 +87,14 @@ class Program:
 class _Slot:
     types: frozenset[int]
     words: int
-    below: dict[int, int]  # type byte -> the first number the notes did not sample
+    numbers: dict[int, tuple[int, int]]  # type byte -> the numbers the slot takes of it (lo, hi)
+    digits: frozenset[int]  # the bit devices a digit group [F1 n] may make a word of here (KnM0)
+    most_digits: int  # K1-K4 in a 16-bit slot, K1-K8 in a 32-bit one
+
+
+# a digit group's modifier token [F1 n], before its bit device: Kn of it (the notes' decoder,
+# src/gxw/token_pou.py: "digit_group", n 1-8; MOV K4X0 D0 -> 04 F1 04 04 04 9C 00 04)
+DIGITS = 0xF1
 
 
 @dataclasses.dataclass(frozen=True)
@@ -95,8 +108,10 @@ class Registry:
     operand: dict[int, dict]  # type byte -> {device, octal, bits}
     slot: dict[str, _Slot]
     basic: dict[int, _Form]  # opcode
-    tc_output: dict[bytes, _Form]  # the header's payload
-    application: dict[tuple[int, int], _Form]  # (family, subtype)
+    short: dict[bytes, _Form]  # a 2-byte header's payload [opcode steps]
+    application: dict[tuple[int, ...], _Form]  # (family, subtype) or (family, subtype, form byte)
+    text: dict[bytes, str]  # a text record's first two payload bytes -> "statement" or "note"
+    label: dict[bytes, str]  # a label header's payload -> its pointer's slot
 
 
 @cache
@@ -112,10 +127,14 @@ def registry() -> Registry:
     return Registry(
         operand={int(k, 16): v for k, v in data["operand"].items()},
         slot={k: _Slot(frozenset(int(t, 16) for t in v["types"]), v.get("words", 0),
-                       {int(t, 16): n for t, n in v.get("below", {}).items()}) for k, v in data["slot"].items()},
+                       {int(t, 16): (lo, hi) for t, (lo, hi) in v.get("numbers", {}).items()},
+                       frozenset(int(t, 16) for t in v.get("digits", ())), 4 * v.get("words", 0))
+              for k, v in data["slot"].items()},
         basic={int(k, 16): form(v) for k, v in data["basic"].items()},
-        tc_output={bytes(key(k)): form(v) for k, v in data["tc_output"].items()},
-        application={key(k): form(v) for k, v in data["application"].items()},  # type: ignore[misc]
+        short={bytes(key(k)): form(v) for k, v in data["short"].items()},
+        application={key(k): form(v) for k, v in data["application"].items()},
+        text={bytes(key(k)): v["kind"] for k, v in data["text"].items()},
+        label={bytes(key(k)): v["operand"] for k, v in data["label"].items()},
     )
 
 
@@ -361,42 +380,72 @@ def decode(toks: list[tuple[int, bytes]], where: str, start: int, nop: bool = Fa
             out.append(Instruction(at, "NOP", (), None))
             k += 1
             continue
+        if payload[:2] in reg.text and len(payload) > 2:
+            out.append(Instruction(at, "", (), None, _text(payload[2:]), note=reg.text[payload[:2]] == "note"))
+            k += 1
+            continue
+        if payload in reg.label:
+            if k + 1 >= len(toks):
+                raise GxwError("E920", f"{where}: offset 0x{at:X}: a label lacks its pointer: the token stream ends")
+            slot = reg.label[payload]
+            pointer = _operand(reg, toks[k + 1], reg.slot[slot], slot, "a label", where)
+            out.append(Instruction(at, "", (pointer,), None, label=True))
+            k += 2
+            continue
         form, width = _header(reg, at, payload, where)
         operands = []
+        j = k + 1  # the next operand token
         for n, slot_name in enumerate(form.slots, 1):
-            if k + n >= len(toks):
+            slot = reg.slot[slot_name]
+            if j >= len(toks):
                 raise GxwError("E920", f"{where}: offset 0x{at:X}: {form.mnemonic} lacks its operand {n} of "
                                f"{len(form.slots)}: the token stream ends")
-            operands.append(_operand(reg, toks[k + n], reg.slot[slot_name], slot_name, form.mnemonic, where))
-        if width is not None:
+            group = toks[j][1]
+            if group and group[0] == DIGITS and slot.digits:  # [F1 n] then its bit device: KnM0
+                operands.append(_digit_group(reg, toks, j, slot, slot_name, form.mnemonic, where))
+                j += 2
+                continue
+            operands.append(_operand(reg, toks[j], slot, slot_name, form.mnemonic, where))
+            j += 1
+        if width is not None and len(payload) >= 3:  # an application header (a 2-byte one: its steps)
             words = sum(reg.slot[s].words for s in form.slots)
             if width != 1 + 2 * words:
                 raise GxwError("E919", f"{where}: offset 0x{at:X}: {form.mnemonic} header width {width}, where its "
                                f"{words} word slots give {1 + 2 * words} (width = 1 + 2 x word slots)")
         out.append(Instruction(at, form.mnemonic, tuple(operands), width))
-        k += 1 + len(form.slots)
+        k = j
         if form.mnemonic == "END":
             return out, k
     end = toks[-1][0] if toks else start
     raise GxwError("E921", f"{where}: offset 0x{end:X}: the program does not end with END")
 
 
+def _text(raw: bytes) -> str:
+    """A text record's bytes -> the text. DECISION: the body does not say its code page (the
+    public texts are ASCII but for two Latin-1 words), so a byte outside printable ASCII is
+    written as \\xNN: kept, never guessed."""
+    return "".join(chr(b) if 0x20 <= b < 0x7F and b != 0x5C else f"\\x{b:02X}" for b in raw)
+
+
 def _header(reg: Registry, at: int, payload: bytes, where: str) -> tuple[_Form, int | None]:
     if len(payload) == 1 and payload[0] in reg.basic:
         return reg.basic[payload[0]], None
-    if payload in reg.tc_output:
-        return reg.tc_output[payload], None
-    if len(payload) == 3 and (payload[0], payload[2]) in reg.application:
-        return reg.application[payload[0], payload[2]], payload[1]
+    if payload in reg.short:
+        return reg.short[payload], payload[1]
+    if len(payload) in (3, 4) and (payload[0], *payload[2:]) in reg.application:
+        return reg.application[payload[0], *payload[2:]], payload[1]
     shown = payload.hex(" ").upper()
     if len(payload) == 1:
-        why = f"basic instruction opcode {payload[0]:02X}, not one the public notes establish"
-    elif len(payload) == 3 and any(f == payload[0] for f, _ in reg.application):
-        why = f"application family {payload[0]:02X} subtype {payload[2]:02X}, not one the public notes establish"
+        why = f"basic instruction opcode {payload[0]:02X}, not one the public sources establish"
+    elif len(payload) == 2 and payload[0] < 0x80:
+        why = f"instruction {payload[0]:02X} of {payload[1]} steps, not a form the public sources establish"
+    elif len(payload) in (3, 4) and any(f[0] == payload[0] for f in reg.application):
+        why = (f"application family {payload[0]:02X} subtype {payload[2]:02X}"
+               + (f" form {payload[3]:02X}" if len(payload) == 4 else "") + ", not one the public sources establish")
     elif payload and payload[0] in reg.operand:
         why = "an operand where an instruction was expected"
     else:
-        why = "no instruction token the public notes establish"
+        why = "no instruction token the public sources establish"
     raise GxwError("E919", f"{where}: offset 0x{at:X}: token [{shown}]: {why}",
                    "mlctool decodes the instructions of mlctool/gxw_tokens.toml only; write the program to CSV "
                    "from GX Works2 and import that (docs/formats.md)")
@@ -407,10 +456,10 @@ def _operand(reg: Registry, token: tuple[int, bytes], slot: _Slot, slot_name: st
     at, payload = token
     kind = reg.operand.get(payload[0]) if payload else None
     if kind is None or payload[0] not in slot.types:
-        taken = ", ".join(_type_name(reg, t) for t in sorted(slot.types))
+        taken = ", ".join(dict.fromkeys(_type_name(reg, t) for t in sorted(slot.types)))
         got = f"type {payload[0]:02X}" + (f" ({_type_name(reg, payload[0])})" if kind else "") if payload else "empty"
         raise GxwError("E920", f"{where}: offset 0x{at:X}: {mnemonic}'s {slot_name.replace('_', '/')} operand is {got}; "
-                       f"the notes establish {taken} there")
+                       f"the registry takes {taken} there")
     value = payload[1:]
     limit = kind.get("bits", 32) // 8
     if not 1 <= len(value) <= limit:
@@ -418,9 +467,10 @@ def _operand(reg: Registry, token: tuple[int, bytes], slot: _Slot, slot_name: st
                        f"(1 to {limit})")
     number = int.from_bytes(value, "little")
     device = kind["device"]
-    if number >= slot.below.get(payload[0], number + 1):
-        raise GxwError("E920", f"{where}: offset 0x{at:X}: {mnemonic} {device}{number}: the notes sampled "
-                       f"{device}0-{device}{slot.below[payload[0]] - 1} there only")
+    lo, hi = slot.numbers.get(payload[0], (0, number))
+    if not lo <= number <= hi:
+        raise GxwError("E920", f"{where}: offset 0x{at:X}: {mnemonic} {device}{number}: the registry takes "
+                       f"{device}{lo}-{device}{hi} in its {slot_name.replace('_', '/')} operand")
     if device == "K":
         if len(value) == limit and number >> (8 * limit - 1):
             number -= 1 << (8 * limit)  # full width: two's complement
@@ -428,6 +478,20 @@ def _operand(reg: Registry, token: tuple[int, bytes], slot: _Slot, slot_name: st
     if device == "H":
         return f"H{number:X}"
     return f"{device}{number:o}" if kind.get("octal") else f"{device}{number}"
+
+
+def _digit_group(reg: Registry, toks: list[tuple[int, bytes]], j: int, slot: _Slot, slot_name: str, mnemonic: str,
+                 where: str) -> str:
+    """A digit group [F1 n] [bit device] in a word slot -> KnM0 (n digits of 4 bits from the device)."""
+    at, payload = toks[j]
+    if len(payload) != 2 or not 1 <= payload[1] <= slot.most_digits:
+        raise GxwError("E920", f"{where}: offset 0x{at:X}: {mnemonic}'s digit group {payload[1:].hex(' ') or 'empty'}: "
+                       f"K1-K{slot.most_digits} in its {slot_name.replace('_', '/')} operand")
+    if j + 1 >= len(toks):
+        raise GxwError("E920", f"{where}: offset 0x{at:X}: {mnemonic}'s digit group lacks its device: the token "
+                       "stream ends")
+    bits = _Slot(slot.digits, 0, {}, frozenset(), 0)
+    return f"K{payload[1]}{_operand(reg, toks[j + 1], bits, slot_name, mnemonic, where)}"
 
 
 def _type_name(reg: Registry, t: int) -> str:

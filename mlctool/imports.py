@@ -813,13 +813,31 @@ def import_project(path: str, data: bytes, target: Target, comments: dict[str, s
         if code == "W912" and comments is not None:
             continue  # the comments came from --comments
         w.warn(1, code, code, message, *notes)
-    counts = {}
-    for k, ins in enumerate(prog.instructions, 1):
-        w.instruction(ins.mnemonic, list(ins.operands), k)
-        if ins.width is not None:  # one IL line per instruction, in order
-            counts[k - 1] = (k, ins.width, " ".join([ins.mnemonic, *ins.operands]), "the project (its stored width)")
+    counts = _decoded(w, prog.instructions, "the project (its stored width)")
     w.finish()
     return _assemble(path, "gxw", w, target, counts)
+
+
+def _decoded(w: _Writer, instructions, source: str) -> dict[int, tuple[int, int, str, str]]:
+    """A decoded program (mlctool/gxw.py) into the writer: each instruction its IL line, a label
+    its label line, a line statement a comment line where it stands, a note a comment on the
+    instruction before it. -> the stored step counts (application and 2-byte headers) by IL line
+    index, for W107."""
+    counts = {}
+    for k, ins in enumerate(instructions, 1):
+        if ins.text is not None:
+            if ins.note and w.pending is not None:
+                w.pending.append(f"; {ins.text}")  # on the instruction's line, as an export's note cell
+            else:
+                w.comment(ins.text)
+            continue
+        if ins.label:
+            w.label(ins.operands[0] + ":", k)
+            continue
+        w.instruction(ins.mnemonic, list(ins.operands), k)
+        if ins.width is not None:  # its line is the next the writer appends
+            counts[len(w.lines)] = (k, ins.width, " ".join([ins.mnemonic, *ins.operands]), source)
+    return counts
 
 
 def is_wpg(path: str) -> bool:
@@ -846,11 +864,7 @@ def import_wpg(path: str, data: bytes, target: Target, comments: dict[str, str] 
         return None, fmt, [diag(path, Span.at(1), e.code, e.message, *e.notes)]
     places = {k: f"offset 0x{ins.offset:X}" for k, ins in enumerate(prog.instructions, 1)}
     w = _Writer(path, target, "fx", comments, places)
-    counts = {}
-    for k, ins in enumerate(prog.instructions, 1):
-        w.instruction(ins.mnemonic, list(ins.operands), k)
-        if ins.width is not None:  # one IL line per instruction, in order
-            counts[k - 1] = (k, ins.width, " ".join([ins.mnemonic, *ins.operands]), "the file (its stored width)")
+    counts = _decoded(w, prog.instructions, "the file (its stored width)")
     w.finish()
     text, fmt, diags = _assemble(path, fmt, w, target, counts)
     if text is None:

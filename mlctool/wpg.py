@@ -4,7 +4,7 @@ No public description of the file was found (docs/formats.md). What is read is t
 public GX Developer projects show (docs/formats.md, "GX Developer program bodies": their
 repositories and commits), each part checked, and the instruction tokens of a GX Works2
 program POU, which the body holds unchanged and which mlctool/gxw.py decodes through its
-registry (the public notes' facts): one decoder for both containers.
+registry (each entry citing its public source): one decoder for both containers.
 
 - 0x00: u16 0x0040, the header's length (the program's frames start 4 bytes after it), then
   22 01: together the signature checked (E932);

@@ -7,7 +7,9 @@ writer does not make (MAIN.res's copy of the program, compiler state, parameters
   mini stream in the root entry, streams of 4096 bytes and more in sectors. One storage (the
   root) holding streams; up to 109 FAT sectors (the header's DIFAT), no DIFAT sectors.
 - pou(): a program POU: a 0x4F-byte header (the length field twice at 0x37/0x3B), the tokens,
-  24 zero bytes (or 20, as in public projects); instructions encoded by mlctool/gxw_tokens.toml read backwards.
+  24 zero bytes (or 20, as in public projects); instructions encoded by mlctool/gxw_tokens.toml
+  read backwards (every header shape: basic, 2-byte [opcode steps], application with or without
+  a form byte), a comment line a text record `82 00 text`.
 - project(): the outer file: projectdatalist.xml and history.xml naming the POUs' numbered
   streams in _hdb, itself a compound file.
 - il_project(): IL (the target's, `.dialect fx`) -> a project, in FX spelling (M9000 -> M8000)
@@ -19,9 +21,10 @@ from __future__ import annotations
 import base64
 import hashlib
 import math
+import re
 import struct
 
-from mlctool.gxw import HEADER, LENGTH_BIAS, LENGTH_FIELDS, TRAILERS, registry
+from mlctool.gxw import DIGITS, HEADER, LENGTH_BIAS, LENGTH_FIELDS, TRAILERS, registry
 
 SECTOR, MINI, CUTOFF = 512, 64, 4096
 FREE, END, FATSECT, NOSTREAM = 0xFFFFFFFF, 0xFFFFFFFE, 0xFFFFFFFD, 0xFFFFFFFF
@@ -128,11 +131,19 @@ def compound_file(streams: dict[str, bytes]) -> bytes:
 # --- program POUs -------------------------------------------------------------------------
 
 def _reverse():
+    """The registry backwards: mnemonic -> its headers, each with its form. One mnemonic may
+    have several (SET [23] of Y/M, SET [23 02] of S or a special relay; OUT [20], OUT T/C [21 03]):
+    instruction() takes the first whose slots take the operands."""
     reg = registry()
-    basic = {f.mnemonic: (bytes([op]), f) for op, f in reg.basic.items()}
-    tc = {f.mnemonic: (payload, f) for payload, f in reg.tc_output.items()}
-    app = {f.mnemonic: (fam, sub, f) for (fam, sub), f in reg.application.items()}
-    return reg, basic, tc, app
+    heads: dict[str, list[tuple[bytes, object]]] = {}
+    for op, f in reg.basic.items():
+        heads.setdefault(f.mnemonic, []).append((bytes([op]), f))
+    for payload, f in reg.short.items():
+        heads.setdefault(f.mnemonic, []).append((payload, f))
+    for (family, subtype, *form), f in reg.application.items():
+        width = 1 + 2 * sum(reg.slot[s].words for s in f.slots)
+        heads.setdefault(f.mnemonic, []).append((bytes([family, width, subtype, *form]), f))
+    return reg, heads
 
 
 def _frame(payload: bytes) -> bytes:
@@ -145,8 +156,15 @@ def _minimal(value: int) -> bytes:
 
 
 def operand(text: str, slot: str) -> bytes:
-    """One operand token, as GX Works2 writes it in a slot of that kind."""
+    """One operand's tokens, as GX Works2 writes them in a slot of that kind (a digit group KnM0:
+    the modifier [F1 n], then its bit device)."""
     reg = registry()
+    group = re.fullmatch(r"K([1-8])([XYMS][0-9]+)", text.upper())
+    if group and reg.slot[slot].digits:
+        devices = {reg.operand[t]["device"]: t for t in reg.slot[slot].digits}
+        if group[2][0] not in devices or int(group[1]) > reg.slot[slot].most_digits:
+            raise ValueError(f"{text}: no digit group of the {slot} slot")
+        return _frame(bytes([DIGITS, int(group[1])])) + operand(group[2], "contact")  # the device as a contact's
     device, rest = text[0].upper(), text[1:]
     for t in sorted(reg.slot[slot].types):
         kind = reg.operand[t]
@@ -161,29 +179,47 @@ def operand(text: str, slot: str) -> bytes:
             raw = _minimal(int(rest, 16))
         else:
             raw = _minimal(int(rest, 8 if kind.get("octal") else 10))
-        if len(raw) > kind.get("bits", 32) // 8 or int.from_bytes(raw, "little") >= reg.slot[slot].below.get(t, 1 << 32):
+        lo, hi = reg.slot[slot].numbers.get(t, (0, 1 << 32))
+        if len(raw) > kind.get("bits", 32) // 8 or not (device in "KH" or lo <= int(rest, 8 if kind.get("octal") else 10) <= hi):
             raise ValueError(f"{text}: outside the subset")
         return _frame(bytes([t]) + raw)
     raise ValueError(f"{text}: no {slot} operand of the subset")
 
 
 def instruction(mnemonic: str, operands: list[str]) -> bytes:
-    reg, basic, tc, app = _reverse()
-    if mnemonic == "OUT" and operands and operands[0][0] in "TC":
-        payload, form = tc["OUT"]
-        head = _frame(payload)
-    elif mnemonic in basic:
-        payload, form = basic[mnemonic]
-        head = _frame(payload)
-    elif mnemonic in app:
-        family, subtype, form = app[mnemonic]
-        width = 1 + 2 * sum(reg.slot[s].words for s in form.slots)
-        head = _frame(bytes([family, width, subtype]))
-    else:
-        raise ValueError(f"{mnemonic}: not in the subset")
-    if len(operands) != len(form.slots):
-        raise ValueError(f"{mnemonic} {operands}: {len(form.slots)} operands")
-    return head + b"".join(operand(o, s) for o, s in zip(operands, form.slots))
+    """One instruction's tokens: the first header of the mnemonic whose slots take the operands."""
+    _, heads = _reverse()
+    for payload, form in heads.get(mnemonic, []):
+        if len(operands) != len(form.slots):
+            continue
+        try:
+            return _frame(payload) + b"".join(operand(o, s) for o, s in zip(operands, form.slots))
+        except ValueError:
+            continue
+    raise ValueError(f"{mnemonic} {operands}: not in the subset")
+
+
+STATEMENT, NOTE = b"\x80\x00", b"\x82\x00"
+
+
+def text(line: str, kind: bytes = STATEMENT) -> bytes:
+    """A text record (a line statement, or a note on the instruction before it): printable ASCII
+    (the reader writes any other byte as \\xNN, which this writer turns back into the byte)."""
+    raw = re.sub(rb"\\x([0-9A-F]{2})", lambda m: bytes([int(m[1], 16)]), line.encode("ascii"))
+    return _frame(kind + raw)
+
+
+def label(pointer: str) -> bytes:
+    """A label line (P1:): the label header [3C] and its pointer."""
+    (payload, slot), = registry().label.items()
+    return _frame(payload) + operand(pointer, slot)
+
+
+def tokens(lines: list[tuple[str, list[str]]]) -> bytes:
+    """Instructions (mnemonic, operands) -> their tokens; (";", [text]) a line statement, ("note",
+    [text]) a note on the instruction before it, ("label", [P1]) a label."""
+    special = {";": lambda ops: text(ops[0]), "note": lambda ops: text(ops[0], NOTE), "label": lambda ops: label(ops[0])}
+    return b"".join(special[m](ops) if m in special else instruction(m, ops) for m, ops in lines)
 
 
 def pou(body: bytes, trailer: int = TRAILERS[0]) -> bytes:
@@ -197,7 +233,7 @@ def pou(body: bytes, trailer: int = TRAILERS[0]) -> bytes:
 
 
 def program(lines: list[tuple[str, list[str]]]) -> bytes:
-    return pou(b"".join(instruction(m, ops) for m, ops in lines))
+    return pou(tokens(lines))
 
 
 # --- projects -----------------------------------------------------------------------------
@@ -235,20 +271,36 @@ def project(pous: dict[str, bytes], numbers: dict[str, int] | None = None, comme
     return compound_file(outer)
 
 
-def il_lines(text: str, target) -> list[tuple[str, list[str]]]:
+def il_lines(text: str, target, nop: bool = False) -> list[tuple[str, list[str]]]:
     """IL of the target (`.dialect fx`) -> FX instructions (mnemonic, operands), as an export
-    writes them; labels and comments have no place in the subset."""
+    writes them (M9000 -> M8000), a comment line a line statement (";", [text]), an instruction's
+    trailing comment a note after it ("note", [text]), a P label ("label", [P1]); `nop`: NOP
+    lines kept (a GX Developer body's empty frame). Anything else has no place in the subset."""
     from mlctool.exports import family_rows
 
     rows, _, errors = family_rows("p.il", text, target, "fx")
     if rows is None:
         raise ValueError([d.message for d in errors])
-    out = []
+    out: list[tuple[str, list[str]]] = []
     for _, statement, mnemonic, operands, note in rows:
-        if statement or note or not operands and mnemonic not in ("END", "ORB", "ANB"):
-            raise ValueError(f"no place in the subset for {statement or note or mnemonic!r}")
-        out.append((mnemonic, operands))
+        if statement:
+            out.append((";", [statement]))
+            continue
+        if re.fullmatch(r"P[0-9]+", mnemonic) and not operands:
+            out.append(("label", [mnemonic]))
+        elif operands or registry_takes_none(mnemonic) or nop and mnemonic == "NOP":
+            out.append((mnemonic, operands))
+        else:
+            raise ValueError(f"no place in the subset for {mnemonic!r}")
+        if note:
+            out.append(("note", [note]))
     return out
+
+
+def registry_takes_none(mnemonic: str) -> bool:
+    """Whether the registry has the mnemonic without operands (END, ORB, MPS ...)."""
+    _, heads = _reverse()
+    return any(not form.slots for _, form in heads.get(mnemonic, []))
 
 
 def il_project(text: str, target, **kw) -> bytes:

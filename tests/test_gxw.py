@@ -294,11 +294,12 @@ def _refused(data: bytes) -> GxwError:
     ("05 49 07 30 05 04 A8 01 04 04 A8 02 04 04 A8 03 04 03 34 03", "E919", "family 49 subtype 30"),
     ("04 9C 01 04 03 34 03", "E919", "an operand where an instruction was expected"),
     ("03 00 03 04 C1 00 04 03 34 03", "E920", "offset 0x52: LD's contact operand is type C1"),  # LD T0: unsampled
-    ("03 00 03 04 C2 00 04 03 34 03", "E920", "type C2 (T)"),
+    ("03 00 03 04 93 00 04 03 34 03", "E920", "type 93"),  # F0, an annunciator (MC F 0x93): not in the registry
+    ("03 20 03 04 C2 00 04 03 34 03", "E920", "type C2 (T)"),  # OUT T0 without its preset: not a coil
     ("05 4C 09 01 05 04 EA 10 04 04 A8 00 04 03 34 03", "E920", "type EA (H)"),  # H in a 32-bit slot
     ("05 4C 05 00 05 07 E8 01 02 03 04 07 04 A8 00 04 03 34 03", "E920", "K operand of 4 value bytes"),
     ("03 00 03 04 9C 01 04 03 20 03", "E920", "OUT lacks its operand 1 of 1"),
-    ("03 00 03 04 9C 01 04 04 21 03 04 04 C5 EB 04 04 E8 64 04 03 34 03", "E920", "OUT C235: the notes sampled C0-C199"),
+    ("03 00 03 04 9C 01 04 04 21 03 04 04 C5 EB 04 04 E8 64 04 03 34 03", "E920", "OUT C235: the registry takes C0-C199"),
     ("03 00 03 04 9C 01 04", "E921", "does not end with END"),
     ("03 34 03 03 34 03", "E921", "offset 0x52: tokens after END"),
 ])
@@ -404,3 +405,166 @@ def test_any_token_stream_decodes_or_is_refused(body):
         decode_pou(gxwkit.pou(body), "P")
     except GxwError as e:
         assert e.code in ("E917", "E918", "E919", "E920", "E921")
+
+
+# --- the registry against the target (the DECISION of mlctool/gxw_tokens.toml) -----------------
+
+_KIND = {"M": "M", "S": "S", "X": "X", "Y": "Y", "D": "D", "T": "T", "C": "C", "K": "K", "H": "H", "P": "P"}
+# the program structure every entry's rung sits in: CJ jumps to P1 in the main routine, CALL
+# calls the subroutine P2 after FEND
+_TAIL = "P1:\nLD X0\nMPS\nOUT Y0\nMRD\nOUT Y1\nMPP\nOUT Y2 ; a note\nFEND\nP2:\nLD X1\nOUT Y3\nSRET\nEND\n"
+
+
+def _entries():
+    """Every header of the registry: (its payload as stored, mnemonic, slots, stored width or None)."""
+    from mlctool.gxw import registry
+
+    reg = registry()
+    out = [(bytes([op]), f.mnemonic, f.slots, None) for op, f in reg.basic.items()]
+    out += [(p, f.mnemonic, f.slots, p[1]) for p, f in reg.short.items()]
+    for (family, subtype, *form), f in reg.application.items():
+        width = 1 + 2 * sum(reg.slot[s].words for s in f.slots)
+        out.append((bytes([family, width, subtype, *form]), f.mnemonic, f.slots, width))
+    return reg, out
+
+
+def _sample(reg, slot: str, kinds: set[str], position: int) -> str:
+    """An operand of the slot's first type the target's operand takes there."""
+    for t in reg.slot[slot].types:
+        device = reg.operand[t]["device"]
+        if device in kinds:
+            lo = reg.slot[slot].numbers.get(t, (0, 0))[0]
+            return {"D": f"D{10 * position}", "K": "K2", "H": "H2", "P": "P1"}.get(device, f"{device}{lo}")
+    raise AssertionError(f"slot {slot}: no type the target takes")
+
+
+def _line(reg, mnemonic: str, slots, taken) -> str:
+    """The entry as an IL line with sample operands (a CALL calls the subroutine P2)."""
+    line = " ".join([mnemonic, *(_sample(reg, s, taken[k], k) for k, s in enumerate(slots))])
+    return line.replace("P1", "P2") if mnemonic.startswith("CALL") else line
+
+
+def _rung(line: str) -> str:
+    """A rung the checker takes around one instruction (its class decides the contacts it needs)."""
+    cls = VS.variants_of(line.split()[0])[0].cls
+    if cls in ("mps", "mrd", "mpp"):
+        return ""
+    return {"load": f"{line}\nOUT Y0\n", "and": f"LD X0\n{line}\nOUT Y0\n", "or": f"LD X0\n{line}\nOUT Y0\n",
+            "anb": f"LD X0\nLD X1\n{line}\nOUT Y0\n", "orb": f"LD X0\nLD X1\n{line}\nOUT Y0\n"
+            }.get(cls, f"LD X0\n{line}\n")
+
+
+def test_every_registry_entry_is_the_targets_instruction_with_its_steps():
+    """(2) each entry's operand slots are those of target vs's instruction of that name: the count,
+    and every type's device kind one the vs operand takes; (3) its stored width (a 2-byte header's
+    second byte, an application header's 1 + 2 x word slots) is the vs step count of it."""
+    reg, entries = _entries()
+    lines, widths = [], []
+    for payload, mnemonic, slots, width in entries:
+        variants = [v for v in VS.variants_of(mnemonic) if len(v.operands) == len(slots)]
+        assert variants, f"{mnemonic}: no vs instruction of {len(slots)} operands"
+        taken = [set().union(*(v.operands[k].kinds for v in variants)) for k in range(len(slots))]
+        for k, slot in enumerate(slots):
+            kinds = {_KIND[reg.operand[t]["device"]] for t in reg.slot[slot].types}
+            kinds |= {"Kn" + reg.operand[t]["device"] for t in reg.slot[slot].digits}  # digit groups
+            assert kinds <= taken[k], f"{payload.hex(' ')} {mnemonic} operand {k + 1}: {kinds - taken[k]} not vs's"
+        if mnemonic in ("END", "FEND", "SRET"):
+            continue  # program structure: their steps are the convention's 1 (tests below place them)
+        lines.append(_line(reg, mnemonic, slots, taken))
+        widths.append((payload.hex(" "), width))
+    from mlctool.check import check_texts
+    from mlctool.syntax.source import SourceText
+
+    text = "".join(_rung(line) for line in lines) + _TAIL
+    result = check_texts([SourceText("p.il", text)], VS)
+    assert not [d.message for d in result.diagnostics if d.severity == "error"]
+    steps = {" ".join([i.spec.mnemonic, *map(str, i.operands)]).upper(): i.steps for i in result.modules[0].instrs}
+    for line, (payload, width) in zip(lines, widths):
+        if width is not None:
+            assert steps[line.upper()] == width, f"[{payload}] {line}: stored {width}, vs {steps[line.upper()]}"
+
+
+def _every_entry_program() -> str:
+    """IL with one rung for every registry entry (sample operands as above), a line statement
+    with a byte outside ASCII, a note, labels, MPS/MRD/MPP, FEND, a subroutine, END."""
+    reg, entries = _entries()
+    lines = []
+    for _, mnemonic, slots, _ in entries:
+        if mnemonic in ("END", "FEND", "SRET"):
+            continue
+        variants = [v for v in VS.variants_of(mnemonic) if len(v.operands) == len(slots)]
+        taken = [set().union(*(v.operands[k].kinds for v in variants)) for k in range(len(slots))]
+        lines.append(_line(reg, mnemonic, slots, taken))
+    return ".dialect fx\n; every registry entry, caf\\xE9\n" + "".join(_rung(line) for line in lines) + _TAIL
+
+
+def test_every_registry_entry_round_trips_through_a_project_and_a_body():
+    """Each entry written by the fixture writers (the registry read backwards: 1-byte, 2-byte and
+    application headers, with and without a form byte, text records) reads back as the IL written;
+    in a .wpg the target's steps plus the fill make the memory exactly (no W916), and no stored
+    width differs from the target's count (no W107)."""
+    import wpgkit
+
+    from mlctool.imports import import_wpg
+
+    text = _every_entry_program()
+    il, _, diags = import_project("p.gxw", gxwkit.il_project(text, VS), VS)
+    assert il == text and [d.code for d in diags] == []
+    body = wpgkit.il_body(text, VS, memory=4000)
+    il, _, diags = import_wpg("p.wpg", body, VS)
+    assert il == text and [d.code for d in diags] == []
+    assert b"\x80\x00every registry entry, caf\xe9" in body  # the statement, its byte restored
+    assert b"\x9d\x02\x04\x0a\x82\x00a note\x0a" in body  # OUT Y2's operand, then its note
+
+
+@pytest.mark.parametrize(("hexes", "said"), [
+    # a text record of each public kind: a comment line, no instruction, no step
+    ("05 82 00 41 05 03 00 03 04 9C 01 04 07 80 00 61 5C F1 07 03 20 03 04 9D 01 04 03 34 03",
+     ["; A", "LD X1", "; a\\x5C\\xF1", "OUT Y1", "END"]),
+])
+def test_text_records_are_comment_lines_with_other_bytes_kept_as_escapes(hexes, said):
+    prog = decode_pou(_pou(hexes), "P")
+    assert [f"; {i.text}" if i.text is not None else " ".join([i.mnemonic, *i.operands]) for i in prog] == said
+
+
+@pytest.mark.parametrize(("hexes", "where"), [
+    ("05 80 02 41 05 03 34 03", "token [80 02 41]"),  # a Q CPU's text record (its second byte not 00)
+    ("04 00 03 04 04 F2 01 04 04 A8 00 04 03 34 03", "instruction 00 of 3 steps"),  # LD D0.1: no source decodes it
+    ("04 2C 03 04 04 D2 00 04 04 90 64 04 03 34 03", "instruction 2C of 3 steps"),  # MC N0 M100: no source names it
+])
+def test_headers_no_source_names_stay_refused(hexes, where):
+    with pytest.raises(GxwError) as e:
+        decode_pou(_pou(hexes), "P")
+    assert e.value.code == "E919" and where in e.value.message, e.value.message
+
+
+def test_special_relays_of_either_code_are_mapped_by_the_fx_specials():
+    """M8002 as GX stores it in programs (90, its number) and as its comment files store it (91,
+    the MC protocol's SM): both LD M8002, mapped to the VS's M9002; 91 below 8000 (a Q CPU's SM0)
+    is no FX device."""
+    hexes = "03 00 03 05 90 42 1F 05 03 06 03 05 91 42 1F 05 03 20 03 04 9D 00 04 03 34 03"
+    assert _decoded(hexes) == ["LD M8002", "OR M8002", "OUT Y0", "END"]
+    il, _, diags = import_project("p.gxw", gxwkit.project({"MAIN": _pou(hexes)}), VS)
+    assert il == ".dialect fx\nLD M9002\nOR M9002\nOUT Y0\nEND\n" and [d.code for d in diags] == ["N910"]
+    with pytest.raises(GxwError) as e:
+        decode_pou(_pou("03 00 03 04 91 00 04 03 34 03"), "P")
+    assert e.value.code == "E920" and "M0: the registry takes M8000-M8511" in e.value.message
+
+
+def test_digit_groups_decode_and_round_trip_with_the_vendors_steps():
+    """A digit group is the modifier [F1 n] and its bit device (MOV K4X0 D0 as a public body stores
+    it), one word slot: MOV K4X0 D0 5 steps, DMOV K8M0 D2 9; K5 in a 16-bit slot, or a digit group
+    of a destination's X, is refused."""
+    assert _decoded("05 4C 05 00 05 04 F1 04 04 04 9C 00 04 04 A8 00 04 03 34 03") == ["MOV K4X0 D0", "END"]
+    import wpgkit
+
+    from mlctool.imports import import_wpg
+
+    text = ".dialect fx\nLD X0\nMOV K4X0 D0\nBCD D14 K1M0\nDMOV K8M0 D2\nMOV D1 K4Y0\nEND\n"
+    il, _, diags = import_wpg("p.wpg", wpgkit.il_body(text, VS), VS)
+    assert il == text and diags == []
+    for hexes, said in (("05 4C 05 00 05 04 F1 05 04 04 9C 00 04 04 A8 00 04 03 34 03", "K1-K4"),
+                        ("05 4C 05 00 05 04 A8 00 04 04 F1 04 04 04 9C 00 04 03 34 03", "type 9C (X)")):
+        with pytest.raises(GxwError) as e:
+            decode_pou(_pou(hexes), "P")
+        assert e.value.code == "E920" and said in e.value.message, e.value.message

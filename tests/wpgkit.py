@@ -1,7 +1,7 @@
 """Test fixtures: GX Developer program bodies (.wpg) written by the project's own code, in the
 layout mlctool/wpg.py reads (docs/formats.md): the signature, the CPU type at 0x26, 04 00 FF FF
 at 0x40, the program's tokens (tests/gxwkit.py: mlctool/gxw_tokens.toml read backwards; a NOP
-is the empty frame 02 02), then one 02 02 per unused step of the program memory. The header's
+is the empty frame 02 02, a comment line a text record), then one 02 02 per unused step of the program memory. The header's
 bytes the reader does not read (the title, the bytes not identified) are seeded random, so a
 test shows they are not read. Not an exporter: GX Developer opens a project, not a body alone.
 """
@@ -28,7 +28,8 @@ def header(cpu: int = FX3U, seed: int = 0) -> bytes:
 
 
 def tokens(lines: list[tuple[str, list[str]]]) -> bytes:
-    return b"".join(NOP if m == "NOP" else gxwkit.instruction(m, ops) for m, ops in lines)
+    """Instructions (mnemonic, operands) -> tokens (tests/gxwkit.py's), NOP the empty frame."""
+    return b"".join(NOP if m == "NOP" else gxwkit.tokens([(m, ops)]) for m, ops in lines)
 
 
 def body(lines: list[tuple[str, list[str]]], fill: int, cpu: int = FX3U, seed: int = 0) -> bytes:
@@ -50,15 +51,8 @@ def steps(text: str, target) -> int:
 
 def il_lines(text: str, target) -> list[tuple[str, list[str]]]:
     """IL of the target (`.dialect fx`) -> FX instructions (mnemonic, operands), as GX writes
-    them (M9000 -> M8000); a line statement or note has no place in a body's tokens."""
-    from mlctool.exports import family_rows
-
-    rows, _, errors = family_rows("p.il", text, target, "fx")
-    if rows is None:
-        raise ValueError([d.message for d in errors])
-    if any(statement or note for _, statement, _, _, note in rows):
-        raise ValueError("a line statement or note: no token of the subset")
-    return [(mnemonic, operands) for _, _, mnemonic, operands, _ in rows]
+    them (M9000 -> M8000): tests/gxwkit.py's, with NOP lines kept."""
+    return gxwkit.il_lines(text, target, nop=True)
 
 
 def il_body(text: str, target, memory: int = 8000, **kw) -> bytes:
