@@ -54,11 +54,11 @@ def test_plain_il_exports_with_the_target_step_column_and_the_family_spellings(t
     assert rows[:3] == ['"MAIN"', '"PLC Information:"\t"FXCPU FX3U/FX3UC"',
                         '"Step Number"\t"Line Statement"\t"Instruction"\t"I/O(Device)"\t"Blank"\t"PI Statement"\t"Note"']
     steps = [r.split("\t")[:4] for r in rows[3:] if not r.startswith('""')]
-    assert steps == [['"0"', '""', '"LD"', '"M8000"'], ['"2"', '""', '"OUT"', '"T0"'], ['"5"', '""', '"LD"', '"X010"'],
-                     ['"6"', '""', '"DRVI"', '"K100"'], ['"15"', '""', '"FEND"', '""'], ['"16"', '""', '"I101"', '""'],
-                     ['"17"', '""', '"IRET"', '""'], ['"18"', '""', '"END"', '""']]
+    assert steps == [['"0"', '""', '"LD"', '"M8000"'], ['"1"', '""', '"OUT"', '"T0"'], ['"4"', '""', '"LD"', '"X010"'],
+                     ['"5"', '""', '"DRVI"', '"K100"'], ['"14"', '""', '"FEND"', '""'], ['"15"', '""', '"I101"', '""'],
+                     ['"16"', '""', '"IRET"', '""'], ['"17"', '""', '"END"', '""']]
     r = run_mlc("export", "--target", "vs", "--to", "wplsoft", "p.il", cwd=tmp_path)
-    assert r.code == 0 and "000000,LD,M1000\r\n000002,TMR,T0,K10\r\n" in r.out
+    assert r.code == 0 and "000000,LD,M1000\r\n000001,TMR,T0,K10\r\n" in r.out
     # a program with errors exports nothing
     (tmp_path / "bad.il").write_text("LD X0\nFROB Y0\nEND\n", "utf-8")
     r = run_mlc("export", "--target", "vs", "--to", "gxworks2", "bad.il", "-o", "bad.csv", cwd=tmp_path)

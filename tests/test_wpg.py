@@ -74,8 +74,8 @@ def test_a_fill_that_makes_no_memory_size_is_w916_with_both_figures(tmp_path):
 
 
 def test_the_fx_dialect_path_through_the_cli(tmp_path):
-    """`mlc import X.wpg`: target vs by default, FX specials mapped (M8000 -> M9000, whose two
-    steps on the VS are said by W916: the vendor counts one), the comments of --comments."""
+    """`mlc import X.wpg`: target vs by default, FX specials mapped (M8000 -> M9000, a contact of
+    one step as the vendor counts it: no W916), the comments of --comments."""
     (tmp_path / "p.wpg").write_bytes(wpgkit.body([("LD", ["M8000"]), ("OUT", ["Y0"]), ("LD", ["X0"]),
                                                   ("OUT", ["Y1"]), ("END", [])], 8000 - 5))
     (tmp_path / "c.csv").write_text("Device Name,Comment\nX000,start\n", encoding="utf-8")
@@ -83,7 +83,7 @@ def test_the_fx_dialect_path_through_the_cli(tmp_path):
     il = (tmp_path / "p.il").read_text("utf-8")
     assert r.code == 0 and "wpg -> p.il" in r.err and "target vs" in r.err, r.err
     assert il.startswith(".dialect fx\n") and "LD M9000" in il and "LD X0 ; X0 start" in il
-    assert "N910" in r.err and "W916" in r.err and "as 6 steps" in r.err and "as 5 steps" in r.err
+    assert "N910" in r.err and "W916" not in r.err, r.err
     assert run_mlc("build", "--target", "vs", "p.il", "-o", "p.mlx", cwd=tmp_path).code == 0
     r = run_mlc("import", "p.wpg", "--program", "MAIN", cwd=tmp_path)
     assert r.code == 2 and "one program" in r.err

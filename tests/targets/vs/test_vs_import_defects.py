@@ -17,11 +17,11 @@ def _gx(rows: list[list[str]], cpu: str = "FXCPU FX3U/FX3UC", info: str = "PLC I
 
 def test_w107_quotes_the_row_as_the_export_writes_it():
     """Before: `LD M9002` (the mapped device) and `OUT T0` without its K10 continuation."""
-    text = _gx([["0", "", "LD", "M8002"], ["1", "", "OUT", "T0"], ["", "", "", "K10"], ["2", "", "END"]])
+    text = _gx([["0", "", "LD", "M8002"], ["2", "", "OUT", "T0"], ["", "", "", "K10"], ["3", "", "END"]])
     out, _, diags = import_text("g.csv", text, VS)
     said = [d.message for d in diags if d.code == "W107"]
-    assert said == ["row 4: LD M8002 is 1 steps in the export (step 0 to 1), 2 by target vs's step convention",
-                    "row 5: OUT T0 K10 is 1 steps in the export (step 1 to 2), 3 by target vs's step convention"]
+    assert said == ["row 4: LD M8002 is 2 steps in the export (step 0 to 2), 1 by target vs's step convention",
+                    "row 5: OUT T0 K10 is 1 steps in the export (step 2 to 3), 3 by target vs's step convention"]
     assert "LD M9002" in out
 
 
@@ -52,8 +52,8 @@ def test_fx_drvi_is_the_vs_drvr_and_d8140_the_vs_pulse_count():
     """Before: E907 `DDRVI` ("did you mean DDVIT?") and W910 for D8140 (no counterpart)."""
     text = _gx([["0", "", "LD", "X000"], ["1", "", "DDRVI", "K1000"], ["", "", "", "K500"], ["", "", "", "Y000"],
                 ["", "", "", "Y004"], ["18", "", "LD", "X001"], ["19", "", "DRVI", "D10"], ["", "", "", "D20"],
-                ["", "", "", "Y001"], ["", "", "", "Y005"], ["28", "", "LD", "M8000"], ["30", "", "DMOV", "D8140"],
-                ["", "", "", "D100"], ["39", "", "DMOV", "D8142"], ["", "", "", "D102"], ["48", "", "END"]])
+                ["", "", "", "Y001"], ["", "", "", "Y005"], ["28", "", "LD", "M8000"], ["29", "", "DMOV", "D8140"],
+                ["", "", "", "D100"], ["38", "", "DMOV", "D8142"], ["", "", "", "D102"], ["47", "", "END"]])
     out, _, diags = import_text("p.csv", text, VS)
     assert out is not None, [d.message for d in diags]
     assert sorted(d.code for d in diags) == ["N910", "N910", "N911"], [d.message for d in diags]

@@ -165,10 +165,10 @@ def _gx_text(rows: list[list[str]]) -> str:
 
 
 def test_buffer_memory_mc_relay_and_pointer_operands():
-    text = _gx_text([["0", "", "LD", "M8000"], ["2", "", "MOV", "U1\\G3"], ["", "", "", "D0"],
-                     ["7", "", "LD", "X000"], ["8", "", "MC", "N0"], ["", "", "", "M100"],
-                     ["11", "", "LD", "X001"], ["12", "", "DHSCS", "K100"], ["", "", "", "C235"], ["", "", "", "I010"],
-                     ["25", "", "MCR", "N0"], ["27", "", "END"]])
+    text = _gx_text([["0", "", "LD", "M8000"], ["1", "", "MOV", "U1\\G3"], ["", "", "", "D0"],
+                     ["6", "", "LD", "X000"], ["7", "", "MC", "N0"], ["", "", "", "M100"],
+                     ["10", "", "LD", "X001"], ["11", "", "DHSCS", "K100"], ["", "", "", "C235"], ["", "", "", "I010"],
+                     ["24", "", "MCR", "N0"], ["26", "", "END"]])
     out, _, diags = import_text("g.csv", text, VS)
     assert [d.code for d in diags] == ["N910"], [d.message for d in diags]
     lines = out.splitlines()

@@ -9,7 +9,7 @@ from vskit import image_of
 
 # (IL line, steps): the FX3U program-step counts
 CASES = [
-    ("LD X0", 1), ("LD M100", 1), ("LD M9000", 2), ("LD D0.3", 3), ("LDI S20", 1), ("LD T5", 1),
+    ("LD X0", 1), ("LD M100", 1), ("LD M9000", 1), ("AND M9255", 1), ("ANI M9256", 2), ("OUT M9000", 2), ("LD D0.3", 3), ("LDI S20", 1), ("LD T5", 1),
     ("LDP X1", 2), ("ANDF D0.1", 3),
     ("OUT Y0", 1), ("OUT M9034", 2), ("OUT D1.2", 3), ("OUT T0 K50", 3), ("OUT C0 K10", 3),
     ("OUT C200 K10", 5), ("OUT C235 K100", 5),
