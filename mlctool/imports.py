@@ -847,6 +847,77 @@ def is_wpg(path: str) -> bool:
     return os.path.splitext(path)[1].lower() == ".wpg"
 
 
+# A GX Developer project folder as every public one is laid out (docs/formats.md, .wpg): the
+# project file Gppw.gpj, the program bodies in Resource/POU/Body (or an older project's
+# Pou/Body; GX Developer writes POU or Pou), the device comments in Resource/Others/COMMENT.wcd
+# (Others/COMMENT.wcd). Names are matched without case, as Windows, which wrote them, does.
+GX_DEVELOPER_PROJECT = "gppw.gpj"
+_BODY_FOLDERS = (("resource", "pou", "body"), ("pou", "body"))
+_COMMENT_FILES = (("resource", "others", "comment.wcd"), ("others", "comment.wcd"))
+
+
+def is_gx_developer_project(path: str) -> bool:
+    """A folder holding a GX Developer project file (Gppw.gpj)."""
+    import os
+
+    return os.path.isdir(path) and _child(path, GX_DEVELOPER_PROJECT) is not None
+
+
+def gx_developer_project(folder: str, program: str | None = None
+                         ) -> tuple[str | None, str | None, list[Diagnostic]]:
+    """A GX Developer project folder -> (its program body, its device comment file or None,
+    diagnostics): the body named by `program`, else the only one; E934 where there is none or
+    several and no `program` (the order GX Developer runs them in is in the project's
+    parameters, which are not read)."""
+    import os
+
+    bodies: dict[str, str] = {}
+    for parts in _BODY_FOLDERS:
+        where = _walk(folder, parts)
+        if where is not None:
+            for name in sorted(os.listdir(where)):
+                if name.lower().endswith(".wpg") and os.path.isfile(os.path.join(where, name)):
+                    bodies.setdefault(name[:-4].upper(), os.path.join(where, name))
+            break
+    comments = next((c for c in (_walk(folder, parts) for parts in _COMMENT_FILES)
+                     if c is not None and os.path.isfile(c)), None)
+    listed = ", ".join(bodies) or "none"
+    at = Span.at(1)
+    if program is not None:
+        body = bodies.get(program.upper().removesuffix(".WPG"))
+        if body is None:
+            return None, None, [diag(folder, at, "E934", f"GX Developer project: no program body {program!r} "
+                                     f"(the project's: {listed})")]
+        return body, comments, []
+    if len(bodies) == 1:
+        return next(iter(bodies.values())), comments, []
+    if not bodies:
+        return None, None, [diag(folder, at, "E934", "GX Developer project: no program body (*.wpg) in "
+                                 "Resource/POU/Body or Pou/Body")]
+    return None, None, [diag(folder, at, "E934", f"GX Developer project: {len(bodies)} program bodies ({listed}); "
+                             "the order in which the CPU runs them is in the project's parameters, which are "
+                             "not read", "import one with --program NAME (each gives its own IL file)")]
+
+
+def _child(folder: str, name: str) -> str | None:
+    """The entry of `folder` named `name` without regard to case (None if there is none)."""
+    import os
+
+    try:
+        entries = sorted(os.listdir(folder))
+    except OSError:
+        return None
+    return next((os.path.join(folder, e) for e in entries if e.lower() == name), None)
+
+
+def _walk(folder: str, parts: tuple[str, ...]) -> str | None:
+    for part in parts:
+        folder = _child(folder, part)
+        if folder is None:
+            return None
+    return folder
+
+
 def import_wpg(path: str, data: bytes, target: Target, comments: dict[str, str] | None = None
                ) -> tuple[str | None, str, list[Diagnostic]]:
     """A GX Developer program body (.wpg) -> (IL or None, "wpg", diagnostics): its program

@@ -201,3 +201,38 @@ def test_any_damage_gives_a_code_or_a_program(at, junk):
     except GxwError as e:
         assert e.code in ("E918", "E919", "E920", "E921", "E932", "E933")
         assert "offset 0x" in e.message or "offset 0:" in e.message
+
+
+def test_a_gx_developer_project_folder_is_its_body_with_its_comment_file(tmp_path):
+    """`mlc import PROJECT`: the folder GX Developer saves (Gppw.gpj, Resource/Pou/Body/*.wpg,
+    Resource/Others/COMMENT.wcd; names matched without case) gives its one body with the
+    project's comments; several bodies need --program (E934, the bodies listed), as none does."""
+    import wcdkit
+
+    project = tmp_path / "Traffic"
+    (project / "Resource" / "Pou" / "Body").mkdir(parents=True)
+    (project / "Resource" / "Others").mkdir()
+    (project / "Gppw.gpj").write_bytes(b"\0" * 16)
+    main = wpgkit.body([("LD", ["X0"]), ("OUT", ["Y0"]), ("END", [])], 8000 - 3)
+    (project / "Resource" / "Pou" / "Body" / "MAIN.wpg").write_bytes(main)
+    (project / "Resource" / "Others" / "COMMENT.wcd").write_bytes(
+        wcdkit.wcd({(0x9C, 0): (b"", b"start"), (0x9D, 0): (b"", b"lamp")}, width=16))
+    r = run_mlc("import", "Traffic", "-o", "p.il", cwd=tmp_path)
+    assert r.code == 0, r.err
+    assert (tmp_path / "p.il").read_text("utf-8").endswith("\nLD X0 ; X0 start\nOUT Y0 ; Y0 lamp\nEND\n")
+    (tmp_path / "c.csv").write_text("Device Name,Comment\nX000,go\n", encoding="utf-8")
+    r = run_mlc("import", "Traffic", "--comments", "c.csv", cwd=tmp_path)  # --comments names another file
+    assert r.code == 0 and "LD X0 ; X0 go\nOUT Y0\n" in r.out, r.err
+    r = run_mlc("import", "Traffic", "-o", "Traffic/Resource/Pou/Body/MAIN.wpg", cwd=tmp_path)
+    assert r.code == 2 and "E606" in r.err  # the body read is never an output
+    assert (project / "Resource" / "Pou" / "Body" / "MAIN.wpg").read_bytes() == main
+    (project / "Resource" / "Pou" / "Body" / "SUB1.wpg").write_bytes(main)
+    r = run_mlc("import", "Traffic", cwd=tmp_path)
+    assert r.code == 2 and "error[E934]" in r.err and "2 program bodies (MAIN, SUB1)" in r.err, r.err
+    assert run_mlc("import", "Traffic", "--program", "sub1", cwd=tmp_path).code == 0
+    r = run_mlc("import", "Traffic", "--program", "SUB2", cwd=tmp_path)
+    assert r.code == 2 and "no program body 'SUB2' (the project's: MAIN, SUB1)" in r.err, r.err
+    for body in (project / "Resource" / "Pou" / "Body").iterdir():
+        body.unlink()
+    r = run_mlc("import", "Traffic", cwd=tmp_path)
+    assert r.code == 2 and "error[E934]" in r.err and "no program body" in r.err and "Traceback" not in r.err

@@ -26,10 +26,12 @@ from mlctool.imports import (
     DIALECT_TARGET,
     FORMATS,
     detect,
+    gx_developer_project,
     import_project,
     import_text,
     import_winproladder,
     import_wpg,
+    is_gx_developer_project,
     is_gx_project,
     is_winproladder,
     is_wpg,
@@ -43,6 +45,7 @@ from mlctool.syntax.source import source_encoding
 @main_group.command("import", epilog=examples(
     "mlc import --target vs export.csv -o prog.il      # the format is recognised",
     "mlc import --comments COMMENT.csv MAIN.wpg -o prog.il   # GX Developer program, device comments too",
+    "mlc import PROJECT -o prog.il   # a GX Developer project folder: its program body and COMMENT.wcd",
     "mlc import --target fbs project.pdw -o fatek.il   # FATEK WinProladder (.pdw / .ldr)",
 ))
 @target_option
@@ -57,14 +60,15 @@ from mlctool.syntax.source import source_encoding
               "using it")
 @quiet_option
 @click.option("--program", default=None, metavar="NAME",
-              help="a GX Works2 project's program POU to read (default: its only one)")
+              help="a GX Works2 project's program POU or a GX Developer project's program body to read "
+              "(default: its only one)")
 @click.argument("file", type=click.Path())
 def import_cmd(target_name, config_path, fmt, output, comments_file, program, file):
     """Convert an editor's export or a GX Works2 / GX Developer / WinProladder project to plain IL (docs/formats.md).
 
     Without --target, a GX Works2, GX Developer, WPLSoft or Delta export, a GX Works2 project or
-    a GX Developer program body (FX dialect) is imported for target vs, a WinProladder .pdw /
-    .ldr for fbs; plain IL for the target of mlc.toml, else nc5.
+    a GX Developer program body or project folder (FX dialect) is imported for target vs, a
+    WinProladder .pdw / .ldr for fbs; plain IL for the target of mlc.toml, else nc5.
 
     Exit 0: converted; 1: rows that cannot be placed; 2: unreadable input or not an export.
     """
@@ -73,6 +77,13 @@ def import_cmd(target_name, config_path, fmt, output, comments_file, program, fi
     if output:
         plan.add(output, "-o")
         plan.validate()
+    if is_gx_developer_project(file):
+        body, found, diags = gx_developer_project(file, program)
+        show(diags, {})
+        if body is None:
+            sys.exit(2)
+        _import_wpg(body, target_name, config, output, comments_file or found, plan)
+        return
     head = _head(file)
     project = project_file(file, head)
     if project is not None:

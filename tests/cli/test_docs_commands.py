@@ -15,7 +15,8 @@ Example file names are mapped to bundled files: each document runs in a fresh co
 workspace (WORKSPACE_FILES), in which the names the docs use are copies of bundled samples:
 `src/main.il` and `src/lib.il` are samples/project's conveyor and pick-and-place library,
 `prog.il`/`s.stim` the NC5 conveyor sample (docs/vs.md: the VS traffic light), `export.csv`
-a GX Works2 export from tests/data, `MAIN.wpg` a GX Developer program body of tests/wpgkit.py,
+a GX Works2 export from tests/data, `MAIN.wpg` a GX Developer program body of tests/wpgkit.py
+(`PROJECT` a GX Developer project folder holding it),
 `prog.pos` an FBs positioning sample, `project.pdw` / `rungs.il` a WinProladder project of
 tests/pdwkit.py and its IL; `mlc.toml` makes it
 a project (sources src/main.il, src/lib.il; scenarios tests/*.stim), `samples/` is a copy of
@@ -56,6 +57,8 @@ WORKSPACE_FILES = {
     "MAIN.csv": "tests/corpus/gxworks2_zh_cn.csv",
     "COMMENT.csv": "tests/corpus/COMMENT.csv",
     "MAIN.wpg": "tests/data/wpg/MAIN.wpg",
+    "PROJECT/Gppw.gpj": "tests/data/wpg/Gppw.gpj",  # (empty: mlc import only looks for it)
+    "PROJECT/Resource/POU/Body/MAIN.wpg": "tests/data/wpg/MAIN.wpg",
     "prog.pos": "samples/fbs/run.pos",
     "project.pdw": "tests/data/winproladder/project.pdw",
     "rungs.il": "tests/data/winproladder/rungs.il",
