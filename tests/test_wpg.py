@@ -206,7 +206,8 @@ def test_any_damage_gives_a_code_or_a_program(at, junk):
 def test_a_gx_developer_project_folder_is_its_body_with_its_comment_file(tmp_path):
     """`mlc import PROJECT`: the folder GX Developer saves (Gppw.gpj, Resource/Pou/Body/*.wpg,
     Resource/Others/COMMENT.wcd; names matched without case) gives its one body with the
-    project's comments; several bodies need --program (E934, the bodies listed), as none does."""
+    project's comments (W917 and none where they cannot be read: they were not asked for);
+    several bodies need --program (E934, the bodies listed), as none does."""
     import wcdkit
 
     project = tmp_path / "Traffic"
@@ -226,6 +227,11 @@ def test_a_gx_developer_project_folder_is_its_body_with_its_comment_file(tmp_pat
     r = run_mlc("import", "Traffic", "-o", "Traffic/Resource/Pou/Body/MAIN.wpg", cwd=tmp_path)
     assert r.code == 2 and "E606" in r.err  # the body read is never an output
     assert (project / "Resource" / "Pou" / "Body" / "MAIN.wpg").read_bytes() == main
+    (project / "Resource" / "Others" / "COMMENT.wcd").write_bytes(  # Big5 text, no --encoding: not read
+        wcdkit.wcd({(0x9C, 0): (b"", "啟動".encode("cp950"))}, width=16))
+    r = run_mlc("import", "Traffic", cwd=tmp_path)
+    assert r.code == 0 and "warning[W917]: the project's comments are not read: E939" in r.err, r.err
+    assert r.out.endswith("\nLD X0\nOUT Y0\nEND\n"), r.out
     (project / "Resource" / "Pou" / "Body" / "SUB1.wpg").write_bytes(main)
     r = run_mlc("import", "Traffic", cwd=tmp_path)
     assert r.code == 2 and "error[E934]" in r.err and "2 program bodies (MAIN, SUB1)" in r.err, r.err

@@ -44,7 +44,6 @@ from mlctool.syntax.source import source_encoding
 
 @main_group.command("import", epilog=examples(
     "mlc import --target vs export.csv -o prog.il      # the format is recognised",
-    "mlc import --comments COMMENT.csv MAIN.wpg -o prog.il   # GX Developer program, device comments too",
     "mlc import PROJECT -o prog.il   # a GX Developer project folder: its program body and COMMENT.wcd",
     "mlc import --target fbs project.pdw -o fatek.il   # FATEK WinProladder (.pdw / .ldr)",
 ))
@@ -82,7 +81,7 @@ def import_cmd(target_name, config_path, fmt, output, comments_file, program, fi
         show(diags, {})
         if body is None:
             sys.exit(2)
-        _import_wpg(body, target_name, config, output, comments_file or found, plan)
+        _import_wpg(body, target_name, config, output, comments_file, plan, None if comments_file else found)
         return
     head = _head(file)
     project = project_file(file, head)
@@ -135,16 +134,26 @@ def _import_project(file, target_name, config, output, comments_file, program, p
     _write(file, text, "gxw", target, dialect, output, plan)
 
 
-def _import_wpg(file, target_name, config, output, comments_file, plan):
+def _import_wpg(file, target_name, config, output, comments_file, plan, project_comments=None):
     """A GX Developer program body: exit 2 for a file it cannot read (E918-E921, E932, E933), 1
-    for instructions the target cannot place, as a .gxw's."""
+    for instructions the target cannot place, as a .gxw's. `project_comments`: the comment file
+    of the body's project folder, which the user did not name: one it cannot read is W917 and
+    the program is imported without comments."""
     from mlctool.wpg import MAX_FILE
 
     dialect = DIALECT_TARGET["wpg"] if not target_name else None
     target = get_target(target_name or dialect, config)
     data = _read(file, MAX_FILE + 1)
     comments = _comments(comments_file, target, config)
+    said = []
+    if project_comments is not None:
+        comments, found = read_comments(project_comments, target, source_encoding(config)[0])
+        said = [diag(project_comments, Span.at(1), "W917", f"the project's comments are not read: {d.code}: "
+                     f"{d.message}", *d.notes, "the program is imported without them; --comments FILE "
+                     "gives a comment file (with --encoding for its code page)")
+                for d in found if d.severity == "error"]
     text, fmt, diags = import_wpg(file, data, target, comments)
+    diags = said + diags
     show(diags, {})
     if text is None:
         sys.exit(2 if any("E918" <= d.code <= "E921" or d.code in ("E932", "E933") for d in diags) else 1)
