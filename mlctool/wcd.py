@@ -7,9 +7,8 @@ No public document describes the file. The layout below is what every public fil
 field is checked: a file that breaks any of it is refused with the offset (E936-E939), never
 guessed at.
 
-- 0x00-0x3F, the header a GX Developer program body (.wpg) starts with too: u16 0x0040,
-  `22 01`, a 32-byte title field (not read), `04 02`, the CPU type (u16; the code MX Component
-  gives the same CPU: 0x0201-0x020A are the FX family), 0xFF to 0x3F.
+- 0x00-0x3F, the header a GX Developer program body (.wpg) starts with too (mlctool/gxdeveloper.py:
+  the signature, the CPU type at 0x26, the FX CPUs read): `04 02` at 0x24, 0xFF from 0x28.
 - 0x40, the device table: u32 its length (10 + 10 x entries), u16 0, u8 the comment width
   (16 or 32 bytes: the project's setting), u8 the alias width (8), u16 the entries; each entry
   `u16 device type, u32 first device number, u32 count`: a run of commented devices, the
@@ -27,12 +26,12 @@ from __future__ import annotations
 import dataclasses
 import struct
 
-MAGIC = b"\x40\x00\x22\x01"
+from mlctool.gxdeveloper import CPU_AT, FX_CPUS, HEADER, cpu_type, is_gx_developer_file, not_fx
+
 TITLE_AT, TITLE_END = 0x04, 0x24
 VERSION_AT, VERSION = 0x24, b"\x04\x02"
-CPU_AT = 0x26
 FILL_AT = 0x28
-TABLE_AT = 0x40
+TABLE_AT = HEADER
 TABLE_HEAD = 10  # u32 length, u16 0, u8 comment width, u8 alias width, u16 entries
 ENTRY = 10  # u16 device type, u32 first number, u32 count
 ALIAS_WIDTH = 8
@@ -40,15 +39,6 @@ COMMENT_WIDTHS = (16, 32)
 # The largest public file is 24,466 bytes; every FX device commented at 40 bytes a record is
 # under 2 MiB. A larger file is refused unread.
 MAX_FILE = 4 * 1024 * 1024
-
-# MX Component's CPU type codes of the FX family (its public ActDefine headers), the code GX
-# Developer writes at 0x26 and as lCpuType in the project's Gppw.gps. FX numbers X and Y in
-# octal; the A and Q CPUs (0x01xx, 0x00xx) number them in hexadecimal and their special relays
-# differently: their comments are another PLC's devices (E936).
-FX_CPUS = {
-    0x0201: "FX0/FX0S", 0x0202: "FX0N", 0x0203: "FX1", 0x0204: "FX2/FX2C", 0x0205: "FX2N/FX2NC",
-    0x0206: "FX1S", 0x0207: "FX1N/FX1NC", 0x0208: "FX3U/FX3UC", 0x0209: "FX3G/FX3GC", 0x020A: "FX3S",
-}
 
 # Device type -> (the FX device, octal numbers, the lowest number). The codes are those of the
 # GX Works2 program tokens (mlctool/gxw_tokens.toml) and every public file agrees: X 0x9C and
@@ -98,7 +88,7 @@ class Comments:
 
 def is_wcd(head: bytes) -> bool:
     """A GX Developer file by its first bytes (a comment file, or a program body given in its place)."""
-    return head[:len(MAGIC)] == MAGIC
+    return is_gx_developer_file(head)
 
 
 def read(data: bytes, encoding: str | None = None) -> Comments:
@@ -119,7 +109,7 @@ def read(data: bytes, encoding: str | None = None) -> Comments:
             if alias or text:  # DECISION: a record of spaces is no comment
                 out.append(Comment(f"{letter}{number:o}" if octal else f"{letter}{number}", alias, text, offset))
             offset += record
-    return Comments(FX_CPUS[struct.unpack_from("<H", data, CPU_AT)[0]], width, tuple(out))
+    return Comments(FX_CPUS[cpu_type(data)], width, tuple(out))
 
 
 def _header(data: bytes) -> int:
@@ -134,9 +124,9 @@ def _header(data: bytes) -> int:
     if data[VERSION_AT:CPU_AT] != VERSION:
         raise WcdError("E936", VERSION_AT, f"{data[VERSION_AT:CPU_AT].hex(' ')} where every GX Developer file "
                        f"read holds {VERSION.hex(' ')}")
-    cpu = struct.unpack_from("<H", data, CPU_AT)[0]
-    if cpu not in FX_CPUS:
-        family = {0x01: "an A-series CPU", 0x00: "a Q/QnA-series CPU"}.get(cpu >> 8, "no FX CPU")
+    cpu = cpu_type(data)
+    family = not_fx(cpu)
+    if family:
         raise WcdError("E936", CPU_AT, f"CPU type 0x{cpu:04X}: {family}, whose X/Y numbering and special "
                        "devices are not FX's (FX: 0x0201-0x020A)",
                        "its devices would become other devices of an FX-style target; comment the program "

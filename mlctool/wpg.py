@@ -9,7 +9,8 @@ registry (each entry citing its public source): one decoder for both containers.
 - 0x00: u16 0x0040, the header's length (the program's frames start 4 bytes after it), then
   22 01: together the signature checked (E932);
 - 0x26: u16, the CPU type: the number the project's Gppw.gps stores as lCpuType, whose name
-  its Gppw.gpj gives as CpuType (CPUS; another is refused, E933, never read as FX);
+  its Gppw.gpj gives as CpuType; the FX CPUs are read (mlctool/gxdeveloper.py, the table the
+  comment reader uses too), another is refused (E933), never read as FX;
 - the rest of the header (a 32-byte title of spaces at 0x04, bytes not identified, FF fill) is
   not read;
 - 0x40: 04 00 FF FF (every public body; E932 otherwise), then the program's frames
@@ -26,30 +27,18 @@ parameters, the comments) is not described, and GX Works2 reads the CSV mlc expo
 from __future__ import annotations
 
 import dataclasses
-import struct
 
+from mlctool.gxdeveloper import CPU_AT, FX_CPUS, HEADER, SIGNATURE, cpu_type
 from mlctool.gxw import GxwError, Instruction, decode, frames
 
-SIGNATURE = b"\x40\x00\x22\x01"  # u16 0x0040 (the header's length), 22 01
-HEADER = 0x40
 BODY_MARK = b"\x04\x00\xff\xff"  # at HEADER, before the first frame
 TOKENS = HEADER + len(BODY_MARK)
-CPU_FIELD = 0x26
 NOP_FRAME = 2  # `02 02`: an empty payload
 # the program memory sizes of FX CPUs, in steps: the NOP fill makes the program this long
 CAPACITIES = (2000, 4000, 8000, 16000, 32000, 64000)
 # No program body comes near this (64,000 steps of the longest tokens); a larger file is refused unread.
 MAX_FILE = 4 * 1024 * 1024
 
-# CPU type (u16 at 0x26) -> (name, where the pairing is public: the same project's Gppw.gpj
-# CpuType and Gppw.gps lCpuType). FX CPUs are read in the FX dialect.
-CPUS = {
-    0x0205: ("FX2N(C)", "milochen0418/PLC-3floor-elevator c9aaf5a (Gppw.gpj CpuType \"FX2N(C)\", Gppw.gps lCpuType "
-             "517) and kacper97/Traffic-Lights-GX-MItshubishi-PLC cd9b5e5 (Gppw.gpj CpuType \"FX2N(C)\")"),
-    0x0207: ("FX1N", "borispad/gate fcd29e8 (Gppw.gpj CpuType \"FX1N\", Gppw.gps lCpuType 519)"),
-    0x0208: ("FX3U(C)", "Maelstro/PLC_PD_Controller 0e0460f (Gppw.gpj CpuType \"FX3UC\", Gppw.gps lCpuType 520) and "
-             "Super0415/PLC 242cecb, PLSY-FX3U-Y0-Y1 (Gppw.gps lCpuType 520)"),
-}
 # CPUs of other series seen in public bodies: their programs are no FX programs (hexadecimal
 # X/Y, M9000/D9000 or SM/SD specials, other step counts).
 OTHER_CPUS = {
@@ -63,7 +52,7 @@ OTHER_CPUS = {
 
 @dataclasses.dataclass(frozen=True)
 class Program:
-    cpu: str  # the CPU's name (CPUS)
+    cpu: str  # the CPU's name (gxdeveloper.FX_CPUS)
     instructions: tuple[Instruction, ...]  # END last; an empty frame within the program is a NOP
     fill: int  # the empty frames after END: the program memory's unused steps
     fill_offset: int  # of the first of them (the file's end if none)
@@ -87,13 +76,13 @@ def read_program(data: bytes, where: str = "the program body") -> Program:
     if data[:len(SIGNATURE)] != SIGNATURE:
         raise GxwError("E932", f"{where}: offset 0: {data[:4].hex(' ')} where a GX Developer program body starts "
                        f"{SIGNATURE.hex(' ')} (u16 0x0040, the header's length, then 22 01)", _NOT_READ)
-    cpu = struct.unpack_from("<H", data, CPU_FIELD)[0]
-    if cpu not in CPUS:
+    cpu = cpu_type(data)
+    if cpu not in FX_CPUS:
         name = OTHER_CPUS.get(cpu, ("", ""))[0]
         said = (f"a program for the {name}, no FX CPU: its X/Y are hexadecimal, its specials and step counts "
                 "another series'" if name else
-                f"a CPU type no public body shows (FX: {', '.join(f'0x{c:04X} {n}' for c, (n, _) in CPUS.items())})")
-        raise GxwError("E933", f"{where}: offset 0x{CPU_FIELD:X}: CPU type 0x{cpu:04X}: {said}",
+                f"no FX CPU (FX: 0x0201-0x020A, {FX_CPUS[0x0201]} to {FX_CPUS[0x020A]})")
+        raise GxwError("E933", f"{where}: offset 0x{CPU_AT:X}: CPU type 0x{cpu:04X}: {said}",
                        "rewrite the program for the target" if name else
                        "if GX Developer names an FX CPU for it, " + _NOT_READ)
     if data[HEADER:TOKENS] != BODY_MARK:
@@ -106,10 +95,5 @@ def read_program(data: bytes, where: str = "the program body") -> Program:
             raise GxwError("E921", f"{where}: offset 0x{at:X}: token [{payload.hex(' ').upper()}] after END, where "
                            "only the empty frames 02 02 of the unused program memory follow it")
     fill_offset = toks[rest][0] if rest < len(toks) else len(data)
-    return Program(CPUS[cpu][0], tuple(instructions), len(toks) - rest, fill_offset)
+    return Program(FX_CPUS[cpu], tuple(instructions), len(toks) - rest, fill_offset)
 
-
-def memory_size(steps: int, fill: int) -> int | None:
-    """The FX program memory a program of `steps` steps and `fill` NOP steps after it fills,
-    or None if the two make no memory size (CAPACITIES)."""
-    return steps + fill if steps + fill in CAPACITIES else None

@@ -14,7 +14,8 @@ from hypothesis import strategies as st
 
 from conftest import run_mlc
 from mlctool import wcd as reader
-from mlctool.wcd import ALIAS_WIDTH, CPU_AT, DEVICES, TABLE_AT, TABLE_HEAD, WcdError
+from mlctool.gxdeveloper import CPU_AT
+from mlctool.wcd import ALIAS_WIDTH, DEVICES, TABLE_AT, TABLE_HEAD, WcdError
 
 CORPUS = Path(__file__).resolve().parent / "corpus"
 X, Y, M, SM, D, SD, T, C = 0x9C, 0x9D, 0x90, 0x91, 0xA8, 0xA9, 0xC2, 0xC5
@@ -146,7 +147,7 @@ def test_import_takes_a_wcd_as_a_comment_csv(tmp_path):
     (_patched(GOOD, 0x24, "<H", 0x0304), "E936", "0x24"),
     (_patched(GOOD, TABLE_AT, "<I", 40), "E937", "0x40"),
     (_patched(GOOD, RECORDS_AT, "<H", 0x98), "E938", "0x4A"),
-    (reader.MAGIC + bytes(range(256)) * 2, "E936", "0x24"),  # binary junk after the magic
+    (wcdkit.MAGIC + bytes(range(256)) * 2, "E936", "0x24"),  # binary junk after the magic
     (_patched(GOOD, RECORDS_AT + 10 * 2 + 3, "<B", 0x00), "E939", f"0x{RECORDS_AT + 23:X}"),
 ], ids=["empty", "truncated", "header", "counts", "device-type", "junk", "control-byte"])
 def test_import_refuses_a_broken_wcd_with_exit_2(tmp_path, data, code, offset):
@@ -164,7 +165,7 @@ def test_any_bytes_are_read_or_refused_never_a_crash(tail, at, byte):
     """Bytes after the magic, and GOOD with one byte changed: comments or a WcdError."""
     changed = bytearray(GOOD)
     changed[at] = byte
-    for data in (reader.MAGIC + tail, bytes(changed)):
+    for data in (wcdkit.MAGIC + tail, bytes(changed)):
         try:
             reader.read(data)
         except WcdError as e:

@@ -15,11 +15,12 @@ from hypothesis import strategies as st
 
 from conftest import run_mlc
 from mlctool.check import check_texts
+from mlctool.gxdeveloper import CPU_AT as CPU_FIELD
 from mlctool.gxw import GxwError
 from mlctool.imports import import_wpg
 from mlctool.syntax.source import SourceText
 from mlctool.targetapi import load_target
-from mlctool.wpg import CPU_FIELD, TOKENS, read_program
+from mlctool.wpg import TOKENS, read_program
 
 VS = load_target("vs")
 
@@ -39,7 +40,7 @@ def test_a_body_imports_with_the_vendors_step_count():
     memory the body was written for: the whole program's steps are GX Developer's."""
     data = wpgkit.il_body(PROGRAM, VS, memory=2000)
     prog = read_program(data)
-    assert prog.cpu == "FX3U(C)" and prog.instructions[0].offset == TOKENS
+    assert prog.cpu == "FX3U/FX3UC" and prog.instructions[0].offset == TOKENS
     built = _built(PROGRAM)
     assert [(i.mnemonic, i.width) for i in prog.instructions if i.width] == [("OUT", 3), ("MOV", 5), ("DADD", 13)]
     assert [s for _, s, m in built if m in ("MOV", "DADD") or s == 3] == [3, 5, 13]
@@ -242,3 +243,16 @@ def test_a_gx_developer_project_folder_is_its_body_with_its_comment_file(tmp_pat
         body.unlink()
     r = run_mlc("import", "Traffic", cwd=tmp_path)
     assert r.code == 2 and "error[E934]" in r.err and "no program body" in r.err and "Traceback" not in r.err
+
+
+def test_a_body_and_its_comments_take_the_same_fx_cpus():
+    """The body reader knew three FX CPUs (those public bodies pair with a name) where the
+    comment reader took the FX family (MX Component's codes): an FX3G project's comments were
+    read and its body refused (E933). One table now (mlctool/gxdeveloper.py)."""
+    import wcdkit
+    from mlctool import wcd
+
+    for cpu in (0x0201, 0x0209, 0x020A):
+        body = wpgkit.body([("LD", ["X0"]), ("OUT", ["Y0"]), ("END", [])], 8000 - 3, cpu=cpu)
+        comments = wcdkit.wcd({(0x9C, 0): (b"", b"start")}, width=16, cpu=cpu)
+        assert read_program(body).cpu == wcd.read(comments).cpu

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import struct
 
-from mlctool.wcd import ALIAS_WIDTH, MAGIC, TABLE_HEAD, VERSION
+from mlctool.gxdeveloper import SIGNATURE as MAGIC
+from mlctool.wcd import ALIAS_WIDTH, TABLE_HEAD, VERSION
 
 FX3U = 0x0208
 

@@ -13,7 +13,9 @@ import struct
 
 import gxwkit
 
-from mlctool.wpg import BODY_MARK, CPU_FIELD, HEADER, SIGNATURE
+from mlctool.gxdeveloper import CPU_AT as CPU_FIELD
+from mlctool.gxdeveloper import HEADER, SIGNATURE
+from mlctool.wpg import BODY_MARK
 
 FX3U, FX2N, FX1N = 0x0208, 0x0205, 0x0207
 NOP = b"\x02\x02"
