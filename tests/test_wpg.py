@@ -250,6 +250,7 @@ def test_a_body_and_its_comments_take_the_same_fx_cpus():
     comment reader took the FX family (MX Component's codes): an FX3G project's comments were
     read and its body refused (E933). One table now (mlctool/gxdeveloper.py)."""
     import wcdkit
+
     from mlctool import wcd
 
     for cpu in (0x0201, 0x0209, 0x020A):
