@@ -156,17 +156,13 @@ def test_cmd(target_name, jobs, cluster, junit_path, with_coverage, coverage_dir
     # picks scenarios
     verified = None
     if not inside and not keywords and config.data.get("verify"):
+        from mlctool.cli.verify import plan_counterexamples
         from mlctool.verify.explicit import DEFAULT_MAX_STATES
         from mlctool.verify.report import project_checks, project_props, run_files
 
         props_paths, checks = project_props(config), project_checks(config)
         verified = run_files(image, target, props_paths, "auto", DEFAULT_MAX_STATES, None, out_dir, checks, lines)
-        if verified.errors:
-            show(verified.errors, {**lines, **verified.lines})
-            sys.exit(2)
-        for p in verified.files:
-            plan.add(p, "a counterexample's file")
-        plan.validate()
+        plan_counterexamples(verified, plan, lines)
     all_lines = dict(lines)
     unmodelled = unmodelled_writes(image, target)  # W608: once per device for the whole suite
     show(unmodelled, lines)

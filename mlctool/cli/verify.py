@@ -106,12 +106,7 @@ def verify_cmd(target_name, config_path, props_paths, engine, max_states, max_wa
         show([d for d in diags if d.severity == "error"], lines)
         sys.exit(2)
     outcome = run_files(image, target, paths, engine, max_states, seconds, out_dir, wanted, lines)
-    if outcome.errors:
-        show(outcome.errors, {**lines, **outcome.lines})
-        sys.exit(2)
-    for path in outcome.files:
-        plan.add(path, "a counterexample's file")
-    plan.validate()
+    plan_counterexamples(outcome, plan, lines)
     show(outcome.findings, {**lines, **outcome.lines})
     if as_json:
         sys.stdout.write(outcome.json())
@@ -126,3 +121,14 @@ def verify_cmd(target_name, config_path, props_paths, engine, max_states, max_wa
         files[junit_path] = outcome.junit(" ".join(paths))
     write_outputs(plan, files)
     sys.exit(outcome.exit_code)
+
+
+def plan_counterexamples(outcome, plan: Outputs, lines: dict) -> None:
+    """Exit 2 on the properties' errors (E110 ...); else plan each counterexample's file as an
+    output (E606 where it is an input), before anything is written."""
+    if outcome.errors:
+        show(outcome.errors, {**lines, **outcome.lines})
+        sys.exit(2)
+    for path in outcome.files:
+        plan.add(path, "a counterexample's file")
+    plan.validate()
