@@ -114,7 +114,7 @@ def import_cmd(target_name, config_path, fmt, output, comments_file, program, fi
         diags = diags + converted
     show(diags, {})
     if text is None:
-        sys.exit(2 if unreadable(diags) or any(d.code in ("E909", "E910", "E912") for d in diags) else 1)
+        sys.exit(_exit_code(diags))
     _write(file, text, found_fmt, target, dialect, output, plan)
 
 
@@ -130,7 +130,7 @@ def _import_project(file, target_name, config, output, comments_file, program, p
     text, _, diags = import_project(file, data, target, comments, program)
     show(diags, {})
     if text is None:
-        sys.exit(2 if any("E915" <= d.code <= "E922" for d in diags) else 1)
+        sys.exit(_exit_code(diags))
     _write(file, text, "gxw", target, dialect, output, plan)
 
 
@@ -156,7 +156,7 @@ def _import_wpg(file, target_name, config, output, comments_file, plan, project_
     diags = said + diags
     show(diags, {})
     if text is None:
-        sys.exit(2 if any("E918" <= d.code <= "E921" or d.code in ("E932", "E933") for d in diags) else 1)
+        sys.exit(_exit_code(diags))
     _write(file, text, fmt, target, dialect, output, plan)
 
 
@@ -174,8 +174,21 @@ def _import_winproladder(file, target_name, config, output, comments_file, progr
     text, fmt, diags = import_winproladder(file, _read(file, MAX_FILE + 1), target)
     show(diags, {})
     if text is None:
-        sys.exit(2 if unreadable(diags) or any("E923" <= d.code <= "E929" for d in diags) else 1)
+        sys.exit(_exit_code(diags))
     _write(file, text, fmt, target, dialect, output, plan)
+
+
+# What says the file is no input the importer can read (exit 2, as for a file that cannot be
+# read at all): not an export (E909, E912), a CPU of another series (E910), a GX Works2 project
+# (E915-E922), a WinProladder file (E923-E929), a GX Developer body or project folder (E918-E921,
+# E932-E934), a comment file (E936-E939). Anything else is a row or instruction the target
+# cannot place: exit 1.
+UNUSABLE = frozenset({"E909", "E910", "E912", *(f"E{n}" for n in range(915, 930)), "E932", "E933", "E934",
+                      "E936", "E937", "E938", "E939"})
+
+
+def _exit_code(diags) -> int:
+    return 2 if unreadable(diags) or any(d.code in UNUSABLE for d in diags) else 1
 
 
 def _read(file: str, limit: int) -> bytes:
@@ -195,8 +208,7 @@ def _comments(comments_file, target, config) -> dict[str, str] | None:
     comments, found = read_comments(comments_file, target, source_encoding(config)[0])
     if comments is None:
         show(found, {})
-        sys.exit(2 if unreadable(found) or any(d.code == "E909" or "E936" <= d.code <= "E939" for d in found)
-                 else 1)
+        sys.exit(_exit_code(found))
     return comments
 
 
