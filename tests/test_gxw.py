@@ -162,6 +162,14 @@ _WORD = st.one_of(_D, st.integers(-32768, 32767).map(lambda n: f"K{n}"), st.inte
 _DWORD = st.one_of(_D, st.integers(-(2**31), 2**31 - 1).map(lambda n: f"K{n}"))
 
 
+def _no_zero_divisor(mnemonic: str, ops: list[str]) -> list[str]:
+    """A constant divisor of 0 is E206 at check (the CPU does not divide): the programs the
+    round trip builds divide by K1 there instead."""
+    if mnemonic in ("DIV", "DDIV") and ops[1] in ("K0", "H0"):
+        return [ops[0], "K1", *ops[2:]]
+    return ops
+
+
 @st.composite
 def _rung(draw) -> list[str]:
     out = [f"{draw(st.sampled_from(['LD', 'LDI']))} {draw(_BIT)}"]
@@ -180,11 +188,11 @@ def _rung(draw) -> list[str]:
         elif kind == "word":
             m = draw(st.sampled_from(["MOV", "ADD", "SUB", "MUL", "DIV"]))
             ops = [draw(_WORD)] + [draw(_WORD) for _ in range(1 if m == "MOV" else 2)][:-1] + [draw(_D)]
-            out.append(" ".join([m, *ops]))
+            out.append(" ".join([m, *_no_zero_divisor(m, ops)]))
         elif kind == "dword":
             m = draw(st.sampled_from(["DMOV", "DADD", "DSUB", "DMUL", "DDIV"]))
             ops = [draw(_DWORD)] + ([draw(_DWORD)] if m != "DMOV" else []) + [draw(_D)]
-            out.append(" ".join([m, *ops]))
+            out.append(" ".join([m, *_no_zero_divisor(m, ops)]))
         else:
             out.append(f"{draw(st.sampled_from(['INC', 'DEC']))} {draw(_D)}")
     return out
