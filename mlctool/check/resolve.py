@@ -682,19 +682,18 @@ class _Resolver:
         element must exist (E208). A count in a register or an index-modified operand is the
         run time's (the engine's fault, E604)."""
         role, rule = o.span
-        c = next((i for i, s in enumerate(spec.operands) if s.role == role), None)
         op = ops[k]
-        if c is None or c >= len(ops) or op.is_const or op.index or op.unit or op.is_bit_of_word:
+        if op.is_const or op.index or op.unit or op.is_bit_of_word:
             return True
-        count = ops[c]
+        value = spec.constant_count(o, ops)
         dev = self.t.devices.get(op.device)
-        if dev is None or count.kind not in ("K", "H") or count.index or not isinstance(count.value, int):
+        if dev is None or value is None:
             return True
         if o.span_kinds == "bit" and (dev.kind != "bit" or op.is_group):
             return True
-        if count.value < 1 or count.value > 1 << 20:
+        if value < 1 or value > 1 << 20:
             return True  # (its own range check says what is wrong with it)
-        n = o.span_count(count.value) if rule != "2^n" or count.value <= 16 else 1 << 17
+        n = o.span_count(value) if rule != "2^n" or value <= 16 else 1 << 17
         if op.is_group:
             size = n * 4 * op.digits
         elif op.kind in ("V", "Z"):  # a block of index registers is consecutive registers
@@ -704,7 +703,7 @@ class _Resolver:
         last = op.number + size - 1
         if last <= dev.hi:
             return True
-        what = f"{role} = {count.value}" + (f", {rule.replace('n', role)} = {n}" if rule != "n" else "")
+        what = f"{role} = {value}" + (f", {rule.replace('n', role)} = {n}" if rule != "n" else "")
         self.report(w, "E208", f"{w.text} would occupy {dev.name_of(op.number)}-{dev.name_of(last)}, past "
                     f"{dev.name_of(dev.hi)}: {what} (the instruction covers that many, {spec.section})")
         return False

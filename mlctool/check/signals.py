@@ -113,11 +113,8 @@ def _span(spec, s, ops, dev, o) -> int:
     E208) says what is wrong with a count out of range: here it is capped."""
     if s.span is None or o.index or (s.span_kinds == "bit" and (dev is None or dev.kind != "bit" or o.is_group)):
         return 1
-    c = next((i for i, x in enumerate(spec.operands) if x.role == s.span[0]), None)
-    count = ops[c] if c is not None and c < len(ops) else None
-    if count is None or count.kind not in ("K", "H") or count.index or not isinstance(count.value, int):
-        return 1
-    return s.span_count(max(1, min(count.value, 16)))
+    value = spec.constant_count(s, ops)
+    return 1 if value is None else s.span_count(max(1, min(value, 16)))
 
 
 def _diagnostic(ins: Instr, k: int, kind: str, first: int, last: int, write: bool, words: int,

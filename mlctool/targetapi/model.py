@@ -128,6 +128,18 @@ class InstrSpec:
     # same coil in two regions is no double coil); "close": ends the regions (RET)
     region: str = ""
 
+    def constant_count(self, o: OperandSpec, ops) -> int | None:
+        """The count that sizes operand `o` (its `span`: DECO D covers 2^n bits) when the
+        count operand is written as a constant K/H, else None (a register, an index: the run
+        time's)."""
+        c = next((i for i, s in enumerate(self.operands) if o.span and s.role == o.span[0]), None)
+        if c is None or c >= len(ops):
+            return None
+        count = ops[c]
+        if count.kind not in ("K", "H") or count.index or not isinstance(count.value, int):
+            return None
+        return count.value
+
 
 @dataclass(frozen=True, slots=True)
 class Target:
